@@ -1,0 +1,203 @@
+"""Input conversion and checking: the one place array_like input becomes float64.
+
+Public functions call these helpers once at their boundary; internal functions
+then trust their inputs.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from numbers import Integral, Real
+
+import numpy as np
+
+from .errors import CurveError
+
+__all__ = ["as_float", "as_int", "as_points", "check_distinct"]
+
+
+def _shape_text(shape: Sequence[int]) -> str:
+    return "(" + ", ".join(str(s) for s in shape) + ("," if len(shape) == 1 else "") + ")"
+
+
+def as_points(
+    points,
+    *,
+    name: str = "points",
+    closed: bool = False,
+    min_points: int = 2,
+    dim: int | tuple[int, ...] | None = 2,
+    distinct: bool = False,
+) -> np.ndarray:
+    """Convert array_like input to a new C-contiguous float64 ``(N, d)`` array and check it.
+
+    Parameters
+    ----------
+    points : (N, d) array_like
+        Vertices as rows.
+    name : str, optional
+        Argument name used in error messages.
+    closed : bool, optional
+        If True and the last row repeats the first exactly, the repeated
+        closing vertex is dropped (once), following the ring convention of
+        GeoJSON and shapely. Closedness is never guessed otherwise.
+    min_points : int, optional
+        Minimum number of vertices after dropping a closing vertex.
+    dim : int or tuple of int or None, optional
+        Allowed number(s) of columns; None allows any ``d >= 1``.
+    distinct : bool, optional
+        If True, consecutive vertices (and, when ``closed``, the last and the
+        first) must differ, i.e. no zero-length edges.
+
+    Returns
+    -------
+    (N, d) ndarray of float64
+        A new array; the input is never modified.
+
+    Raises
+    ------
+    CurveError
+        If the input is not numeric, has the wrong shape, holds NaN or inf,
+        has too few points, or (with ``distinct``) has zero-length edges.
+
+    Examples
+    --------
+    >>> as_points([[0, 0], [1, 0], [1, 1], [0, 0]], closed=True).shape
+    (3, 2)
+    >>> as_points([[0, 0], [1, 0]], min_points=3)
+    Traceback (most recent call last):
+    ...
+    curvesmith.errors.CurveError: points must have at least 3 points, got 2
+    """
+    try:
+        arr = np.array(points, dtype=np.float64, copy=True)
+    except (TypeError, ValueError) as exc:
+        raise CurveError(f"{name} must be a numeric (N, d) array of coordinates: {exc}") from None
+    if arr.ndim != 2 or arr.shape[1] < 1:
+        want = f"(N, {dim})" if isinstance(dim, int) else "(N, d)"
+        raise CurveError(f"{name} must have shape {want}, got {_shape_text(arr.shape)}")
+    if dim is not None:
+        allowed = (dim,) if isinstance(dim, int) else tuple(dim)
+        if arr.shape[1] not in allowed:
+            want = " or ".join(f"(N, {d})" for d in allowed)
+            raise CurveError(f"{name} must have shape {want}, got {_shape_text(arr.shape)}")
+    if not np.isfinite(arr).all():
+        bad = np.flatnonzero(~np.isfinite(arr).all(axis=1))
+        raise CurveError(
+            f"{name} must be finite, got {arr[bad[0]].tolist()} at row {int(bad[0])}"
+            + (f" ({bad.size} rows with NaN or inf)" if bad.size > 1 else "")
+        )
+    if closed and arr.shape[0] >= 2 and np.array_equal(arr[0], arr[-1]):
+        arr = arr[:-1]
+    if arr.shape[0] < min_points:
+        ring = " distinct ring" if closed else ""
+        raise CurveError(f"{name} must have at least {min_points}{ring} points, got {arr.shape[0]}")
+    if distinct:
+        check_distinct(arr, name=name, closed=closed)
+    return np.ascontiguousarray(arr)
+
+
+def check_distinct(points: np.ndarray, *, name: str = "points", closed: bool = False) -> None:
+    """Raise `CurveError` if two consecutive vertices coincide (a zero-length edge).
+
+    Parameters
+    ----------
+    points : (N, d) ndarray
+        Already validated vertices.
+    name : str, optional
+        Argument name used in the message.
+    closed : bool, optional
+        Also check the closing edge from the last vertex to the first.
+    """
+    same = np.all(points[1:] == points[:-1], axis=1)
+    if same.any():
+        i = int(np.flatnonzero(same)[0])
+        raise CurveError(
+            f"{name} has a zero-length edge: vertices {i} and {i + 1} are both "
+            f"{points[i].tolist()}; remove consecutive duplicate points"
+        )
+    if closed and points.shape[0] > 1 and np.array_equal(points[0], points[-1]):
+        raise CurveError(
+            f"{name} has a zero-length closing edge: the last vertex repeats the first "
+            f"{points[0].tolist()} more than once"
+        )
+
+
+def as_int(value, *, name: str, minimum: int | None = None, maximum: int | None = None) -> int:
+    """Check that `value` is an integer within ``[minimum, maximum]`` and return it as int.
+
+    Examples
+    --------
+    >>> as_int(3, name="iterations", minimum=0)
+    3
+    >>> as_int(-1, name="iterations", minimum=0)
+    Traceback (most recent call last):
+    ...
+    curvesmith.errors.CurveError: iterations must be an integer >= 0, got -1
+    """
+    if isinstance(value, bool) or not isinstance(value, Integral):
+        if isinstance(value, Real) and float(value).is_integer():
+            value = int(value)
+        else:
+            raise CurveError(f"{name} must be an integer, got {value!r}")
+    value = int(value)
+    if minimum is not None and value < minimum:
+        bound = f">= {minimum}" if maximum is None else f"in [{minimum}, {maximum}]"
+        raise CurveError(f"{name} must be an integer {bound}, got {value}")
+    if maximum is not None and value > maximum:
+        bound = f"<= {maximum}" if minimum is None else f"in [{minimum}, {maximum}]"
+        raise CurveError(f"{name} must be an integer {bound}, got {value}")
+    return value
+
+
+def as_float(
+    value,
+    *,
+    name: str,
+    low: float | None = None,
+    high: float | None = None,
+    low_open: bool = True,
+    high_open: bool = True,
+) -> float:
+    """Check that `value` is a finite real number in the given interval and return it as float.
+
+    Parameters
+    ----------
+    value : real
+        The value to check.
+    name : str
+        Argument name used in the message.
+    low, high : float, optional
+        Interval bounds; None means unbounded.
+    low_open, high_open : bool, optional
+        Whether the bounds are excluded (default) or included.
+
+    Examples
+    --------
+    >>> as_float(2, name="gamma", low=1.0)
+    2.0
+    >>> as_float(0.5, name="gamma", low=1.0)
+    Traceback (most recent call last):
+    ...
+    curvesmith.errors.CurveError: gamma must be > 1, got 0.5
+    """
+    if isinstance(value, bool) or not isinstance(value, Real):
+        try:
+            value = float(value)
+        except (TypeError, ValueError):
+            raise CurveError(f"{name} must be a real number, got {value!r}") from None
+    value = float(value)
+    if not math.isfinite(value):
+        raise CurveError(f"{name} must be finite, got {value}")
+    lo_ok = low is None or (value > low if low_open else value >= low)
+    hi_ok = high is None or (value < high if high_open else value <= high)
+    if not (lo_ok and hi_ok):
+        if high is None:
+            bound = f"{'>' if low_open else '>='} {low:g}"
+        elif low is None:
+            bound = f"{'<' if high_open else '<='} {high:g}"
+        else:
+            bound = f"in {'(' if low_open else '['}{low:g}, {high:g}{')' if high_open else ']'}"
+        raise CurveError(f"{name} must be {bound}, got {value:g}")
+    return value

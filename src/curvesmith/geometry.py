@@ -1,0 +1,362 @@
+"""Shared geometric primitives for polylines and polygons.
+
+All functions take points as rows, ``(N, 2)`` (or ``(N, d)`` where noted), are
+vectorized over vertices, and return new float64 arrays. Conventions:
+
+* signed area is positive for counter-clockwise polygons;
+* angles are radians;
+* ``closed`` is explicit: with ``closed=True`` the edge from the last vertex back
+  to the first is included, and a repeated closing vertex in the input is
+  dropped once.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ._validate import as_points
+from .errors import CurveError
+
+__all__ = [
+    "curve_length",
+    "det2",
+    "edge_lengths",
+    "edge_vectors",
+    "interior_angles",
+    "is_convex",
+    "line_intersection",
+    "orientation",
+    "segment_intersection",
+    "signed_area",
+    "turning_angles",
+]
+
+
+def det2(u, v) -> np.ndarray:
+    """Determinant ``u_x v_y - u_y v_x`` of 2D vectors, broadcast over leading axes.
+
+    Parameters
+    ----------
+    u, v : (..., 2) array_like
+        Vectors.
+
+    Returns
+    -------
+    (...) ndarray
+        ``det(u, v)``; positive when `v` is counter-clockwise from `u`.
+
+    Examples
+    --------
+    >>> float(det2([1.0, 0.0], [0.0, 1.0]))
+    1.0
+    """
+    u = np.asarray(u, dtype=float)
+    v = np.asarray(v, dtype=float)
+    return u[..., 0] * v[..., 1] - u[..., 1] * v[..., 0]
+
+
+def _edges(p: np.ndarray, closed: bool) -> np.ndarray:
+    if closed:
+        return np.roll(p, -1, axis=0) - p
+    return p[1:] - p[:-1]
+
+
+def signed_area(points) -> float:
+    """Signed area of the closed polygon through `points` (shoelace formula).
+
+    Parameters
+    ----------
+    points : (N, 2) array_like
+        Polygon vertices, N >= 3. The polygon is always closed; a repeated
+        closing vertex is dropped. For an open polyline this is the signed area
+        between the polyline and its chord (last point back to the first).
+
+    Returns
+    -------
+    float
+        Positive for counter-clockwise orientation. Self-intersecting polygons
+        give the winding-number weighted area.
+
+    Notes
+    -----
+    Coordinates are shifted to the first vertex before the products are
+    formed, so that polygons far from the origin (e.g. projected GIS
+    coordinates around 1e6) keep their relative precision.
+
+    Examples
+    --------
+    >>> signed_area([[0, 0], [1, 0], [1, 1], [0, 1]])
+    1.0
+    >>> signed_area([[0, 0], [0, 1], [1, 1], [1, 0], [0, 0]])
+    -1.0
+    """
+    p = as_points(points, closed=True, min_points=3)
+    return _signed_area(p)
+
+
+def _signed_area(p: np.ndarray) -> float:
+    q = p - p[0]
+    x, y = q[:, 0], q[:, 1]
+    return 0.5 * float(np.dot(x[:-1], y[1:]) - np.dot(x[1:], y[:-1]))
+
+
+def edge_vectors(points, *, closed: bool = False) -> np.ndarray:
+    """Edge vectors ``x_{i+1} - x_i`` of a polyline in any dimension.
+
+    Parameters
+    ----------
+    points : (N, d) array_like
+        Vertices.
+    closed : bool, optional
+        Include the closing edge ``x_0 - x_{N-1}``.
+
+    Returns
+    -------
+    (N - 1, d) or (N, d) ndarray
+        One row per edge.
+
+    Examples
+    --------
+    >>> edge_vectors([[0, 0], [1, 0], [1, 2]]).tolist()
+    [[1.0, 0.0], [0.0, 2.0]]
+    """
+    p = as_points(points, closed=closed, min_points=2, dim=None)
+    return _edges(p, closed)
+
+
+def edge_lengths(points, *, closed: bool = False) -> np.ndarray:
+    """Euclidean edge lengths of a polyline in any dimension.
+
+    Parameters
+    ----------
+    points : (N, d) array_like
+        Vertices.
+    closed : bool, optional
+        Include the closing edge.
+
+    Returns
+    -------
+    (N - 1,) or (N,) ndarray
+
+    Examples
+    --------
+    >>> edge_lengths([[0, 0], [3, 4], [3, 0]], closed=True).tolist()
+    [5.0, 4.0, 3.0]
+    """
+    return np.linalg.norm(edge_vectors(points, closed=closed), axis=1)
+
+
+def curve_length(points, *, closed: bool = False) -> float:
+    """Length of a polyline (or polygon perimeter) in any dimension.
+
+    Parameters
+    ----------
+    points : (N, d) array_like
+        Vertices, N >= 2.
+    closed : bool, optional
+        Add the closing edge from the last vertex back to the first.
+
+    Returns
+    -------
+    float
+
+    Examples
+    --------
+    >>> curve_length([[0, 0], [3, 4]])
+    5.0
+    >>> curve_length([[0, 0], [1, 0], [1, 1], [0, 1]], closed=True)
+    4.0
+    """
+    return float(edge_lengths(points, closed=closed).sum())
+
+
+def turning_angles(points, *, closed: bool = False) -> np.ndarray:
+    """Signed turning (exterior) angles at the vertices of a planar polyline.
+
+    The turning angle at vertex i is the angle from edge ``x_i - x_{i-1}`` to
+    edge ``x_{i+1} - x_i``, in ``(-pi, pi]``: positive for a left
+    (counter-clockwise) turn, zero for collinear edges.
+
+    Parameters
+    ----------
+    points : (N, 2) array_like
+        Vertices; consecutive vertices must be distinct.
+    closed : bool, optional
+        If True, return all N angles (vertex 0 first); otherwise the N - 2
+        angles at the interior vertices 1..N-2.
+
+    Returns
+    -------
+    (N,) or (N - 2,) ndarray
+        For a simple closed CCW polygon the angles sum to ``2 pi``.
+
+    Examples
+    --------
+    >>> np.round(turning_angles([[0, 0], [1, 0], [1, 1]]), 6).tolist()
+    [1.570796]
+    """
+    p = as_points(points, closed=closed, min_points=3, distinct=True)
+    e = _edges(p, closed)
+    if closed:
+        a, b = np.roll(e, 1, axis=0), e
+    else:
+        a, b = e[:-1], e[1:]
+    return np.arctan2(det2(a, b), np.einsum("ij,ij->i", a, b))
+
+
+def interior_angles(points, *, closed: bool = False) -> np.ndarray:
+    """Unsigned angle between the two edges at each vertex, in ``[0, pi]``, any dimension.
+
+    The angle at vertex i is between ``x_{i-1} - x_i`` and ``x_{i+1} - x_i``:
+    ``pi`` for collinear (straight) vertices, small for sharp spikes. For a
+    convex CCW polygon this is the interior angle.
+
+    Parameters
+    ----------
+    points : (N, d) array_like
+        Vertices; consecutive vertices must be distinct.
+    closed : bool, optional
+        If True, all N angles; otherwise the N - 2 interior-vertex angles.
+
+    Returns
+    -------
+    (N,) or (N - 2,) ndarray
+
+    Examples
+    --------
+    >>> np.degrees(interior_angles([[0, 0], [1, 0], [1, 1], [0, 1]], closed=True)).tolist()
+    [90.0, 90.0, 90.0, 90.0]
+    """
+    p = as_points(points, closed=closed, min_points=3, dim=None, distinct=True)
+    e = _edges(p, closed)
+    if closed:
+        a, b = -np.roll(e, 1, axis=0), e
+    else:
+        a, b = -e[:-1], e[1:]
+    # atan2(|a x b|, a.b) is accurate for all angles, unlike arccos of the cosine.
+    dot = np.einsum("ij,ij->i", a, b)
+    cross = np.sqrt(
+        np.maximum(
+            np.einsum("ij,ij->i", a, a) * np.einsum("ij,ij->i", b, b) - dot * dot,
+            0.0,
+        )
+    )
+    if p.shape[1] == 2:
+        cross = np.abs(det2(a, b))
+    return np.arctan2(cross, dot)
+
+
+def orientation(points) -> int:
+    """Orientation of a closed polygon: +1 counter-clockwise, -1 clockwise, 0 degenerate.
+
+    Examples
+    --------
+    >>> orientation([[0, 0], [1, 0], [0, 1]])
+    1
+    """
+    a = signed_area(points)
+    return int(np.sign(a))
+
+
+def is_convex(points, *, strict: bool = True) -> bool:
+    """Whether a closed polygon is convex (turns one way, once around).
+
+    Parameters
+    ----------
+    points : (N, 2) array_like
+        Polygon vertices, either orientation.
+    strict : bool, optional
+        If True (default), collinear vertices (zero turning angle) make the
+        polygon non-convex.
+
+    Examples
+    --------
+    >>> is_convex([[0, 0], [2, 0], [2, 2], [1, 0.5], [0, 2]])
+    False
+    """
+    t = turning_angles(points, closed=True)
+    s = np.sign(np.sum(t))
+    if s == 0:
+        return False
+    ok = s * t > 0 if strict else s * t >= 0
+    return bool(np.all(ok) and abs(abs(np.sum(t)) - 2 * np.pi) < 1e-9)
+
+
+def line_intersection(p, u, q, v) -> np.ndarray:
+    """Intersection of the lines ``p + s u`` and ``q + t v`` in the plane.
+
+    Parameters
+    ----------
+    p, u, q, v : (..., 2) array_like
+        Points and direction vectors, broadcast together.
+
+    Returns
+    -------
+    (..., 2) ndarray
+        Intersection points.
+
+    Raises
+    ------
+    CurveError
+        If a pair of lines is parallel (``det(u, v) == 0``).
+
+    Examples
+    --------
+    >>> line_intersection([0, 0], [1, 1], [2, 0], [-1, 1]).tolist()
+    [1.0, 1.0]
+    """
+    p, u, q, v = (np.asarray(a, dtype=float) for a in (p, u, q, v))
+    d = det2(u, v)
+    if np.any(d == 0):
+        raise CurveError("line_intersection: lines are parallel (det(u, v) == 0)")
+    s = det2(q - p, v) / d
+    return p + s[..., None] * u
+
+
+def segment_intersection(a0, a1, b0, b1) -> tuple[np.ndarray, np.ndarray]:
+    """Intersect segments ``[a0, a1]`` and ``[b0, b1]`` (vectorized).
+
+    Parameters
+    ----------
+    a0, a1, b0, b1 : (..., 2) array_like
+        Segment end points, broadcast together.
+
+    Returns
+    -------
+    hit : (...) ndarray of bool
+        True where the closed segments share at least one point.
+    point : (..., 2) ndarray
+        A common point where `hit` is True (for collinear overlapping segments,
+        the overlap end nearest to `a0`); a copy of `a0` where `hit` is False.
+
+    Examples
+    --------
+    >>> hit, pt = segment_intersection([0, 0], [2, 2], [0, 2], [2, 0])
+    >>> bool(hit), pt.tolist()
+    (True, [1.0, 1.0])
+    """
+    a0, a1, b0, b1 = np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in (a0, a1, b0, b1)))
+    r = a1 - a0
+    s = b1 - b0
+    w = b0 - a0
+    d = det2(r, s)
+    scale = np.maximum(np.abs(r).max(axis=-1), 1e-300) * np.maximum(np.abs(s).max(axis=-1), 1e-300)
+    parallel = np.abs(d) <= 1e-14 * scale
+    dd = np.where(parallel, 1.0, d)
+    t = det2(w, s) / dd
+    u = det2(w, r) / dd
+    hit = ~parallel & (t >= 0) & (t <= 1) & (u >= 0) & (u <= 1)
+    point = np.where(hit[..., None], a0 + t[..., None] * r, a0)
+    # Collinear segments: overlap along r.
+    colinear = parallel & (np.abs(det2(w, r)) <= 1e-14 * np.maximum(scale, 1e-300))
+    if np.any(colinear):
+        rr = np.einsum("...i,...i->...", r, r)
+        rr = np.where(rr == 0, 1.0, rr)
+        t0 = np.einsum("...i,...i->...", b0 - a0, r) / rr
+        t1 = np.einsum("...i,...i->...", b1 - a0, r) / rr
+        lo = np.maximum(np.minimum(t0, t1), 0.0)
+        hi = np.minimum(np.maximum(t0, t1), 1.0)
+        ov = colinear & (lo <= hi)
+        hit = hit | ov
+        point = np.where(ov[..., None], a0 + lo[..., None] * r, point)
+    return hit, point
