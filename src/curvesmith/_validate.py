@@ -136,7 +136,9 @@ def as_int(value, *, name: str, minimum: int | None = None, maximum: int | None 
     ...
     curvesmith.errors.CurveError: iterations must be an integer >= 0, got -1
     """
-    if isinstance(value, bool) or not isinstance(value, Integral):
+    if isinstance(value, bool | np.bool_):
+        raise CurveError(f"{name} must be an integer, got {value!r}")
+    if not isinstance(value, Integral):
         if isinstance(value, Real) and float(value).is_integer():
             value = int(value)
         else:

@@ -25,6 +25,7 @@ __all__ = [
     "interior_angles",
     "is_convex",
     "line_intersection",
+    "menger_curvature",
     "orientation",
     "segment_intersection",
     "signed_area",
@@ -359,4 +360,62 @@ def segment_intersection(a0, a1, b0, b1) -> tuple[np.ndarray, np.ndarray]:
         ov = colinear & (lo <= hi)
         hit = hit | ov
         point = np.where(ov[..., None], a0 + lo[..., None] * r, point)
+    # Degenerate segments (a single point): point-on-segment tests.
+    a_pt = np.all(r == 0, axis=-1)
+    b_pt = np.all(s == 0, axis=-1)
+    if np.any(a_pt | b_pt):
+        on_b = _on_segment(a0, b0, b1)
+        on_a = _on_segment(b0, a0, a1)
+        hit = np.where(a_pt, on_b, np.where(b_pt, on_a, hit))
+        point = np.where(a_pt[..., None], a0, np.where(b_pt[..., None], b0, point))
     return hit, point
+
+
+def _on_segment(q, s0, s1) -> np.ndarray:
+    """Whether point `q` lies on the closed segment ``[s0, s1]`` (exact for integer inputs)."""
+    d = s1 - s0
+    tol = 1e-14 * np.maximum(np.abs(d).max(axis=-1) * np.abs(q - s0).max(axis=-1), 1e-300)
+    col = np.abs(det2(d, q - s0)) <= tol
+    inside = np.all((q >= np.minimum(s0, s1)) & (q <= np.maximum(s0, s1)), axis=-1)
+    return col & inside
+
+
+def menger_curvature(points, *, closed: bool = False) -> np.ndarray:
+    """Signed curvature of the circle through each vertex and its two neighbours.
+
+    ``kappa_i = 2 det(x_i - x_{i-1}, x_{i+1} - x_i) / (|a| |b| |c|)`` with the
+    three side lengths of the triangle; positive for left turns. Converges to
+    the curvature of a smooth curve under refinement (exact on circles).
+
+    Parameters
+    ----------
+    points : (N, 2) array_like
+        Vertices; consecutive vertices must be distinct.
+    closed : bool, optional
+        All N vertices if True, else the N - 2 interior vertices.
+
+    Returns
+    -------
+    (N,) or (N - 2,) ndarray
+
+    Examples
+    --------
+    >>> t = np.linspace(0, 2 * np.pi, 12, endpoint=False)
+    >>> k = menger_curvature(np.c_[2 * np.cos(t), 2 * np.sin(t)], closed=True)
+    >>> np.round(k, 12)[:3].tolist()
+    [0.5, 0.5, 0.5]
+    """
+    p = as_points(points, closed=closed, min_points=3, distinct=True)
+    if closed:
+        prev, nxt = np.roll(p, 1, axis=0), np.roll(p, -1, axis=0)
+        mid = p
+    else:
+        prev, mid, nxt = p[:-2], p[1:-1], p[2:]
+    a = mid - prev
+    b = nxt - mid
+    c = nxt - prev
+    la, lb, lc = (np.linalg.norm(v, axis=1) for v in (a, b, c))
+    denom = la * lb * lc
+    with np.errstate(invalid="ignore", divide="ignore"):
+        k = np.where(denom > 0, 2.0 * det2(a, b) / np.where(denom > 0, denom, 1.0), 0.0)
+    return k

@@ -1,0 +1,208 @@
+"""Matplotlib figures shared by the demo, the CLI and users: overlays, curvature combs, convergence.
+
+Functions draw into a given ``Axes`` (or create a figure) and return the
+``Axes``; they never call ``plt.show``. Curves are drawn with equal axis
+scaling.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+
+from . import geometry
+from ._validate import as_points
+
+__all__ = ["before_after", "convergence", "curvature_comb", "draw_curve", "new_axes"]
+
+
+def new_axes(ncols: int = 1, *, width: float = 5.5, height: float = 4.5):
+    """Create a figure with `ncols` side-by-side axes; return ``(fig, axes)``."""
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(1, ncols, figsize=(width * ncols, height), squeeze=False)
+    return fig, list(axes[0])
+
+
+def _closed_xy(p: np.ndarray, closed: bool) -> np.ndarray:
+    return np.vstack([p, p[:1]]) if closed else p
+
+
+def draw_curve(ax, points, *, closed: bool, label: str | None = None, markers: bool = False, **kw):
+    """Draw a polyline or polygon (closing edge included when `closed`)."""
+    p = as_points(points, closed=closed, min_points=2)
+    xy = _closed_xy(p, closed)
+    style = {"marker": "o", "markersize": 3} if markers else {}
+    style.update(kw)
+    ax.plot(xy[:, 0], xy[:, 1], label=label, **style)
+    ax.set_aspect("equal", adjustable="box")
+    return ax
+
+
+def _describe(p: np.ndarray, closed: bool) -> str:
+    length = geometry.curve_length(p, closed=closed)
+    text = f"length {length:.6g}"
+    if len(p) >= 3:
+        area = geometry._signed_area(p)
+        text += f", {'area' if closed else 'area vs chord'} {area:.6g}"
+    return text
+
+
+def before_after(
+    before,
+    after: Sequence | np.ndarray,
+    *,
+    closed: bool,
+    labels: Sequence[str] = ("before", "after"),
+    title: str | None = None,
+    ax=None,
+):
+    """Overlay a curve before and after an operation, annotating length and area.
+
+    Parameters
+    ----------
+    before : (N, 2) array_like
+        Input curve, drawn with its vertices.
+    after : (M, 2) array_like or list of them
+        One or several results, each drawn and labelled.
+    closed : bool
+        Whether the curves are closed.
+    labels : sequence of str
+        Legend labels: the first for `before`, the rest for `after`.
+    title : str, optional
+        Axes title.
+    ax : matplotlib Axes, optional
+        Target axes (a new figure otherwise).
+
+    Returns
+    -------
+    matplotlib Axes
+    """
+    if ax is None:
+        _, (ax,) = new_axes()
+    p0 = as_points(before, closed=closed, min_points=2)
+    afters = [after] if isinstance(after, np.ndarray) and np.ndim(after) == 2 else list(after)
+    if afters and np.ndim(afters[0]) == 1:  # a single curve given as a list of points
+        afters = [np.asarray(after)]
+    draw_curve(
+        ax,
+        p0,
+        closed=closed,
+        markers=True,
+        color="0.55",
+        lw=1.0,
+        label=f"{labels[0]}: {len(p0)} pts, {_describe(p0, closed)}",
+    )
+    for i, a in enumerate(afters):
+        pa = as_points(a, closed=closed, min_points=2)
+        name = labels[i + 1] if i + 1 < len(labels) else f"result {i + 1}"
+        draw_curve(
+            ax, pa, closed=closed, lw=1.6, label=f"{name}: {len(pa)} pts, {_describe(pa, closed)}"
+        )
+    _legend_below(ax)
+    ax.set_xlabel("x")
+    ax.set_ylabel("y")
+    if title:
+        ax.set_title(title)
+    return ax
+
+
+def _legend_below(ax) -> None:
+    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.16), fontsize=8, frameon=False)
+
+
+def curvature_comb(
+    points,
+    curvature=None,
+    *,
+    closed: bool,
+    scale: float | None = None,
+    ax=None,
+    title: str | None = None,
+    color: str = "tab:red",
+):
+    """Draw a curvature comb: at each vertex a tooth along the normal of length ``-scale * kappa``.
+
+    Parameters
+    ----------
+    points : (N, 2) array_like
+        Curve vertices.
+    curvature : (N,) or (N - 2,) array_like, optional
+        Signed curvature per vertex (interior vertices for open curves);
+        default :func:`curvesmith.geometry.menger_curvature`.
+    closed : bool
+        Whether the curve is closed.
+    scale : float, optional
+        Tooth length per unit curvature; default makes the longest tooth 15 %
+        of the curve's bounding-box diagonal.
+    ax : matplotlib Axes, optional
+    title : str, optional
+    color : str, optional
+
+    Returns
+    -------
+    matplotlib Axes
+    """
+    if ax is None:
+        _, (ax,) = new_axes()
+    p = as_points(points, closed=closed, min_points=3, distinct=True)
+    k = (
+        geometry.menger_curvature(p, closed=closed)
+        if curvature is None
+        else np.asarray(curvature, float)
+    )
+    mid = p if closed else p[1:-1]
+    if k.shape[0] != mid.shape[0]:
+        from .errors import CurveError
+
+        raise CurveError(f"curvature must have {mid.shape[0]} values, got {k.shape[0]}")
+    prev = np.roll(p, 1, axis=0) if closed else p[:-2]
+    nxt = np.roll(p, -1, axis=0) if closed else p[2:]
+    t = nxt - prev
+    t /= np.maximum(np.linalg.norm(t, axis=1, keepdims=True), 1e-300)
+    n = np.c_[-t[:, 1], t[:, 0]]  # left normal
+    if scale is None:
+        diag = float(np.linalg.norm(p.max(axis=0) - p.min(axis=0)))
+        kmax = float(np.max(np.abs(k))) if k.size else 0.0
+        scale = 0.15 * diag / kmax if kmax > 0 else 0.0
+    tips = mid - scale * k[:, None] * n  # teeth point away from the centre of curvature
+    from matplotlib.collections import LineCollection
+
+    ax.add_collection(
+        LineCollection(np.stack([mid, tips], axis=1), colors=color, lw=0.7, alpha=0.8)
+    )
+    ax.plot(tips[:, 0], tips[:, 1], color=color, lw=0.9, label="curvature comb")
+    draw_curve(ax, p, closed=closed, color="k", lw=1.2, label="curve")
+    ax.legend(loc="best", fontsize=8)
+    ax.set_xlabel("x")
+    ax.set_ylabel("y")
+    if title:
+        ax.set_title(title)
+    return ax
+
+
+def convergence(
+    series: dict[str, Sequence[float]],
+    *,
+    ax=None,
+    title: str | None = None,
+    xlabel: str = "level n",
+    ylabel: str = "error",
+    logy: bool = True,
+):
+    """Plot one or more error sequences against their index (log scale by default)."""
+    if ax is None:
+        _, (ax,) = new_axes()
+    for name, values in series.items():
+        v = np.asarray(values, dtype=float)
+        ax.plot(np.arange(v.size), v, marker="o", ms=3, label=name)
+    if logy:
+        ax.set_yscale("log")
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8)
+    if title:
+        ax.set_title(title)
+    return ax
