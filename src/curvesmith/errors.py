@@ -19,7 +19,7 @@ class CurveError(ValueError):
     >>> cs.signed_area([[0.0, 0.0], [1.0, 0.0]])
     Traceback (most recent call last):
     ...
-    curvesmith.errors.CurveError: points must have at least 3 points, got 2
+    curvesmith.errors.CurveError: points must have at least 3 distinct ring points, got 2
     """
 
 
