@@ -124,20 +124,22 @@ def de_rham(
 def _de_rham_step(
     p: np.ndarray, alpha: float, beta: float, closed: bool, keep_ends: bool
 ) -> np.ndarray:
-    a = p
-    b = np.roll(p, -1, axis=0) if closed else p[1:]
-    if not closed:
-        a = p[:-1]
-    m, d = a.shape
+    m, d = (p.shape[0], p.shape[1]) if closed else (p.shape[0] - 1, p.shape[1])
+    a = p[:m]
+    if closed:
+        b = np.empty_like(p)
+        b[:-1] = p[1:]
+        b[-1] = p[0]
+    else:
+        b = p[1:]
     extra = 2 if (keep_ends and not closed) else 0
     out = np.empty((2 * m + extra, d))
-    body = out[1:-1] if extra else out
-    # S_2i = alpha a + beta b ; S_2i+1 = beta a + alpha b, written as a + t (b - a).
-    diff = b - a
-    np.multiply(diff, beta, out=body[0::2])
-    body[0::2] += a
-    np.multiply(diff, alpha, out=body[1::2])
-    body[1::2] += a
+    body = (out[1:-1] if extra else out).reshape(m, 2, d)
+    # S_2i = a + beta (b - a) = alpha a + beta b ;  S_2i+1 = b - beta (b - a) = beta a + alpha b.
+    step = b - a
+    step *= beta
+    np.add(a, step, out=body[:, 0])
+    np.subtract(b, step, out=body[:, 1])
     if extra:
         out[0] = p[0]
         out[-1] = p[-1]
