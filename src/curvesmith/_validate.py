@@ -82,7 +82,11 @@ def as_points(
         if arr.shape[1] not in allowed:
             want = " or ".join(f"(N, {d})" for d in allowed)
             raise CurveError(f"{name} must have shape {want}, got {_shape_text(arr.shape)}")
-    if not np.isfinite(arr).all():
+    # Fast path: the sum is finite iff every entry is (NaN and inf propagate), unless
+    # large finite values overflow, in which case the exact check below decides.
+    with np.errstate(over="ignore", invalid="ignore"):
+        total = arr.sum()
+    if not np.isfinite(total) and not np.isfinite(arr).all():
         bad = np.flatnonzero(~np.isfinite(arr).all(axis=1))
         raise CurveError(
             f"{name} must be finite, got {arr[bad[0]].tolist()} at row {int(bad[0])}"
