@@ -66,3 +66,11 @@ def test_as_int_and_as_float():
     with pytest.raises(CurveError, match="tol must be a real number"):
         as_float("abc", name="tol")
     assert as_float(0, name="x", low=0, low_open=False) == 0.0
+
+
+def test_huge_finite_values_pass_the_finiteness_check():
+    # The fast path sums the coordinates; an overflowing sum must fall back to the exact check.
+    p = as_points([[1e308, 1e308], [1e308, -1.0]])
+    assert p[0, 0] == 1e308
+    with pytest.raises(CurveError, match="row 1"):
+        as_points([[1e308, 1e308], [np.inf, -1.0]])
