@@ -1,0 +1,338 @@
+"""Tests of curvesmith.keyline (section 5 of Graiff Zurita, Kajiwara & Suzuki)."""
+
+import itertools
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+
+from curvesmith import keyline, signed_area
+from curvesmith.errors import CurveError
+
+
+def rot2(a):
+    return np.array([[math.cos(a), -math.sin(a)], [math.sin(a), math.cos(a)]])
+
+
+def random_rotation3(rng):
+    q, r = np.linalg.qr(rng.standard_normal((3, 3)))
+    q = q * np.sign(np.diag(r))
+    if np.linalg.det(q) < 0:
+        q[:, 0] = -q[:, 0]
+    return q
+
+
+def dist_to_polyline(x, poly):
+    """Plain reference: distance of each point of x to the polyline (loop over segments)."""
+    best = np.full(len(x), np.inf)
+    for a, b in itertools.pairwise(poly):
+        d = b - a
+        dd = float(d @ d)
+        t = np.zeros(len(x)) if dd == 0 else np.clip((x - a) @ d / dd, 0.0, 1.0)
+        best = np.minimum(best, np.linalg.norm(x - (a + t[:, None] * d), axis=1))
+    return best
+
+
+def naive_resample(poly, r):
+    """Plain reference of the paper's rule: every circle/segment intersection, largest arc length
+    beyond the current point wins; none -> stop."""
+    s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(poly, axis=0), axis=1))])
+    out, c, tc = [poly[0]], poly[0], 0.0
+    while True:
+        best = None
+        for j in range(len(poly) - 1):
+            a, d = poly[j], poly[j + 1] - poly[j]
+            dd = float(d @ d)
+            if dd == 0:
+                continue
+            w = a - c
+            bq, cq = float(w @ d), float(w @ w) - r * r
+            disc = bq * bq - dd * cq
+            if disc < 0:
+                continue
+            for u in ((-bq - math.sqrt(disc)) / dd, (-bq + math.sqrt(disc)) / dd):
+                if -1e-12 <= u <= 1 + 1e-12:
+                    u = min(max(u, 0.0), 1.0)
+                    t = s[j] + u * math.sqrt(dd)
+                    if t > tc + 1e-9 * r and (best is None or t > best[0]):
+                        best = (t, a + u * d)
+        if best is None:
+            return np.array(out)
+        tc, c = best
+        out.append(c)
+
+
+# ------------------------------------------------------------------ resampling
+
+
+def test_resample_zigzag_takes_the_cut_closest_to_the_right_end():
+    # the circle of radius 1.5 around (0, 0) cuts this switchback three times:
+    # (1.5, 0), (sqrt(1.25), 1) and (0.5, sqrt(2)); Fig. 12 takes the last one along the line.
+    poly = np.array([[0.0, 0.0], [2.0, 0.0], [2.0, 1.0], [0.5, 1.0], [0.5, 2.0]])
+    out = keyline.resample_equilateral(poly, 1.5)
+    # from (0.5, sqrt 2) only the way back is at distance 1.5: stop point (Fig. 13)
+    np.testing.assert_allclose(out, [[0.0, 0.0], [0.5, math.sqrt(2.0)]], atol=1e-15)
+
+
+def test_resample_zigzag_several_steps_matches_hand_values():
+    # a zig-zag of unit-slope teeth; the circle of radius 1.5 around each vertex cuts the
+    # rising and the falling edge of a tooth: the cut farther along the line wins (Fig. 12)
+    poly = np.array([[0, 0], [1, 1], [2, 0], [3, 1], [4, 0], [5, 1]], dtype=float)
+    out = keyline.resample_equilateral(poly, 1.5)
+    np.testing.assert_allclose(np.linalg.norm(np.diff(out, axis=0), axis=1), 1.5, atol=1e-14)
+    np.testing.assert_allclose(out, naive_resample(poly, 1.5), atol=1e-13)
+    # first step: x^2 + y^2 = 2.25 cuts (0,0)-(1,1) at x = 1.5/sqrt2 (arc 1.5) and
+    # (1,1)-(2,0), y = 2 - x, at x^2 - 2x + 0.875 = 0, x = 1 + sqrt(0.125) (arc 1.91): take it
+    x = 1.0 + math.sqrt(0.125)
+    np.testing.assert_allclose(out[1], [x, 2.0 - x], atol=1e-15)
+    # the end (5, 1) is 1.14 from the fourth vertex: that vertex is the stop point
+    assert len(out) == 4
+
+
+def test_resample_straight_line_and_stop_point():
+    out = keyline.resample_equilateral([[0, 0, 0], [0, 0, 10]], 3.0)
+    np.testing.assert_allclose(out[:, 2], [0, 3, 6, 9])
+
+
+@given(
+    st.integers(min_value=2, max_value=40),
+    st.integers(min_value=0, max_value=2**31 - 1),
+    st.floats(min_value=0.05, max_value=2.0),
+    st.sampled_from([2, 3]),
+)
+def test_resample_equal_chords_on_polyline_and_matches_reference(n, seed, r, dim):
+    rng = np.random.default_rng(seed)
+    poly = np.cumsum(rng.normal(size=(n, dim)), axis=0)
+    reach = np.linalg.norm(poly - poly[0], axis=1).max()
+    if reach <= r:
+        with pytest.raises(CurveError, match="step must be at most"):
+            keyline.resample_equilateral(poly, r)
+        return
+    out = keyline.resample_equilateral(poly, r)
+    chords = np.linalg.norm(np.diff(out, axis=0), axis=1)
+    np.testing.assert_allclose(chords, r, rtol=0, atol=1e-12 * max(1.0, r))
+    assert dist_to_polyline(out, poly).max() < 1e-12 * max(1.0, np.abs(poly).max())
+    np.testing.assert_allclose(out, naive_resample(poly, r), atol=1e-10)
+
+
+def test_resample_dense_noisy_scan():
+    rng = np.random.default_rng(5)
+    t = np.linspace(0.0, 300.0, 20001)
+    scan = np.column_stack([t, 20 * np.sin(t / 40), 0.01 * rng.standard_normal(t.size)])
+    out = keyline.resample_equilateral(scan, 1.0)
+    np.testing.assert_allclose(np.linalg.norm(np.diff(out, axis=0), axis=1), 1.0, atol=1e-12)
+    assert dist_to_polyline(out[::25], scan).max() < 1e-12 * 300
+    # about the arc length of the (noisy) curve, in steps of 1
+    assert 300 < len(out) < 400
+
+
+def test_resample_allows_repeated_points():
+    out = keyline.resample_equilateral([[0, 0], [0, 0], [4, 0], [4, 0], [4, 3]], 2.5)
+    np.testing.assert_allclose(np.linalg.norm(np.diff(out, axis=0), axis=1), 2.5, atol=1e-14)
+
+
+@pytest.mark.parametrize(
+    ("points", "step", "match"),
+    [
+        ([[0, 0], [1, 0]], 0.0, "step must be > 0, got 0"),
+        ([[0, 0], [1, 0]], -1.0, "step must be > 0"),
+        ([[0, 0], [1, 0]], float("nan"), "step must be finite"),
+        ([[0, 0], [1, 0]], 1.5, "step must be at most the largest distance 1 "),
+        ([[0, 0], [1, 0], [0, 0.5]], 1.2, "step must be at most"),
+        ([[0, 0], [np.nan, 0]], 0.5, "points must be finite"),
+        ([[0, 0]], 0.5, "at least 2 points"),
+        ([[1, 1], [1, 1]], 0.5, "must not all coincide"),
+    ],
+)
+def test_resample_bad_input(points, step, match):
+    with pytest.raises(CurveError, match=match):
+        keyline.resample_equilateral(points, step)
+
+
+# ------------------------------------------------------------------ plane fit
+
+
+def tilted_planar_curve(rng, n, sigma):
+    t = np.linspace(-1.0, 1.0, n)
+    xy = np.column_stack([3.0 * t, 0.8 * np.sin(2.5 * t) + 0.3 * t**2])
+    q = random_rotation3(rng)
+    pts = np.column_stack([xy, np.zeros(n)]) @ q.T + rng.normal(size=3) * 10
+    pts += sigma * rng.standard_normal(pts.shape)
+    return pts, q[:, 2], xy, q
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_plane_fit_recovers_normal_of_tilted_noisy_plane(seed):
+    rng = np.random.default_rng(seed)
+    pts, normal, _, _ = tilted_planar_curve(rng, 2000, 0.01)
+    pf = keyline.fit_plane(pts)
+    angle = math.acos(min(1.0, abs(float(pf.normal @ normal))))
+    # the normal is tilted by ~ sigma / (in-plane spread * sqrt(N)) ~ 1e-3; allow 5e-3
+    assert angle < 5e-3
+    np.testing.assert_allclose(pf.rms_distance, 0.01, rtol=0.1)
+    np.testing.assert_allclose(np.sqrt(pf.eigenvalues[2]), pf.rms_distance, rtol=1e-10)
+
+
+def test_plane_fit_exact_plane_and_in_plane_isometry():
+    rng = np.random.default_rng(11)
+    pts, normal, xy, _ = tilted_planar_curve(rng, 200, 0.0)
+    pf = keyline.fit_plane(pts)
+    assert math.acos(min(1.0, abs(float(pf.normal @ normal)))) < 1e-10
+    assert np.abs(pf.coords[:, 2]).max() < 1e-12
+    # 2D coordinates are an isometric copy of the generating curve
+    d_in = np.linalg.norm(xy[:, None] - xy[None], axis=2)
+    d_out = np.linalg.norm(pf.points2d[:, None] - pf.points2d[None], axis=2)
+    np.testing.assert_allclose(d_out, d_in, atol=1e-11)
+    np.testing.assert_allclose(pf.to_3d(pf.points2d), pts, atol=1e-11)
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_plane_fit_sign_convention(seed):
+    rng = np.random.default_rng(100 + seed)
+    pts, _, xy, q = tilted_planar_curve(rng, 300, 0.0)
+    hint = rng.normal(size=3)
+    pf = keyline.fit_plane(pts, normal_hint=hint)
+    e1, e2, e3 = pf.axes
+    assert e3 @ hint > 0
+    assert e1 @ (pts[-1] - pts[0]) > 0
+    np.testing.assert_allclose(np.cross(e1, e2), e3, atol=1e-14)
+    np.testing.assert_allclose(pf.axes @ pf.axes.T, np.eye(3), atol=1e-14)
+    # no mirror image: seen from the side of +normal the 2D curve has the generating
+    # curve's orientation iff the generating normal q[:, 2] points to that side
+    same_side = np.sign(q[:, 2] @ e3)
+    area_in = signed_area(xy)
+    area_out = signed_area(pf.points2d)
+    np.testing.assert_allclose(area_out, same_side * area_in, rtol=1e-10)
+
+
+def test_plane_fit_hint_orthogonal_falls_back_to_largest_component():
+    t = np.linspace(0, 1, 20)
+    pts = np.column_stack([t, np.zeros_like(t), t**2])  # the plane y = 0, normal +-y
+    pf = keyline.fit_plane(pts)  # default hint +z is orthogonal to the normal
+    np.testing.assert_allclose(pf.normal, [0, 1, 0], atol=1e-14)
+    pf = keyline.fit_plane(pts, normal_hint=(0, -1, 0))
+    np.testing.assert_allclose(pf.normal, [0, -1, 0], atol=1e-14)
+
+
+@pytest.mark.parametrize(
+    ("points", "kwargs", "match"),
+    [
+        ([[0, 0], [1, 0], [1, 1]], {}, r"points must have shape \(N, 3\), got \(3, 2\)"),
+        ([[0, 0, 0], [1, 1, 1]], {}, "at least 3 points, got 2"),
+        ([[0, 0, 0], [1, 1, 1], [2, 2, 2], [3, 3, 3]], {}, "all on one line"),
+        ([[0, 0, 0], [1, 0, 0], [0, np.inf, 0]], {}, "points must be finite"),
+        ([[0, 0, 0], [1, 0, 0], [0, 1, 0]], {"normal_hint": (0, 0, 0)}, "nonzero vector"),
+    ],
+)
+def test_plane_fit_bad_input(points, kwargs, match):
+    with pytest.raises(CurveError, match=match):
+        keyline.fit_plane(points, **kwargs)
+
+
+# ------------------------------------------------------------------ principal frame
+
+
+def elongated(n=50):
+    t = np.linspace(-2.0, 3.0, n)
+    return np.column_stack([t, 0.3 * np.sin(2 * t)])
+
+
+@pytest.mark.parametrize("angle", [-1.5, -0.7, 0.0, 0.4, 1.5, 1.7, 3.0, -2.5])
+def test_principal_frame_sign_convention_and_invariance(angle):
+    base = keyline.principal_frame(elongated())
+    moved = elongated() @ rot2(angle).T + [5.0, -7.0]
+    fr = keyline.principal_frame(moved)
+    f1, f2 = fr.axes
+    # section 5.3: the diagonal of (f1 f2) is positive, so (f1 f2) is a rotation
+    assert f1[0] > 0 and f2[1] > 0
+    np.testing.assert_allclose(np.linalg.det(fr.axes), 1.0, atol=1e-14)
+    wrapped = (angle + base.angle + math.pi / 2) % math.pi - math.pi / 2
+    np.testing.assert_allclose(fr.angle, wrapped, atol=1e-12)
+    flip = 1.0 if abs(angle + base.angle) < math.pi / 2 else -1.0
+    np.testing.assert_allclose(fr.coords, flip * base.coords, atol=1e-12)
+    np.testing.assert_allclose(fr.center, elongated().mean(axis=0) @ rot2(angle).T + [5, -7])
+    np.testing.assert_allclose(fr.from_frame(fr.coords), moved, atol=1e-12)
+    np.testing.assert_allclose(fr.to_frame(moved), fr.coords, atol=1e-12)
+    np.testing.assert_allclose(fr.eigenvalues, base.eigenvalues, rtol=1e-12)
+
+
+def test_principal_frame_vertical_tie():
+    fr = keyline.principal_frame([[0, 0], [0, 1], [0, 2]])
+    np.testing.assert_allclose(fr.axes, [[0, 1], [-1, 0]], atol=1e-15)
+
+
+def test_principal_frame_bad_input():
+    with pytest.raises(CurveError, match="must not all coincide"):
+        keyline.principal_frame([[1, 2], [1, 2]])
+    with pytest.raises(CurveError, match=r"shape \(N, 2\)"):
+        keyline.principal_frame([[1, 2, 3], [1, 2, 4]])
+
+
+# ------------------------------------------------------------------ inflection estimate
+
+
+@given(
+    st.floats(min_value=-1.0, max_value=1.0),
+    st.floats(min_value=0.4, max_value=2.0),
+    st.floats(min_value=0.4, max_value=2.0),
+    st.floats(min_value=-math.pi, max_value=math.pi),
+    st.integers(min_value=40, max_value=400),
+)
+def test_inflection_cubic_within_a_step(b, left, right, angle, n):
+    # y = x^3/3 + b x^2 has its only inflection at x = -b; asymmetric span around it
+    x = np.linspace(-b - left, -b + right, n)
+    pts = np.column_stack([x, x**3 / 3 + b * x**2]) @ rot2(angle).T
+    est = keyline.estimate_inflection(pts)
+    true_index = int(np.argmin(np.abs(x + b)))
+    assert abs(est.index - true_index) <= 1
+    np.testing.assert_array_equal(est.point, pts[est.index])
+    assert est.labels[-1] == est.index
+    assert {est.labels[0], est.labels[1]} == {0, n - 1}
+
+
+@pytest.mark.parametrize("seed", range(8))
+def test_inflection_asymmetric_sine_keyline(seed):
+    # a sine-like keyline: long shallow hump on the left, short deep valley on the right,
+    # sampled by equal chords (as in the pipeline)
+    rng = np.random.default_rng(seed)
+    a_left, a_right = rng.uniform(0.5, 1.5), rng.uniform(1.5, 3.0)
+    w_left, w_right = rng.uniform(4, 8), rng.uniform(2, 4)
+    x = np.linspace(-w_left, w_right, 4001)
+    y = np.where(
+        x < 0, a_left * np.sin(math.pi * x / w_left), -a_right * np.sin(math.pi * x / w_right)
+    )
+    poly = keyline.resample_equilateral(np.column_stack([x, y]), 0.05)
+    est = keyline.estimate_inflection(poly)
+    true_index = int(np.argmin(np.abs(poly[:, 0])))
+    assert abs(est.index - true_index) <= 2
+
+
+def test_inflection_follows_fig14_steps_on_a_cubic():
+    x = np.linspace(-1.5, 2.0, 301)
+    est = keyline.estimate_inflection(np.column_stack([x, x**3 / 3 - 0.3 * x**2]))
+    # step (1): point 3 is where the tangent is parallel to the end chord, x^2 - 0.6x = slope
+    slope = ((2**3 / 3 - 0.3 * 4) - (-(1.5**3) / 3 - 0.3 * 1.5**2)) / 3.5
+    x3 = 0.3 - math.sqrt(0.09 + slope)
+    assert abs(x[est.labels[2]] - x3) <= 0.5 * (x[1] - x[0]) + 1e-12
+    # point 3 is on the left lobe, so the inflection side (point 2) is the right end
+    assert est.labels[:2] == (0, 300)
+    # the numbered points close in on x = 0.3 from both sides
+    xs = x[list(est.labels[2:])]
+    assert np.all(np.diff(np.abs(xs - 0.3)[::2]) <= 0)
+    assert abs(x[est.index] - 0.3) <= x[1] - x[0]
+
+
+@pytest.mark.parametrize(
+    ("points", "match"),
+    [
+        (np.column_stack([np.linspace(0, 1, 9), np.linspace(0, 1, 9) ** 2]), "convex arc"),
+        (np.column_stack([np.linspace(0, 1, 9), np.linspace(0, 2, 9)]), "straight line"),
+        ([[0, 0], [1, 1], [2, -1], [3, 0]], "at least 5 points, got 4"),
+        ([[0, 0], [1, 1], [2, -1], [3, 0], [4, np.nan]], "finite"),
+    ],
+)
+def test_inflection_bad_input(points, match):
+    with pytest.raises(CurveError, match=match):
+        keyline.estimate_inflection(points)
