@@ -119,7 +119,7 @@ def test_resample_equal_chords_on_polyline_and_matches_reference(n, seed, r, dim
 
 def test_resample_dense_noisy_scan():
     rng = np.random.default_rng(5)
-    t = np.linspace(0.0, 300.0, 20001)
+    t = np.linspace(0.0, 300.0, 6001)
     scan = np.column_stack([t, 20 * np.sin(t / 40), 0.01 * rng.standard_normal(t.size)])
     out = keyline.resample_equilateral(scan, 1.0)
     np.testing.assert_allclose(np.linalg.norm(np.diff(out, axis=0), axis=1), 1.0, atol=1e-12)
@@ -336,3 +336,131 @@ def test_inflection_follows_fig14_steps_on_a_cubic():
 def test_inflection_bad_input(points, match):
     with pytest.raises(CurveError, match=match):
         keyline.estimate_inflection(points)
+
+
+# ------------------------------------------------------------------ canonical parameters
+
+
+@pytest.mark.parametrize(
+    "params",
+    [
+        (0.0, 0.0, 1.0, 7.0, -0.015, -1.64 - 2 * 1.6399998658645112, 0.4),
+        (1.0, -2.0, 0.5, -4.0, 0.03, 25.0, 0.7),
+        (0.0, 0.0, 0.2, 0.3, -0.05, -3.0, 0.95),
+        (0.0, 0.0, 0.2, 0.3, 0.05, 9.0, 2.5),
+        (0.0, 0.0, 0.2, -3.5, -0.04, -7.0, 1.8),
+    ],
+)
+def test_canonical_params_draw_the_same_vertices(params):
+    from curvesmith import elastica
+
+    can = keyline.canonical_params(params)
+    np.testing.assert_allclose(elastica.sample(can, 60), elastica.sample(params, 60), atol=1e-9)
+    assert -math.pi < can[3] <= math.pi
+    if can[6] < 1:
+        assert can[4] >= 0
+        assert 0 <= can[5] < 4 * 1.1 * math.pi
+    assert keyline.canonical_params(can) == pytest.approx(can, abs=1e-12)
+
+
+# ------------------------------------------------------------------ end to end
+
+
+def truth_and_fit(syn, res):
+    tl, tr = syn.params_in(res)
+    rows = res.table()
+    return [
+        (
+            np.array(keyline.canonical_params(t)[2:]),
+            np.array([row[c] for c in ["h", "phi", "z", "q", "k"]]),
+        )
+        for t, row in zip((tl, tr), rows, strict=True)
+    ]
+
+
+def test_end_to_end_exact_halves_recover_parameters():
+    syn = keyline.synthetic_keyline()  # tilted plane, no noise, asymmetric halves
+    res = keyline.fit(syn.points, step=1.0)
+    assert res.success
+    assert res.inflection.index == syn.joint
+    np.testing.assert_allclose(np.linalg.norm(np.diff(res.points, axis=0), axis=1), 1.0, atol=1e-12)
+    # the resampled polygon reproduces the generating vertices (the step is their edge)
+    gen = np.vstack([syn.params_in(res)[0][:2]])
+    np.testing.assert_allclose(res.points[syn.joint], gen[0], atol=1e-9)
+    for truth, fitted in truth_and_fit(syn, res):
+        np.testing.assert_allclose(fitted, truth, atol=1e-7)
+    assert res.left.rms < 1e-9 and res.right.rms < 1e-9
+    rows = res.table()
+    assert [r["side"] for r in rows] == ["left", "right"]
+    assert rows[0]["n_points"] == syn.joint + 1
+    assert rows[1]["phi_deg"] == pytest.approx(math.degrees(rows[1]["phi"]))
+    assert set(rows[0]) == set(keyline.TABLE_COLUMNS)
+    # the fitted curves map back onto the scan's plane, through the joint
+    back = res.to_input_frame(res.right.points)
+    np.testing.assert_allclose(back[0], syn.offset, atol=1e-9)
+    assert np.abs((back - res.plane.centroid) @ res.plane.normal).max() < 1e-9
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_end_to_end_noisy_tilted_scan_close_to_truth(seed):
+    sigma = 0.01  # 1 % of the step, like 10 um on the paper's 1 mm step
+    syn = keyline.synthetic_keyline(noise=sigma, seed=seed)
+    res = keyline.fit(syn.points, step=1.0)
+    assert res.success
+    # the noise moves the inflection estimate by a few vertices at most
+    assert abs(res.inflection.index - syn.joint) <= 5
+    for truth, fitted in truth_and_fit(syn, res):
+        h, phi, z, q, k = fitted - truth
+        assert abs(h) < 1e-3
+        assert abs(phi) < 0.15
+        assert abs(z) < 0.1 * truth[2]
+        # q is the phase at the pinned vertex: off by (index error) * z plus noise
+        assert abs(q) < 5 * truth[2] + 0.1
+        assert abs(k) < 0.08
+    assert res.left.rms < 2 * sigma and res.right.rms < 2 * sigma
+
+
+def test_fit_accepts_2d_input_and_reversed_order():
+    syn = keyline.synthetic_keyline(n_left=60, n_right=50, left=(0.02, None, 0.3))
+    xy = syn.vertices
+    a = keyline.fit(xy, step=1.0)
+    b = keyline.fit(xy[::-1], step=1.0)
+    assert a.plane is None and a.success
+    assert a.inflection.index == syn.joint
+    np.testing.assert_allclose(b.points, a.points, atol=1e-9)
+    for truth, fitted in truth_and_fit(syn, a):
+        np.testing.assert_allclose(fitted, truth, atol=1e-7)
+
+
+def test_fit_default_step_is_extent_over_200():
+    syn = keyline.synthetic_keyline(n_left=60, n_right=50, left=(0.02, None, 0.3))
+    res = keyline.fit(syn.points)
+    extent = np.ptp(keyline.fit_plane(syn.points).points2d[:, 0])
+    assert res.step == pytest.approx(extent / keyline.DEFAULT_STEPS)
+    np.testing.assert_allclose(
+        np.linalg.norm(np.diff(res.points, axis=0), axis=1), res.step, atol=1e-12
+    )
+
+
+@pytest.mark.parametrize(
+    ("points", "kwargs", "match"),
+    [
+        ([[0, 0, 0], [1, 1, 0], [2, 0, 0], [3, 1, 0]], {}, "at least 5 points, got 4"),
+        ([[0, 0, 0], [1, 1, 0], [2, 0, 0], [3, 1, 0], [4, np.nan, 0]], {}, "finite"),
+        (np.zeros((6, 4)), {}, r"shape \(N, 2\) or \(N, 3\)"),
+        ("sine", {"step": 0.0}, "step must be > 0, got 0"),
+        ("sine", {"step": -2.0}, "step must be > 0"),
+        ("sine", {"step": 50.0}, "step must be at most the largest distance"),
+        ("sine", {"step": 2.0}, "step must leave at least 9 vertices"),
+        ("arc", {"step": 0.05}, "convex arc"),
+        ("early", {"step": 0.05}, "inflection away from the ends"),
+        ("sine", {"min_side_points": 3}, "min_side_points must be an integer >= 5"),
+    ],
+)
+def test_fit_bad_input(points, kwargs, match):
+    t = np.linspace(0.0, 2 * math.pi, 200)
+    if isinstance(points, str):
+        y = {"sine": np.sin(t), "arc": -((t - math.pi) ** 2), "early": (t - 0.1) ** 3}[points]
+        points = np.column_stack([t, y, 0.1 * t])
+    with pytest.raises(CurveError, match=match):
+        keyline.fit(points, **kwargs)

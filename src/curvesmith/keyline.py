@@ -29,17 +29,24 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._validate import as_float, as_points
+from ._validate import as_float, as_int, as_points
 from .errors import CurveError
 
 __all__ = [
+    "DEFAULT_STEPS",
+    "TABLE_COLUMNS",
     "InflectionEstimate",
+    "KeylineFit",
     "PlaneFit",
     "PrincipalFrame",
+    "SyntheticKeyline",
+    "canonical_params",
     "estimate_inflection",
+    "fit",
     "fit_plane",
     "principal_frame",
     "resample_equilateral",
+    "synthetic_keyline",
 ]
 
 
@@ -572,3 +579,481 @@ def _estimate_inflection(p: np.ndarray) -> InflectionEstimate:
         s_b = s_c
     idx = labels[-1]
     return InflectionEstimate(index=idx, point=p[idx].copy(), labels=tuple(labels))
+
+
+# --------------------------------------------------------------------------------------
+# 5.4 the pipeline: one discrete elastica on each side of the inflection
+# --------------------------------------------------------------------------------------
+
+#: Columns of :meth:`KeylineFit.table`, in order.
+TABLE_COLUMNS = (
+    "side",
+    "n_points",
+    "h",
+    "phi",
+    "phi_deg",
+    "z",
+    "q",
+    "k",
+    "rms",
+    "success",
+)
+
+#: Default number of steps across the keyline's extent when no step is given.
+DEFAULT_STEPS = 200
+
+
+@dataclass(frozen=True)
+class KeylineFit:
+    """Result of :func:`fit`: the keyline in its frame and one discrete elastica per side.
+
+    Attributes
+    ----------
+    points : (M, 2) ndarray
+        The equilateral open polygon (chords = `step`) in the principal-axes
+        frame x''y'' of section 5.3, from the left end to the stop point.
+    step : float
+        The chord length ``r`` used by :func:`resample_equilateral`.
+    plane : PlaneFit or None
+        The plane fit of the 3D input, None for 2D input.
+    frame : PrincipalFrame
+        The second principal component analysis (x'y' -> x''y'').
+    inflection : InflectionEstimate
+        The RDP estimate; ``inflection.index`` indexes `points`.
+    left, right : elastica fit results
+        Fits of ``points[index::-1]`` (from the inflection to the left end) and
+        ``points[index:]`` (to the right end), each with ``(x0, y0)`` pinned at
+        the inflection point (section 5.4): fields ``params``, ``points``,
+        ``rms``, ``success``, ``message`` (see ``curvesmith.elastica.fit``).
+    """
+
+    points: np.ndarray
+    step: float
+    plane: PlaneFit | None
+    frame: PrincipalFrame
+    inflection: InflectionEstimate
+    left: object
+    right: object
+
+    @property
+    def success(self) -> bool:
+        """bool: both side fits converged."""
+        return bool(self.left.success and self.right.success)
+
+    @property
+    def message(self) -> str:
+        """str: the two fits' messages."""
+        return f"left: {self.left.message}; right: {self.right.message}"
+
+    def table(self) -> list[dict]:
+        """Parameters ``(h, phi, z, q, k)`` of each side, like Table 1 of the paper.
+
+        Returns
+        -------
+        list of dict
+            Two rows (``side`` = ``"left"``, ``"right"``) with the keys of
+            :data:`TABLE_COLUMNS`; the parameters in the canonical form of
+            :func:`canonical_params`, ``phi`` in radians and ``phi_deg`` in
+            degrees (the paper's "grad" column), ``rms`` the fit residual.
+        """
+        rows = []
+        for side, res in (("left", self.left), ("right", self.right)):
+            _, _, h, phi, z, q, k = canonical_params(res.params)
+            rows.append(
+                {
+                    "side": side,
+                    "n_points": len(res.points),
+                    "h": h,
+                    "phi": phi,
+                    "phi_deg": math.degrees(phi),
+                    "z": z,
+                    "q": q,
+                    "k": k,
+                    "rms": float(res.rms),
+                    "success": bool(res.success),
+                }
+            )
+        return rows
+
+    def to_input_frame(self, points2d) -> np.ndarray:
+        """Map x''y'' coordinates (e.g. a side's fitted points) back to the input's frame.
+
+        Parameters
+        ----------
+        points2d : (K, 2) array_like
+
+        Returns
+        -------
+        (K, 3) or (K, 2) ndarray
+            Points on the fitted plane in scan coordinates for 3D input, or
+            in the input's 2D coordinates.
+        """
+        q = self.frame.from_frame(points2d)
+        return q if self.plane is None else self.plane.to_3d(q)
+
+
+def fit(
+    points,
+    *,
+    step: float | None = None,
+    normal_hint=(0.0, 0.0, 1.0),
+    min_side_points: int = 5,
+    fit_options: dict | None = None,
+) -> KeylineFit:
+    """Run the keyline pipeline of section 5 and fit a discrete elastica to each side.
+
+    Steps (Graiff Zurita, Kajiwara & Suzuki, sections 5.3-5.4):
+
+    1. 3D input: plane fit by PCA and projection, :func:`fit_plane`; 2D input
+       is taken as already planar (its own PCA frame plays the x'y' role).
+    2. The end with the smaller x' coordinate is the left end ``A_1``; the
+       polyline is resampled from it by :func:`resample_equilateral` with
+       chord `step`.
+    3. The equilateral polygon is put in its principal-axes frame x''y''
+       (:func:`principal_frame`).
+    4. The global inflection is estimated by the RDP method
+       (:func:`estimate_inflection`).
+    5. Each side, traversed from the inflection outwards, is fitted by
+       ``curvesmith.elastica.fit`` with ``(x0, y0)`` pinned at the inflection
+       point; the other five parameters ``(h, phi, z, q, k)`` are optimised.
+
+    Parameters
+    ----------
+    points : (N, 3) or (N, 2) array_like
+        The keyline as scanned (3D) or already planar (2D), in scan order,
+        N >= 5; dense and noisy is fine.
+    step : float, optional
+        Chord length ``r`` of the equilateral polygon, in the units of the
+        points (the paper uses 1 mm on 270 mm tiles). Default: the extent of
+        the keyline along its first principal axis divided by
+        :data:`DEFAULT_STEPS` (200).
+    normal_hint : (3,) array_like, optional
+        Side from which the plane is viewed, see :func:`fit_plane` (3D only).
+    min_side_points : int, optional
+        Minimum number of vertices on each side of the inflection (>= 5).
+    fit_options : dict, optional
+        Extra keyword arguments for ``curvesmith.elastica.fit``.
+
+    Returns
+    -------
+    KeylineFit
+
+    Raises
+    ------
+    CurveError
+        On non-finite or too few points, a non-positive step, a step longer
+        than the keyline reaches, no inflection, or an inflection so close to
+        an end that a side has fewer than `min_side_points` vertices.
+        Non-convergence of a side fit is not an error: it is reported in the
+        result (``success``, ``message``).
+    """
+    p = as_points(points, dim=(2, 3), min_points=5)
+    min_side = as_int(min_side_points, name="min_side_points", minimum=5)
+    plane = fit_plane(p, normal_hint=normal_hint) if p.shape[1] == 3 else None
+    if plane is not None:
+        q = plane.points2d
+        xs = q[:, 0]
+    else:
+        q = p
+        xs = _principal_frame(q).coords[:, 0]
+    if xs[-1] < xs[0]:
+        q = q[::-1]
+    if step is None:
+        r = float(np.ptp(xs)) / DEFAULT_STEPS
+        if r <= 0.0:
+            raise CurveError("points must extend along a line, got all points at one place")
+    else:
+        r = as_float(step, name="step", low=0.0)
+    poly, _ = _resample(np.ascontiguousarray(q), r)
+    if poly.shape[0] < 2 * min_side - 1:
+        raise CurveError(
+            f"step must leave at least {2 * min_side - 1} vertices on the keyline, got "
+            f"{poly.shape[0]} vertices with step {r:.6g}; use a smaller step"
+        )
+    frame = _principal_frame(poly)
+    xy = frame.coords
+    est = _estimate_inflection(xy)
+    i = est.index
+    n_left, n_right = i + 1, xy.shape[0] - i
+    if min(n_left, n_right) < min_side:
+        raise CurveError(
+            f"points must have an inflection away from the ends, got the estimate at vertex {i} "
+            f"of {xy.shape[0]} ({n_left} vertices on the left side, {n_right} on the right; "
+            f"need {min_side} on each)"
+        )
+    options = dict(fit_options or {})
+    left = _fit_side(xy[i::-1], options)
+    right = _fit_side(xy[i:], options)
+    return KeylineFit(
+        points=xy, step=r, plane=plane, frame=frame, inflection=est, left=left, right=right
+    )
+
+
+def _fit_side(side: np.ndarray, options: dict):
+    """Fit one side with its start pinned at the inflection (section 5.4).
+
+    The paper starts the optimiser from the initial guess of section 4.3, which
+    reads the discrete curvature (4.33) of the data. On a scan resampled at a
+    fine step the noise of that curvature grows like ``sigma / h^2`` and the
+    guess can land in the wrong basin (e.g. near the separatrix ``k = 1``).
+    So the side is first fitted at a coarser resolution, every ``m``-th vertex
+    (curvature noise down by ``m^2``), and that fit, rescaled to the full
+    resolution (``h / m``, ``z / m``; ``phi``, ``q``, ``k`` unchanged), starts
+    the full fit; if that does not succeed the full-resolution guess is tried
+    too, and the better converged fit is kept.
+    """
+    from . import elastica
+
+    fixed = {"x0": float(side[0, 0]), "y0": float(side[0, 1])}
+    n = side.shape[0]
+    m = max(1, min(n // 32, (n - 1) // 7))
+    candidates = []
+    if m >= 2 and "start" not in options:
+        coarse = elastica.fit(side[::m], fixed=fixed, **options)
+        c = coarse.params
+        start = (c.x0, c.y0, c.h / m, c.phi, c.z / m, c.q, c.k)
+        res = elastica.fit(side, fixed=fixed, start=start, **options)
+        if res.success:
+            return res
+        candidates.append(res)
+    res = elastica.fit(side, fixed=fixed, **options)
+    candidates.append(res)
+    return min(candidates, key=lambda r: (not r.success, r.rms))
+
+
+def canonical_params(params) -> tuple[float, ...]:
+    """A canonical representative of discrete elastica parameters ``(x0, y0, h, phi, z, q, k)``.
+
+    Different parameter vectors draw the same vertices: ``phi`` matters
+    modulo ``2 pi``; for ``k < 1`` (case (ii)) the half angle ``a(s)`` with
+    ``sin a = k sn(s; k)``, ``cos a = dn(s; k)`` has period ``4K(k)`` in ``s``
+    and ``a(-s - 2K) = a(s)``, so ``(z, q)`` and ``(-z, -q - 2K)`` give the same
+    curve; for ``k > 1`` (case (i), modulus ``1/k``), shifting ``q`` by
+    ``2K(1/k^2)/k`` turns ``a`` by ``pi`` and every tangent by ``2 pi``. This
+    returns ``phi`` in ``(-pi, pi]``, ``z >= 0`` when ``k < 1``, and ``q``
+    reduced to ``[0, period)``, so that tables of fits (Table 1) can be
+    averaged. Verified: the vertices of the input and of the output agree to
+    rounding (tests).
+
+    Parameters
+    ----------
+    params : sequence of 7 float
+
+    Returns
+    -------
+    tuple of 7 float
+
+    Examples
+    --------
+    >>> from scipy.special import ellipk
+    >>> K = float(ellipk(0.16))
+    >>> p = canonical_params((0, 0, 1.0, 7.0, -0.015, -1.64 - 2 * K, 0.4))
+    >>> [round(v, 6) for v in p[3:6]]
+    [0.716815, 0.015, 1.64]
+    """
+    from scipy.special import ellipk
+
+    x0, y0, h, phi, z, q, k = (float(v) for v in params)
+    phi = math.remainder(phi, 2.0 * math.pi)
+    if phi == -math.pi:
+        phi = math.pi
+    if k < 1.0:
+        big_k = float(ellipk(k * k))
+        if z < 0.0:
+            z, q = -z, -q - 2.0 * big_k
+        q = q % (4.0 * big_k)
+    elif k > 1.0:
+        q = q % (2.0 * float(ellipk(1.0 / (k * k))) / k)
+    return (x0, y0, h, phi, z, q, k)
+
+
+# --------------------------------------------------------------------------------------
+# synthetic scans for tests, demos and benchmarks
+# --------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class SyntheticKeyline:
+    """A synthetic 3D keyline scan made from two exact discrete elastica halves.
+
+    Attributes
+    ----------
+    points : (M, 3) ndarray
+        The "scan": dense points along the generating polygon, embedded in a
+        tilted plane, with Gaussian noise.
+    vertices : (n_left + n_right - 1, 2) ndarray
+        The generating equilateral polygon in its plane's coordinates.
+    joint : int
+        Index in `vertices` of the shared start vertex of both halves (the
+        inflection when both phases ``q`` are ``K(k)``).
+    left_params, right_params : tuple of 7 float
+        ``(x0, y0, h, phi, z, q, k)`` of the two halves in the plane's
+        coordinates, each traversed from the joint outwards.
+    rotation : (3, 3) ndarray
+        Columns: the plane's in-plane axes and its normal in 3D.
+    offset : (3,) ndarray
+        3D position of the plane's origin (the joint).
+    """
+
+    points: np.ndarray
+    vertices: np.ndarray
+    joint: int
+    left_params: tuple
+    right_params: tuple
+    rotation: np.ndarray
+    offset: np.ndarray
+
+    def params_in(self, result: KeylineFit) -> tuple[tuple, tuple]:
+        """The true parameters expressed in the x''y'' frame of a pipeline result.
+
+        The scan's plane coordinates map to the result's frame by a rigid
+        motion ``A xy + b`` (``A`` a rotation by ``alpha``); the true elastica
+        parameters there are ``(A (x0, y0) + b, h, phi + alpha, z, q, k)``.
+
+        Parameters
+        ----------
+        result : KeylineFit
+            Output of :func:`fit` on ``self.points``.
+
+        Returns
+        -------
+        (left, right) : tuple of two 7-tuples
+        """
+        a = self.rotation[:, :2]
+        if result.plane is not None:
+            lin = result.frame.axes @ result.plane.axes[:2] @ a
+            off = result.frame.axes @ (
+                result.plane.axes[:2] @ (self.offset - result.plane.centroid) - result.frame.center
+            )
+        else:
+            lin = result.frame.axes
+            off = -result.frame.axes @ result.frame.center
+        if np.linalg.det(lin) < 0:
+            raise CurveError("result must view the plane from the scan's normal side (mirrored)")
+        alpha = math.atan2(lin[1, 0], lin[0, 0])
+        out = []
+        for x0, y0, h, phi, z, q, k in (self.left_params, self.right_params):
+            x0n, y0n = lin @ np.array([x0, y0]) + off
+            out.append((float(x0n), float(y0n), h, phi + alpha, z, q, k))
+        return out[0], out[1]
+
+
+def _rotation_xyz(angles) -> np.ndarray:
+    ax, ay, az = (float(a) for a in angles)
+    cx, sx, cy, sy, cz, sz = (
+        math.cos(ax),
+        math.sin(ax),
+        math.cos(ay),
+        math.sin(ay),
+        math.cos(az),
+        math.sin(az),
+    )
+    rx = np.array([[1, 0, 0], [0, cx, -sx], [0, sx, cx]])
+    ry = np.array([[cy, 0, sy], [0, 1, 0], [-sy, 0, cy]])
+    rz = np.array([[cz, -sz, 0], [sz, cz, 0], [0, 0, 1]])
+    return rz @ ry @ rx
+
+
+def synthetic_keyline(
+    left=(0.008, None, 0.30),
+    right=(0.015, None, 0.40),
+    *,
+    h: float = 1.0,
+    n_left: int = 150,
+    n_right: int = 120,
+    phi: float = -0.2,
+    tilt=(0.35, -0.25, 0.6),
+    offset=(120.0, -40.0, 15.0),
+    noise: float = 0.0,
+    points_per_edge: int = 8,
+    seed: int | None = None,
+) -> SyntheticKeyline:
+    """Make a realistic synthetic 3D keyline scan from two exact discrete elasticae.
+
+    Both halves start at a shared joint vertex and run outwards with
+    ``curvesmith.elastica.sample``; the left half is turned so that its first
+    edge is exactly opposite the right half's (a G1 joint). With the phases
+    ``q = K(k)`` (the default, ``None``) the discrete curvature ``kappa_n``,
+    proportional to ``cn(z n + q; k)`` (eq. (3.20)), vanishes at the joint, so
+    the keyline has its inflection there. The polygon is sampled densely
+    (`points_per_edge` points per edge, vertices included), embedded in a plane
+    tilted by the rotation ``Rz Ry Rx`` of `tilt`, shifted by `offset`, and
+    Gaussian noise of standard deviation `noise` is added in 3D.
+
+    Parameters
+    ----------
+    left, right : (z, q, k)
+        Argument step, phase (None: ``K(k)``, inflection at the joint) and
+        continued modulus of each half (``k < 1``: inflections possible).
+    h : float, optional
+        Edge length of the generating polygon (both halves).
+    n_left, n_right : int, optional
+        Vertices of each half, the joint included in both.
+    phi : float, optional
+        Rotation of the right half (radians).
+    tilt : (3,) array_like, optional
+        Rotation angles about x, y, z (radians) of the plane.
+    offset : (3,) array_like, optional
+        3D position of the joint.
+    noise : float, optional
+        Standard deviation of the 3D Gaussian noise (>= 0).
+    points_per_edge : int, optional
+        Scan points per polygon edge (>= 1).
+    seed : int, optional
+        Seed of ``numpy.random.default_rng`` for the noise.
+
+    Returns
+    -------
+    SyntheticKeyline
+    """
+    from scipy.special import ellipk
+
+    from . import elastica
+
+    h = as_float(h, name="h", low=0.0)
+    n_left = as_int(n_left, name="n_left", minimum=3)
+    n_right = as_int(n_right, name="n_right", minimum=3)
+    ppe = as_int(points_per_edge, name="points_per_edge", minimum=1)
+    noise = as_float(noise, name="noise", low=0.0, low_open=False)
+
+    def halfparams(spec, name):
+        try:
+            z, q, k = spec
+        except (TypeError, ValueError):
+            raise CurveError(f"{name} must be (z, q, k), got {spec!r}") from None
+        k = as_float(k, name=f"{name} k", low=0.0)
+        if q is None:
+            if k >= 1.0:
+                raise CurveError(f"{name} k must be < 1 for an inflection at the joint, got {k}")
+            q = float(ellipk(k * k))
+        return as_float(z, name=f"{name} z"), as_float(q, name=f"{name} q"), k
+
+    zr, qr, kr = halfparams(right, "right")
+    zl, ql, kl = halfparams(left, "left")
+    rp = (0.0, 0.0, h, float(phi), zr, qr, kr)
+    rv = elastica.sample(rp, n_right)
+    lv0 = elastica.sample((0.0, 0.0, h, 0.0, zl, ql, kl), n_left)
+    theta_r = math.atan2(*(rv[1] - rv[0])[::-1])
+    theta_l = math.atan2(*(lv0[1] - lv0[0])[::-1])
+    phi_l = math.remainder(theta_r + math.pi - theta_l, 2 * math.pi)
+    lp = (0.0, 0.0, h, phi_l, zl, ql, kl)
+    lv = elastica.sample(lp, n_left)
+    vertices = np.vstack([lv[::-1], rv[1:]])
+    frac = np.arange(ppe) / ppe
+    edges = np.diff(vertices, axis=0)
+    dense = (vertices[:-1, None, :] + frac[None, :, None] * edges[:, None, :]).reshape(-1, 2)
+    dense = np.vstack([dense, vertices[-1:]])
+    rot = _rotation_xyz(as_points([tilt], name="tilt", dim=3, min_points=1)[0])
+    off = as_points([offset], name="offset", dim=3, min_points=1)[0]
+    pts = off + dense @ rot[:, :2].T
+    if noise > 0.0:
+        pts = pts + noise * np.random.default_rng(seed).standard_normal(pts.shape)
+    return SyntheticKeyline(
+        points=pts,
+        vertices=vertices,
+        joint=n_left - 1,
+        left_params=lp,
+        right_params=rp,
+        rotation=rot,
+        offset=off,
+    )
