@@ -1,0 +1,51 @@
+"""Discrete Euler elastica: exact solutions, curvature, initial guess and fairing.
+
+Implements Graiff Zurita, Kajiwara & Suzuki, "Fairing of discrete planar curves
+by integrable discrete analogue of Euler's elasticae", sections 3-4:
+
+* :func:`curvature` - discrete curvature of a curve with equal segments (eq. 4.33);
+* :func:`sample` - vertices of the discrete elastica ``p = (x0, y0, h, phi, z, q, k)``
+  (eqs. 4.2-4.5, one family in the continued modulus ``k``: ``k < 1`` has
+  inflections, ``k > 1`` is case (i) with modulus ``1/k``);
+* :func:`initial_guess` - the pseudo code of section 4.3;
+* :func:`fit` - the closest discrete elastica to data (section 4.2).
+
+Examples
+--------
+>>> import numpy as np
+>>> from curvesmith import elastica
+>>> pts = elastica.sample((0, 0, 0.05, 0.2, 0.05, 0.1, 0.5), 80)
+>>> noisy = pts + np.random.default_rng(0).normal(scale=1e-3, size=pts.shape)
+>>> res = elastica.fit(noisy)
+>>> err = np.sqrt(np.mean(np.sum((res.points - pts) ** 2, axis=1)))  # to the clean curve
+>>> bool(res.success), bool(err < 1e-3), res.case
+(True, True, 'ii')
+"""
+
+from .exact import (
+    ElasticaParams,
+    Invariants,
+    case_of,
+    curvature,
+    exact_curvature,
+    invariants,
+    sample,
+    segment_length,
+)
+from .fit import PARAM_NAMES, FitResult, fit
+from .guess import initial_guess
+
+__all__ = [
+    "PARAM_NAMES",
+    "ElasticaParams",
+    "FitResult",
+    "Invariants",
+    "case_of",
+    "curvature",
+    "exact_curvature",
+    "fit",
+    "initial_guess",
+    "invariants",
+    "sample",
+    "segment_length",
+]

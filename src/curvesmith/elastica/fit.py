@@ -1,0 +1,391 @@
+"""Fairing: the discrete elastica closest to given data, section 4.2.
+
+Minimises eq. (4.8), ``L(p) = sum_n ||gamma_n(p) - zeta_n||^2 / 2``, over
+``p = (x0, y0, h, phi, z, q, k)`` in ``U`` of eq. (4.7) (``h, k > 0``), with the
+analytic Jacobian of eqs. (4.10)-(4.11), derivatives in ``k`` included
+(``exact._positions_and_jacobian``; checked against finite differences in the
+tests). Backends:
+
+* ``method="lsq"`` (default): ``scipy.optimize.least_squares`` (trust region
+  reflective, bounds ``h, k > 0``) on the residual vector with that Jacobian.
+* ``method="ipopt"``: the paper's backend, IPOPT through cyipopt (extra
+  ``ipopt``) on the scalar objective (4.8) with gradient (4.9) and the
+  limited-memory quasi-Newton Hessian, as in the paper.
+
+Long curves with many loops: a single start from the guess of section 4.3 can
+land in a wrong basin (the phase error of ``z`` grows along the curve). With
+``continuation="auto"`` a fit that fails the basin check below is redone over
+growing prefixes of the data, each stage starting from the previous optimum
+(the parameters do not depend on ``N``), and the better of the two is kept.
+
+Basin check (``success``): the solver must converge *and* the rms residual must
+be within ``basin_factor`` times the data's local noise level (rms residual of
+a sliding cubic Savitzky-Golay fit, which follows any smooth curve) plus
+``1e-9`` of the data extent. A local minimum in the wrong basin leaves
+systematic residuals far above that level and is reported as ``success=False``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.optimize import least_squares
+from scipy.signal import savgol_filter
+from scipy.special import ellipk
+
+from .._validate import as_float, as_points
+from ..errors import CurveError, require
+from ._resample import equilateral
+from .exact import ElasticaParams, _as_params, _positions, _positions_and_jacobian, case_of
+from .guess import _initial_guess
+
+__all__ = ["PARAM_NAMES", "FitResult", "fit"]
+
+#: Names of the parameters of eq. (4.5), in order.
+PARAM_NAMES = ("x0", "y0", "h", "phi", "z", "q", "k")
+_METHODS = ("lsq", "ipopt")
+
+
+@dataclass(frozen=True)
+class FitResult:
+    """Result of :func:`fit`.
+
+    Attributes
+    ----------
+    params : ElasticaParams
+        Fitted ``(x0, y0, h, phi, z, q, k)`` (continued modulus ``k``).
+    points : (N, 2) ndarray
+        The fitted discrete elastica ``gamma_n(params)``, one vertex per data vertex.
+    rms : float
+        ``sqrt(mean_n ||gamma_n - zeta_n||^2)``.
+    max_distance : float
+        ``max_n ||gamma_n - zeta_n||``.
+    iterations : int
+        Solver iterations (Jacobian evaluations for ``lsq``), summed over stages.
+    success : bool
+        Solver converged and the fit passed the basin check (module docstring).
+    message : str
+        What happened, in words.
+    case : str
+        ``"ii"`` (inflections, ``k < 1``), ``"i"`` (``k > 1``) or ``"separatrix"``.
+    start : ElasticaParams
+        The starting point used (initial guess of section 4.3 unless given).
+    cost : float
+        Final value of eq. (4.8).
+    noise : float
+        Local noise level of the data used by the basin check.
+    data : (N, 2) ndarray
+        The data that was fitted (after resampling, if requested).
+    method : str
+        Backend used.
+    stages : int
+        1 for a single start, otherwise the number of continuation stages.
+    """
+
+    params: ElasticaParams
+    points: np.ndarray = field(repr=False)
+    rms: float
+    max_distance: float
+    iterations: int
+    success: bool
+    message: str
+    case: str
+    start: ElasticaParams
+    cost: float
+    noise: float
+    data: np.ndarray = field(repr=False)
+    method: str
+    stages: int
+
+
+def _check_fixed(fixed) -> dict[int, float]:
+    if fixed is None:
+        return {}
+    if not isinstance(fixed, dict):
+        raise CurveError(f"fixed must be a dict of parameter values, got {type(fixed).__name__}")
+    out = {}
+    for name, value in fixed.items():
+        if name not in PARAM_NAMES:
+            raise CurveError(f"fixed has unknown parameter {name!r}; names are {PARAM_NAMES}")
+        low = 0.0 if name in ("h", "k") else None
+        out[PARAM_NAMES.index(name)] = as_float(value, name=f"fixed[{name!r}]", low=low)
+    if len(out) == 7:
+        raise CurveError("fixed pins all 7 parameters; nothing left to fit")
+    return out
+
+
+def _spacing_check(p: np.ndarray, tol: float) -> None:
+    lengths = np.hypot(*np.diff(p, axis=0).T)
+    mean = float(lengths.mean())
+    dev = float(np.max(np.abs(lengths - mean)) / mean)
+    if dev > tol:
+        raise CurveError(
+            f"points are unevenly spaced: edge lengths range from {lengths.min():.6g} to "
+            f"{lengths.max():.6g} (max deviation {dev:.3g} of the mean {mean:.6g}, allowed "
+            f"{tol:g}); the fit pairs data and model vertices by index, so resample to equal "
+            "steps first: fit(..., resample=True) or curvesmith fair --resample"
+        )
+
+
+def _noise_level(p: np.ndarray) -> float:
+    """Rms distance of the data from a sliding cubic fit (window 7), de-biased."""
+    n = p.shape[0]
+    window, order = (7, 3) if n >= 7 else (5, 2)
+    smooth = savgol_filter(p, window, order, axis=0, mode="interp")
+    # Variance left by a projection onto polynomials of degree `order` at the window centre.
+    keep = 1.0 - (order + 1) / window if window == 5 else 1.0 - 7.0 / 21.0
+    return float(np.sqrt(np.mean(np.sum((p - smooth) ** 2, axis=1)) / keep))
+
+
+class _Problem:
+    """Residuals and Jacobian of eq. (4.8) with some parameters pinned."""
+
+    def __init__(self, data: np.ndarray, base: np.ndarray, free: np.ndarray):
+        self.data = data
+        self.n = data.shape[0]
+        self.base = base
+        self.free = free
+
+    def full(self, x: np.ndarray) -> ElasticaParams:
+        p = self.base.copy()
+        p[self.free] = x
+        return ElasticaParams(*p.tolist())
+
+    def residuals(self, x):
+        return (_positions(self.full(x), self.n) - self.data).ravel()
+
+    def jacobian(self, x):
+        _, jac = _positions_and_jacobian(self.full(x), self.n)
+        return jac[:, :, self.free].reshape(2 * self.n, -1)
+
+    def objective(self, x):
+        r = self.residuals(x)
+        return 0.5 * float(r @ r)
+
+    def gradient(self, x):
+        pts, jac = _positions_and_jacobian(self.full(x), self.n)
+        r = (pts - self.data).ravel()
+        return jac[:, :, self.free].reshape(2 * self.n, -1).T @ r
+
+
+def _bounds(free: np.ndarray):
+    lo = np.full(7, -np.inf)
+    lo[2] = lo[6] = 1e-12
+    return lo[free], np.full(int(free.sum()), np.inf)
+
+
+def _solve(data, start: ElasticaParams, pinned: dict[int, float], method: str, max_iter, tol):
+    base = np.array(start, dtype=float)
+    for i, v in pinned.items():
+        base[i] = v
+    free = np.ones(7, dtype=bool)
+    free[list(pinned)] = False
+    prob = _Problem(data, base, free)
+    x0 = base[free]
+    lo, hi = _bounds(free)
+    x0 = np.clip(x0, lo, hi)
+    if method == "lsq":
+        res = least_squares(
+            prob.residuals,
+            x0,
+            jac=prob.jacobian,
+            bounds=(lo, hi),
+            method="trf",
+            x_scale="jac",
+            ftol=tol,
+            xtol=tol,
+            gtol=tol,
+            max_nfev=max_iter,
+        )
+        ok = res.status > 0
+        return prob.full(res.x), int(res.njev or res.nfev), ok, str(res.message)
+    cyipopt = require("cyipopt", "ipopt", "fit(..., method='ipopt')")
+    res = cyipopt.minimize_ipopt(
+        prob.objective,
+        x0,
+        jac=prob.gradient,
+        bounds=list(zip(lo, hi, strict=True)),
+        options={
+            "hessian_approximation": "limited-memory",
+            "tol": max(tol, 1e-14),
+            "max_iter": int(max_iter),
+            "print_level": 0,
+            "sb": "yes",
+        },
+    )
+    ok = bool(res.success)
+    return prob.full(res.x), int(res.nit), ok, str(res.message)
+
+
+def _segment_index_length(p: ElasticaParams) -> float:
+    """Number of vertices per monotone segment of u_n (half a period of kappa_n)."""
+    seg = 2.0 * ellipk(p.k * p.k) if p.k < 1.0 else ellipk(1.0 / (p.k * p.k)) / p.k
+    return float(seg / max(abs(p.z), 1e-300))
+
+
+def fit(
+    points,
+    *,
+    fixed: dict | None = None,
+    method: str = "lsq",
+    start=None,
+    resample: bool | float = False,
+    spacing_tol: float = 0.5,
+    continuation: str | bool = "auto",
+    basin_factor: float = 20.0,
+    max_iter: int = 400,
+    tol: float = 1e-14,
+) -> FitResult:
+    """Fit a discrete elastica to data, minimising eq. (4.8) over ``U`` of eq. (4.7).
+
+    Parameters
+    ----------
+    points : (N, 2) array_like
+        Data ``zeta_n`` in model order, ``N >= 5``, roughly equally spaced (vertex
+        ``n`` of the model is matched to data vertex ``n``).
+    fixed : dict, optional
+        Parameters to pin, by name (``"x0", "y0", "h", "phi", "z", "q", "k"``), e.g.
+        ``{"x0": 0.0, "y0": 0.0}`` to pass through an inflection point (section 5.4).
+    method : {"lsq", "ipopt"}, optional
+        ``"lsq"``: scipy ``least_squares`` with the analytic Jacobian (default);
+        ``"ipopt"``: IPOPT with a quasi-Newton Hessian (needs ``curvesmith[ipopt]``).
+    start : sequence of 7 float, optional
+        Starting parameters; default :func:`initial_guess` (section 4.3).
+    resample : bool or float, optional
+        If truthy, first resample the data to equal chords (step: the float
+        given, or the mean edge length for True); the result's ``data`` holds it.
+    spacing_tol : float, optional
+        Largest allowed ``max |l_i - mean l| / mean l`` of the edge lengths without
+        resampling; beyond it the index pairing is meaningless and a
+        :class:`~curvesmith.errors.CurveError` points to resampling.
+    continuation : {"auto", True, False}, optional
+        Growing-prefix continuation for long curves: "auto" when a single start
+        fails the basin check; True always as well; False never.
+    basin_factor : float, optional
+        Basin check: success needs ``rms <= basin_factor * noise + 1e-9 * extent``.
+    max_iter : int, optional
+        Iteration limit per stage.
+    tol : float, optional
+        Solver tolerances (``ftol = xtol = gtol`` for lsq, ``tol`` for IPOPT).
+
+    Returns
+    -------
+    FitResult
+        Parameters, fitted vertices, rms and max distance, iterations, success,
+        message, case, start, ...
+
+    Raises
+    ------
+    CurveError
+        Fewer than 5 points, non-finite values, zero-length edges, uneven
+        spacing without resampling, collinear data, bad `fixed`/`start`/`method`.
+
+    Examples
+    --------
+    >>> from curvesmith.elastica import sample
+    >>> true = (0.0, 0.0, 0.05, 0.3, 0.06, 0.4, 0.7)
+    >>> res = fit(sample(true, 100))
+    >>> bool(res.success), bool(res.rms < 1e-10), res.case
+    (True, True, 'ii')
+    >>> res = fit(sample(true, 100), fixed={"x0": 0.0, "y0": 0.0})
+    >>> res.params.x0, res.params.y0
+    (0.0, 0.0)
+    """
+    if method not in _METHODS:
+        raise CurveError(f"method must be one of {_METHODS}, got {method!r}")
+    if continuation not in ("auto", True, False):
+        raise CurveError(f"continuation must be 'auto', True or False, got {continuation!r}")
+    data = as_points(points, min_points=5, distinct=True)
+    spacing_tol = as_float(spacing_tol, name="spacing_tol", low=0.0)
+    basin_factor = as_float(basin_factor, name="basin_factor", low=0.0)
+    if resample is not False and resample is not None:
+        if resample is True:
+            step = float(np.hypot(*np.diff(data, axis=0).T).mean())
+        else:
+            step = as_float(resample, name="resample", low=0.0)
+        data = equilateral(data, step)
+        if data.shape[0] < 5:
+            raise CurveError(
+                f"resample step {step:.6g} leaves {data.shape[0]} points; need at least 5"
+            )
+    else:
+        _spacing_check(data, spacing_tol)
+    pinned = _check_fixed(fixed)
+    if start is None:
+        first = _initial_guess(data)
+    else:
+        first = _as_params(start)
+        _initial_guess(data)  # the same input checks (collinear data) as without a start
+    first = ElasticaParams(*[pinned.get(i, v) for i, v in enumerate(first)])
+    noise = _noise_level(data)
+    extent = float(np.ptp(data, axis=0).max())
+    allowed = basin_factor * noise + 1e-9 * extent
+
+    params, iters, ok, msg = _solve(data, first, pinned, method, max_iter, tol)
+    best = (params, iters, ok, msg, 1)
+    rms = _rms(data, params)
+    seg = _segment_index_length(first)
+    n = data.shape[0]
+    failed = not (ok and rms <= allowed)
+    long_curve = start is None and n > 2 * max(10, 2 * seg)
+    if continuation is True or (continuation == "auto" and failed and long_curve):
+        cont = _continuation(data, first, pinned, method, max_iter, tol, seg)
+        if _rms(data, cont[0]) < rms:
+            best = cont
+    params, iters, ok, msg, stages = best
+    pts = _positions(params, n)
+    dist = np.hypot(*(pts - data).T)
+    rms = float(np.sqrt(np.mean(dist * dist)))
+    if not np.all(np.isfinite(pts)):
+        ok, msg = False, "fit produced non-finite vertices"
+    success = bool(ok and rms <= allowed)
+    if ok and not success:
+        msg = (
+            f"converged to a local minimum in a wrong basin: rms {rms:.3g} exceeds "
+            f"{basin_factor:g} x the data's local noise level {noise:.3g} (+1e-9 x extent); "
+            "try another start or continuation=True"
+        )
+    elif not ok:
+        msg = f"solver did not converge: {msg}"
+    return FitResult(
+        params=params,
+        points=pts,
+        rms=rms,
+        max_distance=float(dist.max()),
+        iterations=iters,
+        success=success,
+        message=msg,
+        case=case_of(params.k),
+        start=first,
+        cost=0.5 * float(np.sum(dist * dist)),
+        noise=noise,
+        data=data,
+        method=method,
+        stages=stages,
+    )
+
+
+def _rms(data: np.ndarray, p: ElasticaParams) -> float:
+    d = _positions(p, data.shape[0]) - data
+    return float(np.sqrt(np.mean(np.sum(d * d, axis=1))))
+
+
+def _continuation(data, first, pinned, method, max_iter, tol, seg):
+    """Fit growing prefixes: about two monotone segments first, then x1.6 per stage."""
+    n = data.shape[0]
+    size = int(min(n, max(10, np.ceil(2.0 * seg))))
+    try:
+        params = _initial_guess(data[:size])
+    except CurveError:
+        params = first
+    params = ElasticaParams(*[pinned.get(i, v) for i, v in enumerate(params)])
+    total = 0
+    stages = 0
+    while True:
+        params, iters, ok, msg = _solve(data[:size], params, pinned, method, max_iter, tol)
+        total += iters
+        stages += 1
+        if size == n:
+            return params, total, ok, msg, stages
+        size = min(n, int(np.ceil(1.6 * size)))
