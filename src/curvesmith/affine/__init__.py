@@ -1,0 +1,77 @@
+"""Affine arc length polylines and curvature continuous quadratic B-splines (Käferböck).
+
+Implements F. Käferböck, *Affine arc length polylines and curvature continuous
+uniform B-splines*:
+
+* :mod:`~curvesmith.affine.discrete` — affine polyline coordinates (eq. 1, 2),
+  affine lengths ``L_2``, ``L_n`` (eq. 3, 8), affine normals, curvatures (eq. 4),
+  evolute (eq. 5), osculating conics (Theorem 2, eq. 7);
+* :mod:`~curvesmith.affine.spline` — uniform B-splines of control polylines,
+  quadratic Bézier segments, SVG ``Q`` paths, curvature at the joints
+  (section 2.5, Theorem 4);
+* :mod:`~curvesmith.affine.approximation` — :func:`approximate`: a curve from
+  dense samples to an affine arc length polyline with smooth affine curvatures
+  (section 4), whose uniform quadratic B-spline is curvature continuous.
+
+Examples
+--------
+>>> import numpy as np
+>>> from curvesmith import affine
+>>> u = np.linspace(0, 2 * np.pi, 601)[:-1]
+>>> res = affine.approximate(np.c_[3 * np.cos(u), np.sin(u)], vertices=24, closed=True)
+>>> bool(affine.is_affine_arc_length(res.points, closed=True, rtol=1e-6))
+True
+"""
+
+from __future__ import annotations
+
+from .approximation import Approximation, ReplacementCurve, approximate, replacement_curve
+from .discrete import (
+    Conic,
+    affine_length,
+    affine_length_elements,
+    coordinates,
+    curvature,
+    evolute,
+    is_affine_arc_length,
+    normals,
+    osculating_conic,
+    osculating_curvatures,
+    reconstruct,
+)
+from .exact import bezier_affine_curvature, bezier_curve, parametric_affine_curvature
+from .spline import (
+    bezier_segments,
+    bspline,
+    joint_curvatures,
+    read_svg_path,
+    spline_curvature,
+    svg_path,
+)
+
+__all__ = [
+    "Approximation",
+    "Conic",
+    "ReplacementCurve",
+    "affine_length",
+    "affine_length_elements",
+    "approximate",
+    "bezier_affine_curvature",
+    "bezier_curve",
+    "bezier_segments",
+    "bspline",
+    "coordinates",
+    "curvature",
+    "evolute",
+    "is_affine_arc_length",
+    "joint_curvatures",
+    "normals",
+    "osculating_conic",
+    "osculating_curvatures",
+    "parametric_affine_curvature",
+    "read_svg_path",
+    "reconstruct",
+    "replacement_curve",
+    "spline_curvature",
+    "svg_path",
+]
