@@ -862,12 +862,13 @@ def interpolate(
         out = _paper_method(prob, target, tol, n, method, max_iterations)
     x, est, lo, hi, its, n, success, message = out
     certified = target - tol <= lo and hi <= target + tol
+    x = float(x)
     return InterpolationResult(
         x=x,
         points=_curve_points(a, c, _polygon(a, b, c, x), gamma, level),
-        length=est,
-        lower=lo,
-        upper=hi,
+        length=float(est),
+        lower=float(lo),
+        upper=float(hi),
         iterations=its,
         evaluations=prob.evaluations,
         level=n,
