@@ -473,3 +473,87 @@ def test_bad_polygon_input():
         derham.length(TRIANGLE, gamma=2.0, tol=0)
     with pytest.raises(CurveError, match="x must be in"):
         derham.control_polygon(A, UA, C, UC, 1.5)
+
+
+# ----------------------------------------------------------------------------- CLI
+
+CLI_ARGS = ["--start", "-1.5,-1", "--start-tangent", "1.5,2", "--end", "1.5,0"]
+CLI_ARGS += ["--end-tangent", "1.5,-1", "--length", "3.7"]
+
+
+def _cli():
+    from curvesmith.cli import _Group
+    from curvesmith.cli.derham import derham_command
+
+    group = _Group()
+    group.add_command(derham_command)
+    return group
+
+
+def test_cli_writes_curve_and_prints_bounds(tmp_path):
+    from click.testing import CliRunner
+
+    from curvesmith.io import read_curves
+
+    out = tmp_path / "curve.geojson"
+    res = CliRunner().invoke(
+        _cli(), ["derham", *CLI_ARGS, "--gamma", "5", "--level", "3", "-o", str(out)]
+    )
+    assert res.exit_code == 0, res.output
+    assert "x = 0.55238649" in res.stdout
+    reported = float(res.stdout.split("length = ")[1].split()[0])
+    assert abs(reported - 3.7) <= 1e-12 and "(certified within tol = 1e-09)" in res.stdout
+    (curve,) = read_curves(out)
+    assert not curve.closed and curve.points.shape == (17, 2)
+    np.testing.assert_allclose(curve.points[0], A)
+    np.testing.assert_allclose(curve.points[-1], C)
+    assert curve.properties["derham_x"] == pytest.approx(0.5523864906, abs=1e-9)
+
+
+def test_cli_stdout_and_paper_method():
+    from click.testing import CliRunner
+
+    args = ["derham", *CLI_ARGS, "--method", "secant", "--tol", "1e-5", "--level", "1"]
+    res = CliRunner().invoke(_cli(), [*args, "-o", "-", "--format", "csv"])
+    assert res.exit_code == 0, res.output
+    assert res.stdout.splitlines()[0].startswith("x,y,")
+    assert len(res.stdout.splitlines()) == 1 + 5
+    assert "x = 0.6135" in res.stderr
+
+
+@pytest.mark.parametrize(
+    ("extra", "message"),
+    [
+        (["--length", "5"], "length must lie in the open interval"),
+        (["--gamma", "1"], "gamma must be > 1"),
+        (["--end-tangent", "1,x"], "--end-tangent must be 2 comma-separated numbers"),
+    ],
+)
+def test_cli_errors_exit_1(extra, message, tmp_path):
+    from click.testing import CliRunner
+
+    res = CliRunner().invoke(_cli(), ["derham", *CLI_ARGS, *extra, "-o", str(tmp_path / "o.csv")])
+    assert res.exit_code == 1
+    assert message in res.stderr
+
+
+def test_cli_non_convergence_exit_1(tmp_path):
+    from click.testing import CliRunner
+
+    for gamma in ("2", "3"):
+        out = tmp_path / "o.csv"
+        args = ["derham", *CLI_ARGS, "--gamma", gamma, "--tol", "1e-17", "-o", str(out)]
+        res = CliRunner().invoke(_cli(), args)
+        assert res.exit_code == 1
+        assert "did not converge" in res.stderr
+        assert not out.exists()
+
+
+def test_tolerance_below_the_floor_is_reported():
+    res = derham.interpolate(A, UA, C, UC, length=3.7, gamma=3.0, tol=1e-17)
+    assert not res.success and "below the rounding floor" in res.message
+    assert res.lower <= res.length <= res.upper
+    res = derham.interpolate(A, UA, C, UC, length=3.7, tol=1e-17)
+    assert not res.success and res.evaluations < 20
+    with pytest.raises(CurveError, match="needs level n = 30 > 26"):
+        derham.interpolate(A, UA, C, UC, length=3.7, tol=1e-17, method="secant")

@@ -857,6 +857,11 @@ def interpolate(
     else:
         if length_level is None:
             n = _paper_level(prob.f1, tol)
+            if n > _MAX_LEVEL:
+                raise CurveError(
+                    f"tol = {tol:g} needs level n = {n} > {_MAX_LEVEL} by the rule of section 4 "
+                    "for the paper's methods; use method='accelerated' or pass length_level"
+                )
         else:
             n = as_int(length_level, name="length_level", minimum=0, maximum=_MAX_LEVEL)
         out = _paper_method(prob, target, tol, n, method, max_iterations)
@@ -1022,7 +1027,7 @@ def _accelerated(prob: _Problem, target: float, tol: float, cap: int):
             if exact:  # the final evaluation is the certificate
                 f, d1, d2 = model(x)
                 g = f - target
-                if abs(g) + m_round <= tol:
+                if abs(g) + m_round <= tol or x_hi - x_lo <= 4.0 * _EPS:
                     break
                 x_lo, x_hi = (x, x_hi) if g < 0.0 else (x_lo, x)
                 continue
@@ -1041,6 +1046,13 @@ def _accelerated(prob: _Problem, target: float, tol: float, cap: int):
     s = last["s"]
     width = (1.0 - 2.0 * beta) * (s[:, 3] - s[:, 0])
     margin = _margin(_MAX_LEVEL, beta, prob.f1, 3 * 2.0**_MAX_LEVEL)
+    if tol <= 2.0 * margin:
+        lo, hi = _certified(s, m, beta, prob.f1, 3)
+        message = (
+            f"not certified: tol = {tol:g} is below the rounding floor {2.0 * margin:.3g} "
+            "of a certificate in double precision"
+        )
+        return x, float(np.clip(f, lo, hi)), lo, hi, its, m, False, message
     n = _predict_level(width, m, 0.8 * tol, 2.0 * margin) if tol > 2.0 * margin else _MAX_LEVEL
     n = min(max(n, m), 24)
     lo = hi = float("nan")
@@ -1057,7 +1069,8 @@ def _accelerated(prob: _Problem, target: float, tol: float, cap: int):
             n += 1
         else:
             break
-    est = float(np.clip(f if abs(f - 0.5 * (lo + hi)) <= hi - lo else 0.5 * (lo + hi), lo, hi))
+    # the certificate's own sequence L^0(x) .. L^n(x) at the final x, extrapolated
+    est = float(np.clip(wynn_epsilon(sc[:, 1]), lo, hi))
     if ok:
         message = (
             f"certified: length in [{lo:.15g}, {hi:.15g}] (level {n}) after {its} Halley steps"
