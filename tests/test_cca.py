@@ -1,0 +1,661 @@
+"""Tests for curvesmith.cca (Gordon 2010, corner cutting and augmentation)."""
+
+import math
+from dataclasses import FrozenInstanceError
+
+import numpy as np
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+from scipy.interpolate import PchipInterpolator
+
+from curvesmith import cca
+from curvesmith.errors import CurveError
+from curvesmith.geometry import interior_angles, is_convex
+
+# --------------------------------------------------------------------------- helpers
+
+
+def _two_product(a, b):
+    """Dekker's exact product: a*b == p + e exactly (no overflow at the scales used)."""
+    p = a * b
+    split = 134217729.0  # 2**27 + 1
+    ca = split * a
+    ah = ca - (ca - a)
+    al = a - ah
+    cb = split * b
+    bh = cb - (cb - b)
+    bl = b - bh
+    e = ((ah * bh - p) + ah * bl + al * bh) + al * bl
+    return p, e
+
+
+def exact_area(points):
+    """Signed shoelace area, correctly rounded (exact products, math.fsum)."""
+    p = np.asarray(points, dtype=float)
+    x, y = p[:, 0], p[:, 1]
+    xn, yn = np.roll(x, -1), np.roll(y, -1)
+    p1, e1 = _two_product(x, yn)
+    p2, e2 = _two_product(xn, y)
+    return 0.5 * math.fsum(np.concatenate([p1, e1, -p2, -e2]))
+
+
+def area_scale(points):
+    """Sum of the absolute shoelace terms about the centroid: the area's natural scale."""
+    q = np.asarray(points, dtype=float)
+    q = q - q.mean(axis=0)
+    return 0.5 * float(
+        np.abs(q[:, 0] * np.roll(q[:, 1], -1) - np.roll(q[:, 0], -1) * q[:, 1]).sum()
+    )
+
+
+def assert_area_kept(before, after, rtol=1e-12):
+    a0, a1 = exact_area(before), exact_area(after)
+    # relative to |A| (the guarantee); a zero-area figure-eight is measured against its scale
+    ext = float(np.ptp(np.asarray(before, dtype=float), axis=0).max())
+    tol = rtol * abs(a0) + 1e-14 * area_scale(before) + 1e-16 * ext * ext
+    assert abs(a1 - a0) <= tol, (a0, a1, (a1 - a0) / (abs(a0) or 1.0))
+
+
+def vector_area(points):
+    p = np.asarray(points, dtype=float)
+    p = p - p[0]
+    return 0.5 * np.cross(p, np.roll(p, -1, axis=0)).sum(axis=0)
+
+
+def regular(n, r=1.0, phase=0.0):
+    t = phase + 2 * np.pi * np.arange(n) / n
+    return np.column_stack([r * np.cos(t), r * np.sin(t)])
+
+
+def reference_step(p, alpha, closed):
+    """Plain per-vertex CCA1 (no restrictions), written from section 3 of the paper."""
+    p = np.asarray(p, dtype=float)
+    n = len(p)
+    ends = set() if closed else {0, n - 1}
+    out, cut = [], {}
+    for i in range(n):
+        if i in ends:
+            cut[i] = (p[i], p[i], 0.0)
+            continue
+        a_, v, b_ = p[i - 1], p[i], p[(i + 1) % n]
+        l1, l2 = np.linalg.norm(v - a_), np.linalg.norm(b_ - v)
+        u1, u2 = (v - a_) / l1, (b_ - v) / l2
+        ang = math.atan2(abs(u1[0] * u2[1] - u1[1] * u2[0]), -(u1 @ u2))
+        al = alpha(ang) if callable(alpha) else alpha
+        a = al * min(l1, l2)
+        k = 0.5 * a * a * (u1[0] * u2[1] - u1[1] * u2[0])  # signed cut area
+        cut[i] = (v - a * u1, v + a * u2, k)
+    for i in range(n if closed else n - 1):
+        j = (i + 1) % n
+        li, ri, ki = cut[i]
+        lj, _, kj = cut[j]
+        out += [li] if i in ends else [li, ri]
+        base = lj - ri
+        w = np.linalg.norm(base) / 2
+        u = base / (2 * w)
+        net = 0.5 * (ki + kj)  # signed area of the augmenting triangle
+        out.append((ri + lj) / 2 + net / w * np.array([u[1], -u[0]]))
+    if not closed:
+        out.append(p[-1])
+    return np.array(out)
+
+
+# --------------------------------------------------------------------------- strategies
+
+coord = st.floats(-10, 10, allow_nan=False, allow_infinity=False)
+
+
+@st.composite
+def random_polygons(draw, min_n=3, max_n=10):
+    n = draw(st.integers(min_n, max_n))
+    pts = np.array(draw(st.lists(st.tuples(coord, coord), min_size=n, max_size=n)))
+    edges = np.linalg.norm(np.roll(pts, -1, axis=0) - pts, axis=1)
+    if edges.min() < 1e-3 or area_scale(pts) < 1e-2:
+        pts = regular(n, 3.0) + 0.01 * pts
+    return pts
+
+
+@st.composite
+def star_polygons(draw, min_n=5, max_n=14):
+    n = draw(st.integers(min_n, max_n))
+    radii = np.array(draw(st.lists(st.floats(0.3, 3.0), min_size=n, max_size=n)))
+    return regular(n) * radii[:, None]
+
+
+@st.composite
+def convex_polygons(draw, min_n=3, max_n=12):
+    n = draw(st.integers(min_n, max_n))
+    gaps = np.array(draw(st.lists(st.floats(0.2, 1.0), min_size=n, max_size=n)))
+    t = np.cumsum(gaps) / gaps.sum() * 2 * np.pi
+    ax = draw(st.floats(0.3, 3.0))
+    p = np.column_stack([ax * np.cos(t), np.sin(t)])
+    return p
+
+
+# --------------------------------------------------------------------------- Table 1 / eq. (5)
+
+
+@pytest.mark.parametrize(
+    ("value", "printed", "digits"),
+    [
+        # Table 1 of Gordon (2010), alpha row; digits as printed in the paper
+        (lambda: cca.regular_alpha(4), 0.211325, 6),
+        (lambda: cca.regular_alpha(6), 0.194774, 6),
+        (lambda: cca.regular_alpha(12), 0.185845, 6),
+        (lambda: cca.LIMIT_ALPHA, 0.1830127, 7),
+        (lambda: cca.TRIANGLE_ALPHA, 0.24443, 5),
+        # section 4 text: eq. (5) with beta = 30 degrees
+        (lambda: cca.regular_alpha(3), 0.23915, 5),
+    ],
+)
+def test_table1_values(value, printed, digits):
+    assert round(value(), digits) == printed
+
+
+@pytest.mark.parametrize(
+    ("deg", "printed", "digits"),
+    [
+        (0, 0.0, 6),
+        (40, 0.211325, 6),
+        (60, 0.24443, 5),
+        (90, 0.211325, 6),
+        (120, 0.194774, 6),
+        (150, 0.185845, 6),
+        (180, 0.1830127, 7),
+    ],
+)
+def test_profile_passes_through_table1(deg, printed, digits):
+    assert round(cca.alpha_profile(np.deg2rad(deg)), digits) == printed
+
+
+def test_profile_is_pchip_with_maximum_at_60_degrees():
+    x, y = cca.profile_nodes()
+    ref = PchipInterpolator(x, y)
+    t = np.linspace(0, np.pi, 2001)
+    got = cca.alpha_profile(t)
+    np.testing.assert_allclose(got, ref(t), rtol=0, atol=1e-15)
+    assert got.max() <= cca.TRIANGLE_ALPHA
+    assert cca.alpha_profile(np.pi / 3) == pytest.approx(cca.TRIANGLE_ALPHA, abs=1e-15)
+    assert t[np.argmax(got)] == pytest.approx(np.pi / 3, abs=np.pi / 2000)
+    assert np.all(got >= 0) and np.all(got < 1 / 3)
+
+
+def test_eq5_limit_and_closed_form():
+    # the limit 8a^2 + 4a - 1 = 0 as beta -> pi/2
+    assert cca.solve_regular_alpha(np.pi / 2 - 1e-7) == pytest.approx(cca.LIMIT_ALPHA, abs=1e-7)
+    assert abs(8 * cca.LIMIT_ALPHA**2 + 4 * cca.LIMIT_ALPHA - 1) < 1e-15
+    # the root solves eq. (5) as printed
+    for beta in np.linspace(np.pi / 6, np.pi / 2 - 0.01, 9):
+        a = cca.solve_regular_alpha(beta)
+        g = (beta + np.pi) / 3
+        assert (4 - 2 * np.tan(g) * np.sin(2 * beta)) * a * a - 4 * a + 1 == pytest.approx(
+            0, abs=1e-12
+        )
+        assert 0 < a < 1 / 3
+    s3 = math.sqrt(3)
+    ta = cca.TRIANGLE_ALPHA
+    assert (3 * s3 - 4) * ta**2 + (6 - 3 * s3) * ta + s3 - 2 == pytest.approx(0, abs=1e-15)
+
+
+@pytest.mark.parametrize("n", [4, 6, 12, 24])
+def test_eq5_gives_regular_apex_angles(n):
+    """Independent check of eqs. (4)-(5): every apex gets the angle of a regular 3n-gon."""
+    p = regular(n)
+    out = cca.smooth(p, closed=True, alpha=cca.regular_alpha(n), restrict=False)
+    ang = interior_angles(out, closed=True)
+    np.testing.assert_allclose(ang[2::3], np.pi * (3 * n - 2) / (3 * n), atol=1e-12)
+    if n == 4:  # the square becomes a regular 12-gon (section 4)
+        np.testing.assert_allclose(ang, 5 * np.pi / 6, atol=1e-12)
+        e = np.linalg.norm(np.roll(out, -1, axis=0) - out, axis=1)
+        np.testing.assert_allclose(e, e[0], rtol=1e-13)
+
+
+def test_triangle_alpha_gives_unit_aspect_ratio():
+    out = cca.smooth(regular(3, phase=np.pi / 2), closed=True, alpha=cca.TRIANGLE_ALPHA)
+    assert np.ptp(out[:, 0]) / np.ptp(out[:, 1]) == pytest.approx(1.0, abs=1e-13)
+    other = cca.smooth(regular(3, phase=np.pi / 2), closed=True, alpha=cca.regular_alpha(3))
+    assert abs(np.ptp(other[:, 0]) / np.ptp(other[:, 1]) - 1) > 5e-3  # "visibly not regular"
+
+
+def test_solve_regular_alpha_rejects_out_of_range():
+    with pytest.raises(CurveError, match="beta must be in"):
+        cca.solve_regular_alpha(0.1)
+    with pytest.raises(CurveError, match="angle must be in"):
+        cca.alpha_profile(-0.5)
+    with pytest.raises(CurveError, match="n must be an integer >= 3"):
+        cca.regular_alpha(2)
+
+
+# --------------------------------------------------------------------------- CCA1 vs reference
+
+
+@pytest.mark.parametrize("closed", [True, False])
+@pytest.mark.parametrize("alpha", [0.2, "regular", 0.3])
+def test_matches_plain_reference_step(closed, alpha):
+    rng = np.random.default_rng(7)
+    p = rng.normal(size=(9, 2))
+    al = cca.alpha_profile if alpha == "regular" else alpha
+    ref = reference_step(p, al, closed)
+    got = cca.smooth(p, closed=closed, alpha=alpha, restrict=False)
+    np.testing.assert_allclose(got, ref, rtol=0, atol=1e-13)
+
+
+def test_vertex_counts():
+    p = regular(7)
+    for it in range(4):
+        assert cca.smooth(p, closed=True, iterations=it).shape == (7 * 3**it, 2)
+    q = np.array([[0, 0], [1, 0.3], [2, -0.2], [3, 0.5], [4, 0.1]], dtype=float)
+    n = len(q)
+    for _ in range(3):
+        q2 = cca.smooth(q, closed=False)
+        assert q2.shape[0] == 3 * n - 3 + cca.smooth_with_info(q, closed=False).fig11_edges
+        q, n = q2, q2.shape[0]
+
+
+# --------------------------------------------------------------------------- area guarantees
+
+
+@given(random_polygons(), st.integers(1, 5))
+def test_area_preserved_random_polygons(p, iterations):
+    """Convex, non-convex and self-intersecting polygons alike."""
+    out = cca.smooth(p, closed=True, iterations=iterations)
+    assert np.isfinite(out).all()
+    assert_area_kept(p, out)
+
+
+@given(star_polygons(), st.integers(1, 5))
+def test_area_preserved_star_polygons(p, iterations):
+    assert_area_kept(p, cca.smooth(p, closed=True, iterations=iterations))
+
+
+@given(random_polygons(min_n=2, max_n=9), st.integers(1, 5))
+def test_open_polyline_area_against_chord(p, iterations):
+    out = cca.smooth(p, closed=False, iterations=iterations)
+    np.testing.assert_array_equal(out[0], p[0])
+    np.testing.assert_array_equal(out[-1], p[-1])
+    assert_area_kept(p, out)  # the polygon closed by the chord
+
+
+def test_area_of_plot_integral_preserved():
+    x = np.linspace(0, 10, 21)
+    y = np.sin(x) + 0.3 * np.cos(3 * x)
+    p = np.column_stack([x, y])
+    out = cca.smooth(p, closed=False, iterations=4)
+    # integral under the plot against the chord, via the closed polygon area
+    assert_area_kept(p, out)
+
+
+def test_self_intersecting_figure_eight():
+    p = np.array([[0, 0], [2, 2], [4, 0], [4, 2], [2, 0], [0, 2.0]])
+    out = cca.smooth(p, closed=True, iterations=5)
+    assert exact_area(out) == pytest.approx(exact_area(p), abs=1e-13)
+
+
+# --------------------------------------------------------------------------- convexity (Lemma 4/6)
+
+
+def _half_angles(p):
+    return 0.5 * interior_angles(p, closed=True)
+
+
+@given(convex_polygons(), st.integers(1, 4))
+def test_convex_stays_convex_and_angles_grow(p, iterations):
+    cur = p
+    for _ in range(iterations):
+        nxt = cca.smooth(cur, closed=True)
+        assert is_convex(nxt, strict=True)
+        n = len(cur)
+        assert nxt.shape[0] == 3 * n
+        old = interior_angles(cur, closed=True)
+        new = interior_angles(nxt, closed=True)
+        # Lemma 4, (2)-(3): cut points L_i, R_i have larger angles than V_i
+        assert np.all(new[0::3] > old) and np.all(new[1::3] > old)
+        # Lemma 4, (1): the apex on edge i beats both neighbouring old angles
+        assert np.all(new[2::3] > np.maximum(old, np.roll(old, -1)))
+        cur = nxt
+
+
+@given(convex_polygons(), st.floats(1.1, 4.0))
+def test_definition2_apex_condition(p, c):
+    """tan(gamma) >= c tan(beta_i) at every apex (Definition 2, condition 2)."""
+    out = cca.smooth(p, closed=True, c=c)
+    gamma = _half_angles(out)[2::3]
+    beta = _half_angles(p)
+    lhs = np.tan(gamma)
+    rhs = c * np.tan(np.maximum(beta, np.roll(beta, -1)))
+    assert np.all(lhs >= rhs * (1 - 1e-9))
+
+
+@given(random_polygons(), st.integers(1, 3))
+def test_edges_shrink(p, iterations):
+    """Lemma 6: every new edge is shorter than the edge it comes from (here <= 2/3 of it)."""
+    cur = p
+    for _ in range(iterations):
+        nxt = cca.smooth(cur, closed=True)
+        n = len(cur)
+        if nxt.shape[0] != 3 * n:  # Fig. 11 edges change the layout; checked elsewhere
+            break
+        old = np.linalg.norm(np.roll(cur, -1, axis=0) - cur, axis=1)
+        new = np.linalg.norm(np.roll(nxt, -1, axis=0) - nxt, axis=1).reshape(n, 3)
+        # L_i R_i (cut) comes from both edges at V_i; R_i G_i and G_i L_{i+1} from edge i
+        assert np.all(new[:, 0] <= 2 / 3 * np.minimum(old, np.roll(old, 1)) * (1 + 1e-12))
+        assert np.all(new[:, 1] <= 2 / 3 * old * (1 + 1e-12))
+        assert np.all(new[:, 2] <= 2 / 3 * old * (1 + 1e-12))
+        cur = nxt
+
+
+def test_lemma6_factor_for_obtuse_polygons():
+    cur = regular(9) * np.array([1.3, 1.0])
+    for _ in range(4):
+        assert interior_angles(cur, closed=True).min() > np.pi / 2
+        nxt = cca.smooth(cur, closed=True)
+        lmax = np.linalg.norm(np.roll(cur, -1, axis=0) - cur, axis=1).max()
+        assert np.linalg.norm(np.roll(nxt, -1, axis=0) - nxt, axis=1).max() < lmax / np.sqrt(2)
+        cur = nxt
+
+
+def test_fig12_obtuse_angle_forces_local_reduction():
+    # a nearly straight vertex (angle close to pi) next to sharp corners
+    p = np.array([[0, 0], [4, 0], [4, 1], [2, 1.002], [0, 1]], dtype=float)
+    res = cca.smooth_with_info(p, closed=True)
+    assert res.reductions >= 2 and res.success
+    assert is_convex(res.points, strict=True)
+    plain = cca.smooth(p, closed=True, restrict=False)
+    assert not is_convex(plain, strict=True)  # without the restriction convexity is lost
+    assert_area_kept(p, res.points)
+    assert_area_kept(p, plain)
+
+
+def test_inflection_restriction_fig10():
+    # big cut at A (sharp corner) against a small cut at B on an inflection edge AB
+    p = np.array([[-1, -3], [0, 0], [3, 0], [4, 0.05], [5, 0.05]], dtype=float)
+    C = 0.5
+    ang0 = interior_angles(p, closed=False)  # angles at vertices 1, 2, 3
+    res = cca.smooth_with_info(p, closed=False, C=C)
+    plain = cca.smooth(p, closed=False, restrict=False)
+    assert res.reductions >= 1
+    # layout: V0, G0, L1, R1, G1, L2, R2, G2, L3, R3, G3, V4 -> the cut point L2 (index 5)
+    # sits next to B = vertex 2, the minor cut of inflection edge 1
+    old_b = ang0[1]
+    new_plain = interior_angles(plain, closed=False)[5 - 1]
+    new_res = interior_angles(res.points, closed=False)[5 - 1]
+    assert new_plain < old_b  # the situation of Fig. 10: a new angle smaller than the old
+    assert new_res > old_b  # fixed by decreasing the dominant alpha (epsilon <= C gamma)
+    # epsilon (base angle of the augmenting triangle) <= C * |tau_B| / 2
+    r1, g1, l2 = res.points[3], res.points[4], res.points[5]
+    base = l2 - r1
+    gr = g1 - r1
+    h = abs(base[0] * gr[1] - base[1] * gr[0]) / np.linalg.norm(base)
+    eps = math.atan2(h, np.linalg.norm(base) / 2)
+    assert eps <= C * (np.pi - old_b) / 2 * (1 + 1e-9)
+    assert_area_kept(p, res.points)
+
+
+# --------------------------------------------------------------------------- Fig. 11
+
+
+def test_fig11_balanced_inflection_edges_shrink():
+    # a symmetric zigzag: every inner edge is an inflection edge with equal cuts
+    x = np.arange(8, dtype=float)
+    y = np.where(np.arange(8) % 2 == 0, 0.0, 1.0)
+    p = np.column_stack([x, y])
+    res = cca.smooth_with_info(p, closed=False, iterations=1, tilt=0.2)
+    k = res.fig11_edges
+    assert k == 5  # the inner edges 1..5 are balanced inflection edges
+    out = res.points
+    assert out.shape[0] == 3 * 8 - 3 + k
+    assert_area_kept(p, out)
+    # the two apexes A', B' and the mid point M of R..L are collinear, tilt = 0.2 / 2
+    # unbalanced (perturbed) zigzag: one apex per edge again
+    q = p + 0.05 * np.sin(np.arange(8.0))[:, None]
+    assert cca.smooth_with_info(q, closed=False).fig11_edges == 0
+    assert cca.smooth(q, closed=False).shape[0] == 3 * 8 - 3
+    lens = np.linalg.norm(np.diff(out, axis=0), axis=1)
+    # longest edge shrinks: original inner edges have length sqrt(2)
+    assert lens.max() < np.sqrt(2) * 0.6
+    # check one Fig. 11 edge explicitly: edge 2 (vertices 2 -> 3)
+    # V0, G0 | L1, R1, A'1, B'1 | L2, R2, A'2, B'2 | L3 ...
+    r2, a_, b_, l3 = out[7], out[8], out[9], out[10]
+    m = 0.5 * (r2 + l3)
+    am, bm = a_ - m, b_ - m
+    assert abs(am[0] * bm[1] - am[1] * bm[0]) < 1e-12
+    d = l3 - r2
+    ab = b_ - a_
+    tilt = math.atan2(abs(d[0] * ab[1] - d[1] * ab[0]), d @ ab)
+    assert tilt == pytest.approx(0.1, rel=1e-9)
+    assert np.linalg.norm(b_ - a_) < 0.55 * np.linalg.norm(d)
+
+
+def test_fig11_tilts_halve_per_iteration():
+    x = np.arange(6, dtype=float)
+    p = np.column_stack([x, np.where(np.arange(6) % 2 == 0, 0.0, 1.0)])
+    infos = [cca.smooth_with_info(p, closed=False, iterations=k) for k in (1, 2, 3)]
+    for r in infos:
+        assert_area_kept(p, r.points)
+    assert infos[0].fig11_edges > 0
+    assert infos[2].fig11_edges >= infos[1].fig11_edges >= infos[0].fig11_edges
+
+
+# --------------------------------------------------------------------------- local control
+
+
+@pytest.mark.parametrize("restrict", [False, True])
+def test_local_control(restrict):
+    n, j = 16, 7
+    p = regular(n, 2.0) * np.array([1.0, 0.8])
+    q = p.copy()
+    q[j] += [0.05, -0.03]
+    a = cca.smooth(p, closed=True, restrict=restrict)
+    b = cca.smooth(q, closed=True, restrict=restrict)
+    assert a.shape == b.shape == (3 * n, 2)
+    changed = np.flatnonzero(np.any(a != b, axis=1))
+    # outputs per vertex i: 3i (L_i), 3i + 1 (R_i), 3i + 2 (apex on edge i)
+    allowed = set()
+    for i in (j - 1, j, j + 1):  # cut points of the three vertices touching the moved edges
+        allowed |= {3 * i, 3 * i + 1}
+    for e in (j - 2, j - 1, j, j + 1):  # apexes on the four nearest edges
+        allowed.add(3 * e + 2)
+    assert set(changed.tolist()) <= allowed
+    assert len(changed) >= 8
+
+
+# --------------------------------------------------------------------------- anchors
+
+
+def test_anchors_fixed_and_pieces_independent():
+    rng = np.random.default_rng(3)
+    p = regular(12, 3.0) + 0.4 * rng.normal(size=(12, 2))
+    anchors = [2, 7, 10]
+    out = cca.smooth(p, closed=True, iterations=3, anchors=anchors)
+    assert_area_kept(p, out)
+    for a in anchors:
+        assert np.any(np.all(out == p[a], axis=1))
+    # each piece equals the independent smoothing of that piece as a polyline
+    pieces = [p[2:8], p[7:11], np.vstack([p[10:], p[:3]])]
+    ref = [cca.smooth(s, closed=False, iterations=3) for s in pieces]
+    starts = [int(np.flatnonzero(np.all(out == p[a], axis=1))[0]) for a in anchors]
+    for s0, r in zip(starts, ref, strict=True):
+        seg = np.roll(out, -s0, axis=0)[: len(r)]
+        np.testing.assert_allclose(seg, r, rtol=0, atol=1e-12)
+        assert_area_kept(pieces[starts.index(s0)], seg)  # each piece against its chord
+
+
+def test_anchors_on_open_polyline_and_single_anchor_ring():
+    x = np.linspace(0, 6, 13)
+    p = np.column_stack([x, np.sin(2 * x)])
+    out = cca.smooth(p, closed=False, iterations=2, anchors=[4, 8])
+    assert_area_kept(p, out)
+    k4 = int(np.flatnonzero(np.all(out == p[4], axis=1))[0])
+    k8 = int(np.flatnonzero(np.all(out == p[8], axis=1))[0])
+    assert_area_kept(p[4:9], out[k4 : k8 + 1])
+    ring = cca.smooth(regular(6), closed=True, iterations=2, anchors=[0])
+    np.testing.assert_array_equal(ring[0], regular(6)[0])
+    assert_area_kept(regular(6), ring)
+    assert ring.shape[0] == 3 * (3 * 6 - 1) - 1
+
+
+# --------------------------------------------------------------------------- 3D
+
+
+def _rotation(seed):
+    q, _ = np.linalg.qr(np.random.default_rng(seed).normal(size=(3, 3)))
+    return q
+
+
+@pytest.mark.parametrize("closed", [True, False])
+def test_planar_3d_equals_2d(closed):
+    rng = np.random.default_rng(11)
+    p2 = rng.normal(size=(10, 2))
+    rot = _rotation(5)
+    shift = np.array([3.0, -1.0, 2.0])
+    p3 = np.column_stack([p2, np.zeros(10)]) @ rot.T + shift
+    out3 = cca.smooth(p3, closed=closed, iterations=3)
+    out2 = cca.smooth(p2, closed=closed, iterations=3)
+    back = np.column_stack([out2, np.zeros(len(out2))]) @ rot.T + shift
+    np.testing.assert_allclose(out3, back, rtol=0, atol=1e-12)
+
+
+def test_nonplanar_3d_keeps_vector_area():
+    rng = np.random.default_rng(2)
+    t = np.linspace(0, 2 * np.pi, 11)[:-1]
+    p = np.column_stack([np.cos(t), np.sin(t), 0.4 * np.sin(3 * t)]) + 0.05 * rng.normal(
+        size=(10, 3)
+    )
+    for it in (1, 3, 5):
+        out = cca.smooth(p, closed=True, iterations=it)
+        assert out.shape == (10 * 3**it, 3)
+        np.testing.assert_allclose(vector_area(out), vector_area(p), rtol=0, atol=1e-13)
+
+
+def test_3d_equal_cuts_use_the_bisecting_plane():
+    # A B C D with equal cut areas at B and C, half-planes H1, H2 at 90 degrees (Fig. 15)
+    p = np.array([[0, 1, 0], [0, 0, 0], [1, 0, 0], [1, 0, 1]], dtype=float)
+    out = cca.smooth(p, closed=False, alpha=0.2, restrict=False)
+    g = out[4]  # V0, G0, L1, R1, G1 (apex on BC), ...
+    n1, n2 = np.array([0, 1.0, 0]), np.array([0, 0, 1.0])
+    m = g - np.array([0.5, 0, 0])
+    assert m[0] == pytest.approx(0, abs=1e-15)
+    # the apex lies in the bisecting plane, on the side away from both cuts
+    np.testing.assert_allclose(m / np.linalg.norm(m), -(n1 + n2) / np.sqrt(2), atol=1e-14)
+    # and its area equals half the sum of the cut areas projected onto that plane
+    a = 0.2
+    cut = 0.5 * a * a
+    w = 0.5 * (1 - 2 * a)
+    assert w * np.linalg.norm(m) == pytest.approx(cut * np.cos(np.pi / 4), rel=1e-13)
+
+
+# --------------------------------------------------------------------------- degenerate input
+
+
+def test_collinear_vertices_square_with_midpoints():
+    sq = np.array([[0, 0], [1, 0], [2, 0], [2, 1], [2, 2], [1, 2], [0, 2], [0, 1]], dtype=float)
+    for it in (1, 3, 5):
+        out = cca.smooth(sq, closed=True, iterations=it)
+        assert np.isfinite(out).all()
+        assert_area_kept(sq, out)
+
+
+def test_duplicate_points_are_removed():
+    p = regular(6)
+    dup = np.vstack([p[:2], p[1:2], p[2:], p[:1], p[:1]])
+    np.testing.assert_allclose(
+        cca.smooth(dup, closed=True, iterations=2), cca.smooth(p, closed=True, iterations=2)
+    )
+    q = np.array([[0, 0], [1, 1], [1, 1], [2, 0], [3, 1]], dtype=float)
+    out = cca.smooth(q, closed=False, iterations=2, anchors=[2])
+    assert np.any(np.all(out == [1, 1], axis=1))
+    assert_area_kept(q, out)
+
+
+@pytest.mark.parametrize("scale", [1e-8, 1e-3, 1.0, 1e3, 1e8])
+def test_scales(scale):
+    rng = np.random.default_rng(5)
+    p = (regular(9, 2.0) + 0.5 * rng.normal(size=(9, 2))) * scale
+    for it in (1, 3, 5):
+        out = cca.smooth(p, closed=True, iterations=it)
+        assert np.isfinite(out).all()
+        assert_area_kept(p, out)
+
+
+def test_far_from_origin_and_near_zero_edges():
+    p = regular(8, 10.0) + np.array([5e5, -3e5])
+    out = cca.smooth(p, closed=True, iterations=3)
+    assert_area_kept(p, out, rtol=1e-9)  # coordinates at 5e5 keep ~1e-11 absolute precision
+    q = regular(8)
+    q = np.insert(q, 3, q[2] + [1e-13, 1e-13], axis=0)  # a near-zero edge
+    for it in (1, 4):
+        out = cca.smooth(q, closed=True, iterations=it)
+        assert np.isfinite(out).all()
+        assert_area_kept(q, out)
+
+
+def test_spike_and_zero_area_polygons():
+    spike = np.array([[0, 0], [2, 0], [1, 0], [1, -1]], dtype=float)  # angle 0 at (2, 0)
+    for it in (1, 3):
+        out = cca.smooth(spike, closed=True, iterations=it)
+        assert np.isfinite(out).all()
+        assert_area_kept(spike, out)
+    flat = np.array([[0, 0], [1, 0], [3, 0]], dtype=float)
+    out = cca.smooth(flat, closed=True, iterations=3)
+    assert np.isfinite(out).all() and abs(exact_area(out)) < 1e-15
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "match"),
+    [
+        ({"points": [[0, 0], [1, 1], [0, 0]], "closed": True}, "at least 3 distinct"),
+        ({"points": [[1, 1], [1, 1], [1, 1], [1, 1]], "closed": True}, "at least 3 distinct"),
+        ({"points": [[1, 1], [1, 1]], "closed": False}, "at least 2 distinct"),
+        ({"points": [[0, 0, 0, 0]] * 4, "closed": True}, r"shape \(N, 2\) or \(N, 3\)"),
+        ({"points": [[0, 0], [1, np.nan], [0, 1]], "closed": True}, "finite"),
+        ({"alpha": 0.4}, r"alpha must be in \(0, 0.333333\), got 0.4"),
+        ({"alpha": 0.0}, "alpha must be in"),
+        ({"alpha": "circle"}, "alpha must be 'regular'"),
+        ({"alpha": lambda t: 0.5 + 0 * t}, r"alpha\(angle\) must be in \[0, 1/3\), got 0.5"),
+        ({"anchors": [9]}, r"anchors must be vertex indices in \[0, 4\), got 9"),
+        ({"anchors": [1.5]}, "anchors must be integer"),
+        ({"iterations": -1}, "iterations must be an integer >= 0, got -1"),
+        ({"c": 1.0}, "c must be > 1, got 1"),
+        ({"C": 1.0}, r"C must be in \(0, 1\), got 1"),
+        ({"tilt": 2.0}, "tilt must be in"),
+    ],
+)
+def test_bad_input_raises(kwargs, match):
+    args = {"points": regular(4), "closed": True, **kwargs}
+    with pytest.raises(CurveError, match=match):
+        cca.smooth(**args)
+
+
+# --------------------------------------------------------------------------- API details
+
+
+def test_alpha_callables_and_constant():
+    p = regular(7) * [1.0, 0.6]
+    vec = cca.smooth(p, closed=True, alpha=cca.alpha_profile)
+    scalar = cca.smooth(p, closed=True, alpha=lambda t: float(cca.alpha_profile(float(t))))
+    reg = cca.smooth(p, closed=True)
+    np.testing.assert_allclose(vec, reg, atol=1e-15)
+    np.testing.assert_allclose(scalar, reg, atol=1e-15)
+    const = cca.smooth(p, closed=True, alpha=0.25, restrict=False)
+    np.testing.assert_allclose(const, reference_step(p, 0.25, True), atol=1e-14)
+
+
+def test_result_is_frozen_and_consistent():
+    p = regular(5)
+    res = cca.smooth_with_info(p, closed=True, iterations=2)
+    np.testing.assert_array_equal(res.points, cca.smooth(p, closed=True, iterations=2))
+    assert res.iterations == 2 and len(res.reductions_per_step) == 2
+    assert res.reductions == sum(res.reductions_per_step)
+    assert res.success and res.unsatisfied == 0 and "2 CCA1 step(s)" in res.message
+    with pytest.raises(FrozenInstanceError):
+        res.iterations = 3  # type: ignore[misc]
+
+
+def test_zero_iterations_and_input_untouched():
+    p = regular(5)
+    before = p.copy()
+    out = cca.smooth(np.vstack([p, p[:1]]), closed=True, iterations=0)
+    np.testing.assert_array_equal(out, p)
+    cca.smooth(p, closed=True, iterations=2)
+    np.testing.assert_array_equal(p, before)
