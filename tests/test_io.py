@@ -995,3 +995,50 @@ def test_svg_roundtrip_through_transformed_viewbox(tmp_path):
     path.write_text(edited)
     (c,) = read_svg(path)
     np.testing.assert_allclose(c.points, curves[0].points * 2 + [0.5, 0.25], atol=1e-14)
+
+
+# ------------------------------------------------------------------------------------------------
+# odds and ends
+
+
+def test_binary_and_named_file_objects(tmp_path):
+    path = tmp_path / "c.geojson"
+    path.write_text('{"type": "LineString", "coordinates": [[0, 0], [1, 2]]}')
+    with open(path, "rb") as fh:
+        assert read_geojson(fh)[0].points.tolist() == [[0, 0], [1, 2]]
+    with open(path) as fh:  # the name of a real file gives the format
+        assert read_curves(fh)[0].kind == "LineString"
+    with open(tmp_path / "out.csv", "w") as fh:
+        write_curves(read_geojson(path), fh)
+    assert (tmp_path / "out.csv").read_text() == "x,y\n0.0,0.0\n1.0,2.0\n"
+
+
+def test_read_curves_passes_the_svg_tolerance(tmp_path):
+    path = tmp_path / "c.svg"
+    path.write_text('<svg xmlns="http://www.w3.org/2000/svg"><circle r="1"/></svg>')
+    coarse, fine = read_curves(path, tolerance=1e-2)[0], read_curves(path, tolerance=1e-4)[0]
+    # chord count grows like tolerance**-1/2: 4 quarter arcs of ceil(pi/2 sqrt(1 / (8 tol)))
+    assert len(coarse.points) == 4 * math.ceil(math.pi / 2 * math.sqrt(1 / 8e-2))
+    assert len(fine.points) == 4 * math.ceil(math.pi / 2 * math.sqrt(1 / 8e-4))
+
+
+def test_geojson_orientation_with_extreme_coordinates():
+    # the shoelace sum overflows in plain floating point; the sign is still decided exactly
+    ring = Curve([[2.0, 8.98846567431158e307], [0.0, 0.0], [0.0, 1.0]], closed=True, kind="Polygon")
+    (back,), _ = roundtrip(write_geojson, read_geojson, [ring])
+    assert exact_area_sign(ring.points) == -1
+    assert bits_equal(back.points, [[2.0, 8.98846567431158e307], [0.0, 1.0], [0.0, 0.0]])
+    # nearly degenerate: plain float area of the raw coordinates gets the sign wrong
+    sliver = Curve([[1.0, 9007199254740996.0], [0.0, 0.0], [0.0, 1.0]], closed=True, kind="Polygon")
+    (back,), _ = roundtrip(write_geojson, read_geojson, [sliver])
+    assert exact_area_sign(back.points) == 1
+
+
+def test_svg_write_options():
+    c = Curve([[0, 0], [2, 0], [2, 1]], closed=True, kind="Polygon")
+    buf = io.StringIO()
+    write_svg([c], buf, stroke="#f00", stroke_width=0.5, fill="blue")
+    out = buf.getvalue()
+    assert 'stroke="#f00" stroke-width="0.5"' in out and 'fill="blue"' in out
+    with pytest.raises(CurveError, match="stroke_width must be > 0, got -1"):
+        write_svg([c], io.StringIO(), stroke_width=-1)

@@ -194,6 +194,12 @@ class Curve:
     feature_id : str or int or None, optional
         The GeoJSON Feature ``id`` member, None when absent.
 
+    Notes
+    -----
+    Curves are frozen; derive new ones with :meth:`replace`. They compare by
+    identity (an array has no single truth value): compare ``points`` with
+    :func:`numpy.array_equal` and the other fields directly.
+
     Examples
     --------
     >>> c = Curve([[0, 0], [1, 0], [0, 1], [0, 0]], closed=True, kind="Polygon")
@@ -586,26 +592,32 @@ def read_csv(source: Source) -> list[Curve]:
     body = list(zip(numbers[1:], rows[1:], strict=True))
     if not body:
         raise CurveFormatError(f"{name}: no data rows after the header")
-    coords = np.empty((len(body), len(coord_cols)), dtype=np.float64)
-    for r, (line, fields) in enumerate(body):
+    for line, fields in body:
         if len(fields) != ncol:
             raise CurveFormatError(
                 f"{name}: line {line}: expected {ncol} fields ({','.join(header)}), "
                 f"got {len(fields)}"
             )
-        for k, col in enumerate(coord_cols):
-            cell = fields[index[col]]
-            try:
-                value = float(cell)
-            except ValueError:
-                raise CurveFormatError(
-                    f"{name}: line {line}: {header[index[col]]} value {cell!r} is not a number"
-                ) from None
-            if not math.isfinite(value):
-                raise CurveFormatError(
-                    f"{name}: line {line}: {header[index[col]]} value {cell!r} is not finite"
-                )
-            coords[r, k] = value
+    cols = [index[c] for c in coord_cols]
+    try:
+        # numpy parses decimal text exactly like float(): correctly rounded, bit-exact
+        coords = np.array([[fields[i] for i in cols] for _, fields in body], dtype=np.float64)
+    except ValueError:
+        coords = None
+    if coords is None or not np.isfinite(coords).all():
+        for line, fields in body:
+            for i in cols:
+                try:
+                    value = float(fields[i])
+                except ValueError:
+                    raise CurveFormatError(
+                        f"{name}: line {line}: {header[i]} value {fields[i]!r} is not a number"
+                    ) from None
+                if not math.isfinite(value):
+                    raise CurveFormatError(
+                        f"{name}: line {line}: {header[i]} value {fields[i]!r} is not finite"
+                    )
+        coords = np.array([[float(fields[i]) for i in cols] for _, fields in body])
     groups: dict[str, list[int]] = {}
     if "id" in index:
         for r, (_, fields) in enumerate(body):
