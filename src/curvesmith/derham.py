@@ -572,18 +572,10 @@ def _certified(s: np.ndarray, n: int, beta: float, upper0: float, sides: int):
 
 
 def _triangle(start, start_tangent, end, end_tangent) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    a = as_points(np.reshape(np.asarray(start, dtype=object), (1, -1)), name="start", min_points=1)[
-        0
-    ]
-    c = as_points(np.reshape(np.asarray(end, dtype=object), (1, -1)), name="end", min_points=1)[0]
-    ua = as_points(
-        np.reshape(np.asarray(start_tangent, dtype=object), (1, -1)),
-        name="start_tangent",
-        min_points=1,
-    )[0]
-    uc = as_points(
-        np.reshape(np.asarray(end_tangent, dtype=object), (1, -1)), name="end_tangent", min_points=1
-    )[0]
+    a = as_points([start], name="start", min_points=1)[0]
+    c = as_points([end], name="end", min_points=1)[0]
+    ua = as_points([start_tangent], name="start_tangent", min_points=1)[0]
+    uc = as_points([end_tangent], name="end_tangent", min_points=1)[0]
     for name, t in (("start_tangent", ua), ("end_tangent", uc)):
         if not np.any(t):
             raise CurveError(f"{name} must be a non-zero vector, got {t.tolist()}")
@@ -957,21 +949,38 @@ def _initial_guess(prob: _Problem, target: float) -> float:
     evaluation. Its root is within about 0.02 of the solution on the paper's data.
     """
     w = 2.0 * prob.beta / 0.75
+    e0, e1 = prob.e0.tolist(), prob.e1.tolist()
+    # (weight in the model, side vector at x = 0, its x-derivative)
+    terms = [
+        ((1.0 - w) * 0.5, e0[0], e1[0]),
+        (1.0 - w, e0[1], e1[1]),
+        ((1.0 - w) * 0.5, e0[2], e1[2]),
+        (0.5 * w, e0[0] + e0[1], e1[0] + e1[1]),
+        (0.5 * w, e0[1] + e0[2], e1[1] + e1[2]),
+    ]
     lo, hi = 0.0, 1.0
     x = (target - prob.f0) / (prob.f1 - prob.f0)
-    for _ in range(30):
-        s = _sums(prob.sides(x, 1), 0, prob.beta, order=2)[0]
-        g = (1.0 - w) * s[3] + w * s[0] - target
-        d1 = (1.0 - w) * s[4] + w * s[1]
-        d2 = (1.0 - w) * s[5] + w * s[2]
+    for _ in range(40):
+        g, d1, d2 = -target, 0.0, 0.0
+        for weight, z0, z1 in terms:
+            z = z0 + x * z1
+            r = abs(z)
+            g += weight * r
+            if r > 0.0:
+                cross = z.real * z1.imag - z.imag * z1.real
+                d1 += weight * (z.real * z1.real + z.imag * z1.imag) / r
+                d2 += weight * cross * cross / (r * r * r)
+            else:
+                d1 += weight * abs(z1)
         if g < 0.0:
             lo = x
         else:
             hi = x
         xn = _halley(x, g, d1, d2, lo, hi)
-        if abs(xn - x) <= 1e-12:
-            break
+        done = abs(xn - x) <= 1e-9
         x = xn
+        if done:
+            break
     return min(max(x, 1e-6), 1.0 - 1e-6)
 
 
