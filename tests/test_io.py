@@ -1042,3 +1042,23 @@ def test_svg_write_options():
     assert 'stroke="#f00" stroke-width="0.5"' in out and 'fill="blue"' in out
     with pytest.raises(CurveError, match="stroke_width must be > 0, got -1"):
         write_svg([c], io.StringIO(), stroke_width=-1)
+
+
+def test_svg_arc_with_too_small_radii_is_scaled_up():
+    # SVG 1.1 F.6.6: radii too small to reach the end point are scaled up; here to r = 5
+    (c,) = read_svg(svg_doc('<path d="M 0 0 A 1 1 0 0 1 10 0"/>'), tolerance=1e-3)
+    p = c.points - [5, 0]
+    np.testing.assert_allclose(np.hypot(p[:, 0], p[:, 1]), 5.0, atol=1e-12)
+    assert p[:, 1].min() == pytest.approx(-5.0, abs=1e-3)  # clockwise on screen: through y < 0
+    mid = 0.5 * (p[1:] + p[:-1])
+    assert (5.0 - np.hypot(mid[:, 0], mid[:, 1])).max() <= 1e-3
+
+
+def test_svg_nested_svg_viewport_is_applied():
+    doc = svg_doc(
+        '<svg x="10" y="20" width="50" height="50" viewBox="0 0 5 5">'
+        '<polyline points="0,0 5,5"/></svg>',
+        root='viewBox="0 0 100 100" width="1in" height="1in"',
+    )
+    (c,) = read_svg(doc)
+    np.testing.assert_allclose(c.points, [[10, 20], [60, 70]], atol=1e-12)
