@@ -1,0 +1,311 @@
+"""Smooth a set of polylines so that none of them crosses another: the local-reduction engine.
+
+Both :func:`curvesmith.geo.smooth` (the rings of one feature) and
+:func:`curvesmith.geo.smooth_coverage` (the shared arcs of a whole coverage) come down to
+the same problem: a set of polylines ("arcs") whose ends are fixed nodes, or closed loops
+without a node, that must be smoothed so that no two of them meet after smoothing except
+at the nodes they already share, and none becomes self-intersecting.
+
+The engine smooths every arc at the full level, then looks for conflicts with a GEOS
+spatial index (:class:`shapely.STRtree`, predicate ``intersects``) and resolves each one
+*locally*: a conflicting arc is first cut at anchor vertices into pieces (bisection, a loop
+into four), and only the pieces that still conflict are smoothed less (fewer iterations,
+then a smaller alpha), down to the original vertices. Cutting at anchors keeps the area
+guarantee of CCA: the area between a piece and its chord is kept, the chords of the pieces
+are fixed, so the area between the whole old and new arc stays zero (CCA section 5,
+"anchor points").
+"""
+
+from __future__ import annotations
+
+import itertools
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = ["Level", "Reduction", "resolve_arcs"]
+
+#: Pieces with at most this many vertices are not cut further: they are smoothed less.
+MIN_PIECE_VERTICES = 16
+#: Safety bound on resolution rounds (each round at least splits a piece or lowers a level).
+MAX_ROUNDS = 200
+
+
+@dataclass(frozen=True)
+class Level:
+    """One smoothing strength: ``iterations`` passes with alpha multiplied by ``alpha_scale``.
+
+    ``iterations == 0`` means the piece keeps its original vertices.
+    """
+
+    iterations: int
+    alpha_scale: float = 1.0
+
+
+@dataclass(frozen=True)
+class Reduction:
+    """Where smoothing was reduced to avoid a crossing.
+
+    Attributes
+    ----------
+    arc : int
+        Index of the arc (ring, line or shared coverage arc) in the engine's input.
+    start, stop : int
+        First and last vertex index (inclusive) of the reduced piece in that arc; for a
+        closed loop the index ``n`` denotes vertex 0 again.
+    iterations : int
+        Iterations actually applied to that piece (0 = left unchanged).
+    alpha_scale : float
+        Factor applied to alpha for that piece.
+    """
+
+    arc: int
+    start: int
+    stop: int
+    iterations: int
+    alpha_scale: float
+
+
+def levels_for(iterations: int, *, scalable: bool) -> list[Level]:
+    """Levels from full strength down to unchanged.
+
+    Full iterations first, then one fewer each step, then (when alpha can be scaled) one
+    iteration with alpha halved twice, and finally the original vertices.
+    """
+    levels = [Level(k) for k in range(iterations, 0, -1)]
+    if scalable and iterations >= 1:
+        levels += [Level(1, 0.5), Level(1, 0.25)]
+    levels.append(Level(0))
+    return levels
+
+
+@dataclass
+class _Piece:
+    arc: int
+    start: int
+    stop: int
+    loop: bool  # an unsplit closed loop without a node
+    level: int
+
+
+def _piece_points(xy: np.ndarray, piece: _Piece, closed_arc: bool) -> np.ndarray:
+    if piece.loop:
+        return xy
+    if closed_arc and piece.stop == len(xy):
+        return np.vstack([xy[piece.start :], xy[:1]])
+    return xy[piece.start : piece.stop + 1]
+
+
+def resolve_arcs(
+    arcs: Sequence[np.ndarray],
+    *,
+    loops: np.ndarray,
+    groups: np.ndarray,
+    frozen: np.ndarray,
+    smoother: Callable[[np.ndarray, bool, Level], np.ndarray],
+    levels: list[Level],
+    check_simple: np.ndarray | None = None,
+    initial: Sequence[np.ndarray] | None = None,
+) -> tuple[list[np.ndarray], list[Reduction]]:
+    """Smooth arcs, reducing locally until no two of them cross.
+
+    Parameters
+    ----------
+    arcs : sequence of (N_i, 2) ndarray
+        Vertices of every arc. A loop (``loops[i]``) lists its vertices once, without
+        repeating the first; an open arc has its fixed nodes as first and last vertex.
+    loops : (M,) bool ndarray
+        Closed loops without a node: smoothed as closed curves.
+    groups : (M,) int ndarray
+        Arcs conflict only with arcs of the same group (one feature, or one coverage).
+    frozen : (M,) bool ndarray
+        Arcs that must keep their original vertices.
+    smoother : callable ``(points, closed, level) -> points``
+        Smooths one piece (closed pieces without repeated vertex, open pieces with fixed
+        ends) at a level.
+    levels : list of Level
+        From full strength to unchanged (the last one must have ``iterations == 0``).
+    check_simple : (M,) bool ndarray, optional
+        Arcs whose self-intersection must be prevented (default: all). Pass ``False``
+        for arcs that are not simple in the input.
+    initial : sequence of ndarray, optional
+        The arcs already smoothed at full strength (e.g. in parallel), reused as is.
+
+    Returns
+    -------
+    smoothed : list of (K_i, 2) ndarray
+        The smoothed arcs, loops again without repeated first vertex.
+    reductions : list of Reduction
+        Every piece smoothed at less than full strength.
+    """
+    import shapely
+
+    n_arcs = len(arcs)
+    top = len(levels) - 1
+    if check_simple is None:
+        check_simple = np.ones(n_arcs, dtype=bool)
+    pieces: list[_Piece] = []
+    for i, xy in enumerate(arcs):
+        last = len(xy) if loops[i] else len(xy) - 1
+        pieces.append(_Piece(i, 0, last, bool(loops[i]), top if frozen[i] else 0))
+    cache: dict[tuple[int, int, int, bool, int], np.ndarray] = {}
+    if initial is not None:
+        for p in pieces:
+            if p.level == 0:
+                cache[(p.arc, p.start, p.stop, p.loop, 0)] = initial[p.arc]
+
+    def smoothed_piece(p: _Piece) -> np.ndarray:
+        key = (p.arc, p.start, p.stop, p.loop, p.level)
+        out = cache.get(key)
+        if out is None:
+            pts = _piece_points(arcs[p.arc], p, bool(loops[p.arc]))
+            lev = levels[p.level]
+            out = pts if lev.iterations == 0 else smoother(pts, p.loop, lev)
+            cache[key] = out
+        return out
+
+    def geoms_of(plist: list[_Piece]) -> np.ndarray:
+        pts = []
+        for p in plist:
+            xy = smoothed_piece(p)
+            pts.append(np.vstack([xy, xy[:1]]) if p.loop else xy)
+        lens = [len(x) for x in pts]
+        return shapely.linestrings(
+            np.concatenate(pts), indices=np.repeat(np.arange(len(pts)), lens)
+        )
+
+    simple_orig: dict[tuple[int, int, int, bool], bool] = {}
+
+    def original_simple(p: _Piece) -> bool:
+        key = (p.arc, p.start, p.stop, p.loop)
+        val = simple_orig.get(key)
+        if val is None:
+            pts = _piece_points(arcs[p.arc], p, bool(loops[p.arc]))
+            if p.loop:
+                pts = np.vstack([pts, pts[:1]])
+            val = bool(shapely.is_simple(shapely.linestrings(pts)))
+            simple_orig[key] = val
+        return val
+
+    geoms = geoms_of(pieces)
+    to_check = np.arange(len(pieces))
+    for _ in range(MAX_ROUNDS):
+        bad = _conflicts(pieces, geoms, to_check, groups, top, check_simple, original_simple)
+        if not bad:
+            break
+        changed = []
+        new_pieces: list[_Piece] = []
+        for k, p in enumerate(pieces):
+            if k not in bad:
+                new_pieces.append(p)
+                continue
+            n_vert = (p.stop - p.start) + (0 if p.loop else 1)
+            if n_vert > MIN_PIECE_VERTICES:
+                if p.loop:
+                    cuts = np.linspace(0, p.stop, 5).round().astype(int)
+                else:
+                    cuts = np.array([p.start, (p.start + p.stop) // 2, p.stop])
+                for a, b in itertools.pairwise(cuts):
+                    new_pieces.append(_Piece(p.arc, int(a), int(b), False, p.level))
+                    changed.append(len(new_pieces) - 1)
+            else:
+                new_pieces.append(_Piece(p.arc, p.start, p.stop, p.loop, p.level + 1))
+                changed.append(len(new_pieces) - 1)
+        pieces = new_pieces
+        geoms = geoms_of(pieces)
+        to_check = np.asarray(changed, dtype=int)
+    else:  # pragma: no cover - each round strictly refines, MAX_ROUNDS is a guard
+        raise RuntimeError("conflict resolution did not terminate")
+
+    # assemble arcs from their pieces
+    by_arc: dict[int, list[_Piece]] = {}
+    for p in pieces:
+        by_arc.setdefault(p.arc, []).append(p)
+    out: list[np.ndarray] = []
+    reductions: list[Reduction] = []
+    for i in range(n_arcs):
+        plist = sorted(by_arc[i], key=lambda p: p.start)
+        for p in plist:
+            if p.level > 0 and not frozen[i]:
+                lev = levels[p.level]
+                reductions.append(Reduction(i, p.start, p.stop, lev.iterations, lev.alpha_scale))
+        if len(plist) == 1 and plist[0].loop:
+            out.append(smoothed_piece(plist[0]))
+            continue
+        parts = [smoothed_piece(plist[0])]
+        parts += [smoothed_piece(p)[1:] for p in plist[1:]]
+        xy = np.vstack(parts)
+        if loops[i]:
+            xy = xy[:-1]
+        out.append(xy)
+    return out, reductions
+
+
+def _conflicts(pieces, geoms, to_check, groups, top, check_simple, original_simple) -> set[int]:
+    """Indices of pieces that take part in a new crossing or self-intersection."""
+    import shapely
+
+    bad: set[int] = set()
+    if len(to_check) == 0:
+        return bad
+    arc_of = np.array([p.arc for p in pieces])
+    level = np.array([p.level for p in pieces])
+    grp = groups[arc_of]
+    changed = level < top
+    # self-intersections
+    cand = to_check[changed[to_check]]
+    if len(cand):
+        simple = shapely.is_simple(geoms[cand])
+        for k in cand[~simple]:
+            if check_simple[arc_of[k]] and original_simple(pieces[k]):
+                bad.add(int(k))
+    # pairs
+    tree = shapely.STRtree(geoms)
+    qi, qj = tree.query(geoms[to_check], predicate="intersects")
+    qi = to_check[qi]
+    keep = (qi != qj) & (grp[qi] == grp[qj]) & (changed[qi] | changed[qj])
+    qi, qj = qi[keep], qj[keep]
+    if len(qi) == 0:
+        return bad
+    a, b = np.minimum(qi, qj), np.maximum(qi, qj)
+    pairs = np.unique(np.stack([a, b], axis=1), axis=0)
+    a, b = pairs[:, 0], pairs[:, 1]
+    closed = shapely.is_closed(geoms)
+    plain = ~(closed[a] | closed[b])
+    hit = np.zeros(len(a), dtype=bool)
+    # open pieces may only share end points: no interior meets anything of the other
+    if plain.any():
+        hit[plain] = ~shapely.relate_pattern(geoms[a[plain]], geoms[b[plain]], "FF*F*****")
+    # a closed piece (a loop, or an arc from a node back to it) may share its node
+    rest_idx = np.nonzero(~plain)[0]
+    if len(rest_idx):
+        ra, rb = a[rest_idx], b[rest_idx]
+        inter = shapely.intersection(geoms[ra], geoms[rb])
+        loop = np.array([pieces[k].loop for k in range(len(pieces))])
+
+        def ends(k):
+            return np.stack(
+                [
+                    shapely.get_coordinates(shapely.get_point(geoms[k], 0)),
+                    shapely.get_coordinates(shapely.get_point(geoms[k], -1)),
+                ],
+                axis=1,
+            )  # (Q, 2, 2)
+
+        ea, eb = ends(ra), ends(rb)
+        same = np.all(ea[:, :, None, :] == eb[:, None, :, :], axis=-1)
+        shared = same.any(axis=2) & ~(loop[ra] | loop[rb])[:, None]
+        pts = ea[shared]
+        owner = np.nonzero(shared)[0]
+        allowed = np.full(len(ra), shapely.MultiPoint(), dtype=object)
+        if len(pts):
+            uniq, inv = np.unique(owner, return_inverse=True)
+            allowed[uniq] = shapely.multipoints(pts, indices=inv)
+        hit[rest_idx] = ~shapely.is_empty(shapely.difference(inter, allowed))
+    for i, j in zip(a[hit], b[hit], strict=True):
+        if changed[i]:
+            bad.add(int(i))
+        if changed[j]:
+            bad.add(int(j))
+    return bad
