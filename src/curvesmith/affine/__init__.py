@@ -25,7 +25,13 @@ True
 
 from __future__ import annotations
 
-from .approximation import Approximation, ReplacementCurve, approximate, replacement_curve
+from .approximation import (
+    Approximation,
+    ReplacementCurve,
+    approximate,
+    construct,
+    replacement_curve,
+)
 from .discrete import (
     Conic,
     affine_length,
@@ -60,6 +66,7 @@ __all__ = [
     "bezier_curve",
     "bezier_segments",
     "bspline",
+    "construct",
     "coordinates",
     "curvature",
     "evolute",

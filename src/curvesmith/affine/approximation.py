@@ -46,7 +46,7 @@ from scipy.optimize import least_squares, minimize_scalar
 from .._validate import as_float, as_int, as_points
 from ..errors import CurveError
 
-__all__ = ["Approximation", "ReplacementCurve", "approximate", "replacement_curve"]
+__all__ = ["Approximation", "ReplacementCurve", "approximate", "construct", "replacement_curve"]
 
 _PHI = (math.sqrt(5.0) - 1.0) / 2.0  # 0.618...
 
@@ -87,7 +87,7 @@ class ReplacementCurve:
         return float(self.cumulative[-1])
 
     def evaluate(self, t) -> np.ndarray:
-        """Points ``f~(t)``; ``t`` in ``[0, N]`` (any real for a closed curve).
+        """Points ``f~(t)``; the end arcs of an open curve are extended beyond ``[0, N]``.
 
         Parameters
         ----------
@@ -102,9 +102,7 @@ class ReplacementCurve:
         n = self.segments
         if self.closed:
             t = np.mod(t, n)
-        elif np.any((t < 0) | (t > n)):
-            raise CurveError(f"t must lie in [0, {n}], got {t.min():g} .. {t.max():g}")
-        j = np.minimum(np.floor(t).astype(int), n - 1)
+        j = np.clip(np.floor(t).astype(int), 0, n - 1)
         u = (t - j)[:, None]
         p = self.samples[j]
         q = self.samples[(j + 1) % self.samples.shape[0]]
@@ -387,6 +385,63 @@ def _psi(k: list[float], skip_lo: int, skip_hi: int) -> float:
     return sum((seq[i + 1] - seq[i]) ** 2 for i in range(len(seq) - 1))
 
 
+def construct(
+    curve: ReplacementCurve, *, t1: float, area: float, vertices: int, t0: float = 0.0
+) -> tuple[np.ndarray, np.ndarray]:
+    """Affine arc length polyline on a replacement curve from ``x_0, x_1`` and ``A`` (section 4).
+
+    ``x_0 = f~(t0)``, ``x_1 = f~(t1)``, and each further vertex is the first
+    intersection of ``f~`` after ``x_{i-1}`` with the line
+    ``det(x_{i-1} - x_{i-2}, z - x_{i-1}) = A``. This is the inner step of
+    :func:`approximate`; use it to study the sensitivity to ``t_1`` (Fig. 11).
+
+    Parameters
+    ----------
+    curve : ReplacementCurve
+        From :func:`replacement_curve`.
+    t1 : float
+        Parameter of ``x_1``, ``> t0``.
+    area : float
+        The constant ``A`` (its sign is the turning direction).
+    vertices : int
+        Number of vertices ``>= 3`` to construct.
+    t0 : float, optional
+        Parameter of ``x_0``.
+
+    Returns
+    -------
+    points : (vertices, 2) ndarray
+    t : (vertices,) ndarray
+        Parameters of the vertices on `curve`.
+
+    Raises
+    ------
+    CurveError
+        If the line misses the curve before all vertices are built.
+
+    Examples
+    --------
+    >>> s = np.linspace(0, 4, 41)
+    >>> pts, t = construct(replacement_curve(np.c_[s, s**2]), t1=5.0, area=0.25, vertices=4)
+    >>> np.round(t, 9).tolist()
+    [0.0, 5.0, 10.0, 15.0]
+    """
+    vertices = as_int(vertices, name="vertices", minimum=3)
+    area = as_float(area, name="area")
+    if area == 0.0:
+        raise CurveError("area must be non-zero, got 0")
+    t0 = as_float(t0, name="t0")
+    t1 = as_float(t1, name="t1", low=t0)
+    cv = _Curve(curve)
+    xs, ys, ts, done = _construct(cv, t0, t1, area, vertices - 1, float(cv.n))
+    if done < vertices - 1:
+        raise CurveError(
+            f"the line det(x_i - x_(i-1), z - x_i) = A misses the curve after vertex {done}: "
+            f"only {done + 1} of {vertices} vertices could be constructed"
+        )
+    return np.c_[xs, ys], np.asarray(ts)
+
+
 # --------------------------------------------------------------------------- result
 
 
@@ -529,7 +584,7 @@ def approximate(
     max_iterations: int = 200,
     skip: int = 2,
     match_end: bool = False,
-    close_tol: float = 1e-9,
+    close_tol: float = 1e-7,
 ) -> Approximation:
     """Approximate a curve by an affine arc length polyline with smooth curvatures (section 4).
 
@@ -549,8 +604,11 @@ def approximate(
     closed : bool, optional
         The samples describe a closed convex curve (repeated closing sample
         dropped). The polygon then closes up with the same ``A`` across the seam:
-        ``A`` and ``t_1`` are adjusted together so that ``x_n = x_0`` and
-        ``x_{n+1} = x_1``.
+        ``A`` and ``t_1`` are adjusted together (Levenberg–Marquardt, with the
+        smoothness of the ``k_i`` as a weak extra objective) so that ``x_n = x_0``
+        and ``x_{n+1} = x_1``. Near an ellipse with even ``n`` these two
+        conditions are almost dependent (Theorem 1: alternating polygons close
+        too); if they are not met, ``x_0 = f~(t_0)`` is released as a third unknown.
     search : {"brent", "golden"}, optional
         One-dimensional minimiser of ``psi(t_1)``: scipy's bounded Brent method
         (golden section with parabolic steps, fewer evaluations) or the plain
@@ -570,7 +628,9 @@ def approximate(
         is more than a quarter edge from it (section 4.4, step 3).
     close_tol : float, optional
         Closed curves: closing error allowed, relative to the diagonal of the
-        bounding box of the samples.
+        bounding box of the samples. The closure equations are only piecewise
+        smooth (the affine length of the replacement curve has kinks at the
+        samples), which limits the attainable error to about 1e-9 relative.
 
     Returns
     -------
@@ -646,8 +706,8 @@ def _fit_piece(piece: _Piece, area: float, search, xtol, iterations, target_t, t
             break
         if done < piece.m:
             break
-        length = abs(cv.s_of_t(ts[-1]) - cv.s_of_t(piece.t0)) + gap * step
-        area = piece.sign * (length / piece.m) ** 3
+        covered = abs(cv.s_of_t(ts[-1]) - cv.s_of_t(piece.t0))
+        area *= ((covered + gap * step) / covered) ** 3  # scale the edges to reach the target
     return best[1:]
 
 
@@ -752,6 +812,18 @@ def _piecewise_curvature(pts: np.ndarray, area_per_edge: np.ndarray):
     return k, valid
 
 
+def _closing(cv: _Curve, z3: np.ndarray, sign: float, n: int):
+    """x_0 .. x_{n+1} for z3 = (log|A|, t0, t1 - t0) and the closing error."""
+    xs, ys, ts, done = _construct(cv, z3[1], z3[1] + z3[2], sign * math.exp(z3[0]), n + 1, math.inf)
+    if done < n + 1:
+        raise CurveError(
+            "closed construction failed after closing; try more samples or fewer vertices"
+        )
+    full = np.c_[xs, ys]
+    err = float(max(np.hypot(*(full[n] - full[0])), np.hypot(*(full[n + 1] - full[1]))))
+    return full, ts, err
+
+
 def _approximate_closed(cv, n, search, xtol, iterations, close_abs) -> Approximation:
     total = cv.total
     sign = 1.0 if total > 0 else -1.0
@@ -761,45 +833,36 @@ def _approximate_closed(cv, n, search, xtol, iterations, close_abs) -> Approxima
     step0 = abs(area) ** (1.0 / 3.0)
 
     def residual(z, weight):
+        # z = (log|A|, t1) with x_0 = f~(0), or (log|A|, t0, t1 - t0)
         a = sign * math.exp(z[0])
-        xs, ys, ts, done = _construct(cv, 0.0, z[1], a, n + 2, math.inf)
+        t0, t1 = (0.0, z[1]) if z.size == 2 else (z[1], z[1] + z[2])
+        xs, ys, ts, done = _construct(cv, t0, t1, a, n + 2, math.inf)
         piece.evaluations += 1
         if done < n + 2:
             return np.full(n + 1, 1e3)
         close = [
-            (cv.s_of_t(ts[n]) - total) / step0,
-            (cv.s_of_t(ts[n + 1]) - cv.s_of_t(z[1]) - total) / step0,
+            (cv.s_of_t(ts[n]) - cv.s_of_t(t0) - total) / step0,
+            (cv.s_of_t(ts[n + 1]) - cv.s_of_t(t1) - total) / step0,
         ]
         k = _curvatures(xs, ys, a)[: n + 1]
         return np.array(close + [weight * (k[i + 1] - k[i]) for i in range(n - 1)])
 
-    # closure first, smoothness of the k_i as a weak term: on an ellipse with even n
-    # closure alone leaves a one-parameter family (Theorem 1), the k_i pick its smooth member
+    # Closure x_n = x_0, x_{n+1} = x_1 (same A across the seam) with the smoothness of
+    # the k_i as a weak second objective. First A and t1 with x_0 = f~(0); near an
+    # ellipse with even n closure alone is (nearly) degenerate (Theorem 1: a family of
+    # alternating polygons closes), so x_0 is then released too: A, t0, t1 together.
+    opts = {"method": "lm", "xtol": 1e-15, "ftol": 1e-15, "gtol": 1e-15}
     z = np.array([math.log(abs(area)), t1])
-    for weight in (1e-2, 0.0):
-        z = least_squares(
-            residual,
-            z,
-            args=(weight,),
-            method="lm",
-            xtol=1e-15,
-            ftol=1e-15,
-            gtol=1e-15,
-            max_nfev=400,
-        ).x
-    sol = least_squares(
-        lambda z: residual(z, 0.0)[:2], z, method="lm", xtol=1e-15, ftol=1e-15, max_nfev=200
-    )
-    area = sign * math.exp(sol.x[0])
-    t1 = float(sol.x[1])
-    xs, ys, ts, done = _construct(cv, 0.0, t1, area, n + 1, math.inf)
-    piece.evaluations += 1
-    if done < n + 1:
-        raise CurveError(
-            "closed construction failed after closing; try more samples or fewer vertices"
-        )
-    full = np.c_[xs, ys]
-    err = float(max(np.hypot(*(full[n] - full[0])), np.hypot(*(full[n + 1] - full[1]))))
+    z = least_squares(residual, z, args=(1e-2,), max_nfev=300, **opts).x
+    z3 = np.array([z[0], 0.0, z[1]])
+    full, ts, err = _closing(cv, z3, sign, n)
+    if err > 1e-3 * close_abs:
+        z3 = least_squares(residual, z3, args=(1e-4,), max_nfev=300, **opts).x
+        z3 = least_squares(residual, z3, args=(0.0,), max_nfev=100, **opts).x  # polish closure
+        full, ts, err = _closing(cv, z3, sign, n)
+    piece.evaluations += 2
+    area = sign * math.exp(z3[0])
+    t1 = float(z3[1] + z3[2])
     pts = full[:n]
     v = np.roll(pts, -1, axis=0) - pts
     vm = np.roll(v, 1, axis=0)
