@@ -715,8 +715,10 @@ def write_csv(curves: Iterable[Curve], dest: Source) -> None:
     curve has ``properties["id"]`` (the id property if every curve has a
     distinct one, else the curve's index), ``closed`` when a curve is closed
     or an open curve ends where it starts, then the other properties (union
-    of their names, empty cells where a curve lacks one). Closed rings
-    repeat their first point. Floats are written with ``repr``.
+    of their names, empty cells where a curve lacks one; booleans as
+    ``true``/``false``, lists and mappings as JSON text, which reads back as
+    text). Closed rings repeat their first point. Floats are written with
+    ``repr``.
 
     Examples
     --------
