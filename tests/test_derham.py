@@ -80,6 +80,15 @@ def test_sequences_match_de_rham_polygons(points, gamma):
     assert derham.length_bounds(points, gamma=gamma, levels=7) == (lo[-1], up[-1])
 
 
+def test_blockwise_refinement_matches_whole_arrays(monkeypatch):
+    # deep levels are refined in blocks of consecutive sides overlapping by one side
+    pts = [[0, 0], [1, 2], [3, 2.5], [4, 0], [5, -1]]
+    whole = derham.length_sequences(pts, gamma=3.0, levels=10)
+    monkeypatch.setattr(derham, "_CHUNK", 16)
+    blocks = derham.length_sequences(pts, gamma=3.0, levels=10)
+    np.testing.assert_allclose(blocks, whole, rtol=1e-14)
+
+
 def test_level_zero_is_the_papers_definition():
     lo, up = derham.length_bounds(TRIANGLE, gamma=3.0, levels=0)
     assert lo == pytest.approx(math.sqrt(10) / 2, rel=1e-15)

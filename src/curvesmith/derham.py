@@ -96,7 +96,7 @@ __all__ = [
 METHODS = ("accelerated", "regula_falsi", "secant")
 
 _EPS = float(np.finfo(float).eps)
-_CHUNK = 1 << 15  # corners refined together; bounds memory at high levels
+_CHUNK = 1 << 18  # corners refined together; bounds memory at high levels
 _MAX_LEVEL = 26
 _GL_T, _GL_W = np.polynomial.legendre.leggauss(24)
 _GL_T = 0.5 * (_GL_T + 1.0)
@@ -112,24 +112,26 @@ def _sides(p: np.ndarray) -> np.ndarray:
     return e[:, 0] + 1j * e[:, 1]
 
 
-def _refine(e: np.ndarray, beta: float) -> np.ndarray:
+def _refine(e: np.ndarray, beta: float, s: np.ndarray | None = None) -> np.ndarray:
     """One de Rham step on side vectors, (m, K) -> (m, 2K - 1) (rows: value, x-derivative).
 
     The sides of ``P^{n+1}`` are ``(1 - 2 beta) e_i`` (the middle part of side
-    i) alternating with ``beta (e_i + e_{i+1})`` (the cut at vertex i + 1).
+    i) alternating with ``beta (e_i + e_{i+1})`` (the cut at vertex i + 1);
+    ``s = e[:, :-1] + e[:, 1:]`` may be passed when already computed.
     """
     m, k = e.shape
     out = np.empty((m, 2 * k - 1), dtype=complex)
     np.multiply(e, 1.0 - 2.0 * beta, out=out[:, 0::2])
-    np.add(e[:, :-1], e[:, 1:], out=out[:, 1::2])
-    out[:, 1::2] *= beta
+    if s is None:
+        s = e[:, :-1] + e[:, 1:]
+    np.multiply(s, beta, out=out[:, 1::2])
     return out
 
 
 def _abs_sums(w: np.ndarray, order: int) -> np.ndarray:
     """Sums of |w| and its first ``order`` x-derivatives; rows of w: value, derivative."""
     z = w[0]
-    r = np.sqrt(z.real * z.real + z.imag * z.imag)
+    r = np.abs(z)
     if order == 0:
         return np.array([r.sum()])
     dz = w[1]
@@ -156,7 +158,8 @@ def _accumulate(
     """
     k = 0
     while True:
-        out[start + k] += 0.5 * _abs_sums(e[:, :-1] + e[:, 1:], order)
+        s = e[:, :-1] + e[:, 1:]
+        out[start + k] += 0.5 * _abs_sums(s, order)
         if k == depth:
             return
         if 2 * e.shape[1] > _CHUNK:
@@ -165,7 +168,7 @@ def _accumulate(
                 child = _refine(e[:, i : i + step + 1], beta)
                 _accumulate(child, depth - k - 1, beta, out, start + k + 1, order)
             return
-        e = _refine(e, beta)
+        e = _refine(e, beta, s)
         k += 1
 
 
