@@ -1,0 +1,55 @@
+"""The ``curvesmith`` command line.
+
+Every command reads CSV, GeoJSON or SVG (chosen by the file suffix, ``-`` for
+standard input/output with ``--format``) and writes the same formats. Exit
+status: 0 success, 1 a data or numerical error (one line on stderr, no
+traceback), 2 a usage error.
+"""
+
+from __future__ import annotations
+
+import sys
+
+import click
+
+from .. import __version__
+from ..errors import CurveError
+
+__all__ = ["main"]
+
+
+class _Group(click.Group):
+    """A click group that turns curvesmith errors into one line and exit status 1."""
+
+    def invoke(self, ctx):
+        try:
+            return super().invoke(ctx)
+        except CurveError as exc:
+            click.echo(f"Error: {exc}", err=True)
+            sys.exit(1)
+        except OSError as exc:
+            where = f": {exc.filename}" if getattr(exc, "filename", None) else ""
+            click.echo(f"Error: {exc.strerror or exc}{where}", err=True)
+            sys.exit(1)
+
+
+@click.group(cls=_Group, context_settings={"help_option_names": ["-h", "--help"]})
+@click.version_option(__version__, prog_name="curvesmith")
+def main() -> None:
+    """curvesmith: smooth, subdivide, fair and design discrete curves with exact guarantees.
+
+    Input and output files are CSV (x,y[,z] with a header; an `id` column
+    for several curves), GeoJSON or SVG, chosen by suffix. Use - for
+    stdin/stdout together with --format.
+    """
+
+
+def _register() -> None:
+    from .basic import demo_command, measure_command, smooth_command
+    from .derham import derham_command
+
+    for command in (measure_command, smooth_command, derham_command, demo_command):
+        main.add_command(command)
+
+
+_register()

@@ -1,0 +1,70 @@
+"""Shared helpers of the CLI commands: reading and writing curve files, ``-`` for stdio."""
+
+from __future__ import annotations
+
+import io as _stdio
+import sys
+from pathlib import Path
+
+import click
+
+from ..errors import CurveError
+from ..io import Curve, detect_format
+from ..io import read_curves as _read
+from ..io import write_curves as _write
+
+__all__ = ["FORMAT_OPTION", "parse_floats", "parse_indices", "read_curves", "write_curves"]
+
+FORMAT_OPTION = click.option(
+    "--format",
+    "fmt",
+    type=click.Choice(["csv", "geojson", "svg"]),
+    default=None,
+    help="File format (default: from the suffix; required with - for stdin/stdout).",
+)
+
+
+def read_curves(source: str, fmt: str | None = None) -> list[Curve]:
+    """Read curves from a path, or from standard input when `source` is ``-``."""
+    if source == "-":
+        if fmt is None:
+            raise CurveError("--format is required when reading from standard input (-)")
+        text = sys.stdin.read()
+        curves = _read(_stdio.StringIO(text), format=fmt)
+    else:
+        curves = _read(Path(source), format=fmt)
+    if not curves:
+        raise CurveError(f"{source} contains no curves")
+    return curves
+
+
+def write_curves(curves: list[Curve], dest: str, fmt: str | None = None) -> None:
+    """Write curves to a path, or to standard output when `dest` is ``-``."""
+    if dest == "-":
+        if fmt is None:
+            raise CurveError("--format is required when writing to standard output (-)")
+        buf = _stdio.StringIO()
+        _write(curves, buf, format=fmt)
+        click.echo(buf.getvalue(), nl=False)
+    else:
+        _write(curves, Path(dest), format=fmt if fmt is not None else detect_format(dest))
+
+
+def parse_floats(text: str, *, name: str, count: int) -> tuple[float, ...]:
+    """Parse ``"x,y"`` style option values into `count` floats, with a clear error."""
+    parts = [p.strip() for p in text.split(",")]
+    try:
+        values = tuple(float(p) for p in parts)
+    except ValueError:
+        raise CurveError(f"{name} must be {count} comma-separated numbers, got {text!r}") from None
+    if len(values) != count:
+        raise CurveError(f"{name} must be {count} comma-separated numbers, got {text!r}")
+    return values
+
+
+def parse_indices(text: str, *, name: str) -> list[int]:
+    """Parse ``"0,5,17"`` into a list of vertex indices, with a clear error."""
+    try:
+        return [int(p) for p in text.split(",") if p.strip()]
+    except ValueError:
+        raise CurveError(f"{name} must be comma-separated integers, got {text!r}") from None

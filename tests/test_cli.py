@@ -1,0 +1,172 @@
+import json
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+import curvesmith
+from curvesmith import signed_area, subdivision
+from curvesmith.cli import main
+
+SQUARE = "x,y\n0,0\n4,0\n4,4\n0,4\n0,0\n"
+TRACK = "x,y\n0,0\n1,1\n2,0\n3,1\n4,0\n"
+
+
+@pytest.fixture
+def runner():
+    return CliRunner()
+
+
+def write(tmp_path, name, text):
+    path = tmp_path / name
+    path.write_text(text)
+    return path
+
+
+def read_csv_points(path):
+    arr = np.genfromtxt(path, delimiter=",", names=True)
+    return np.c_[arr["x"], arr["y"]]
+
+
+def test_help_and_version(runner):
+    res = runner.invoke(main, ["--help"])
+    assert res.exit_code == 0
+    for name in ("measure", "smooth", "demo"):
+        assert name in res.output
+    res = runner.invoke(main, ["--version"])
+    assert res.exit_code == 0 and curvesmith.__version__ in res.output
+
+
+def test_measure_json(runner, tmp_path):
+    f = write(tmp_path, "sq.csv", SQUARE)
+    res = runner.invoke(main, ["measure", str(f), "--json"])
+    assert res.exit_code == 0, res.output
+    (row,) = json.loads(res.output)["curves"]
+    assert row["closed"] is True and row["points"] == 4
+    assert row["length"] == 16.0 and row["signed_area"] == 16.0
+    assert row["min_turning_angle"] == pytest.approx(np.pi / 2)
+    assert row["max_turning_angle"] == pytest.approx(np.pi / 2)
+
+
+def test_measure_table_open(runner, tmp_path):
+    f = write(tmp_path, "t.csv", TRACK)
+    res = runner.invoke(main, ["measure", str(f)])
+    assert res.exit_code == 0, res.output
+    line = res.output.splitlines()[1].split()
+    assert line[1:3] == ["5", "no"]
+    assert float(line[3]) == pytest.approx(4 * np.sqrt(2))
+    assert float(line[5]) == pytest.approx(-90.0) and float(line[6]) == pytest.approx(90.0)
+
+
+@pytest.mark.parametrize(
+    ("method", "extra", "expected"),
+    [
+        ("chaikin", [], lambda p: subdivision.chaikin(p, closed=True, iterations=2)),
+        (
+            "derham",
+            ["--gamma", "5"],
+            lambda p: subdivision.de_rham(p, gamma=5, closed=True, iterations=2),
+        ),
+    ],
+)
+def test_smooth_linear_methods(runner, tmp_path, method, extra, expected):
+    f = write(tmp_path, "sq.csv", SQUARE)
+    out = tmp_path / "out.csv"
+    res = runner.invoke(
+        main, ["smooth", str(f), "-o", str(out), "--method", method, "--iterations", "2", *extra]
+    )
+    assert res.exit_code == 0, res.output
+    got = read_csv_points(out)
+    want = expected(np.array([[0, 0], [4, 0], [4, 4], [0, 4]], float))
+    # Closed rings are written with the first point repeated.
+    np.testing.assert_allclose(got[:-1], want)
+    np.testing.assert_array_equal(got[0], got[-1])
+
+
+def test_smooth_stdin_stdout(runner):
+    res = runner.invoke(
+        main,
+        ["smooth", "-", "-o", "-", "--format", "csv", "--method", "chaikin", "--iterations", "1"],
+        input=TRACK,
+    )
+    assert res.exit_code == 0, res.output
+    lines = [ln for ln in res.output.splitlines() if ln.strip()]
+    assert lines[0].lower().startswith("x,y")
+    first = [float(v) for v in lines[1].split(",")[:2]]
+    last = [float(v) for v in lines[-1].split(",")[:2]]
+    assert first == [0.0, 0.0] and last == [4.0, 0.0]  # end points kept by default
+
+
+def test_smooth_default_is_cca_and_keeps_area(runner, tmp_path):
+    f = write(tmp_path, "sq.csv", SQUARE)
+    out = tmp_path / "out.csv"
+    res = runner.invoke(main, ["smooth", str(f), "-o", str(out)])
+    assert res.exit_code == 0, res.output
+    got = read_csv_points(out)
+    assert len(got) > 5
+    assert signed_area(got) == pytest.approx(16.0, rel=1e-12)
+
+
+@pytest.mark.parametrize(
+    ("args", "stdin", "message"),
+    [
+        (["measure", "{missing}"], None, "missing.csv"),
+        (["measure", "{empty}"], None, "empty.csv"),
+        (
+            ["smooth", "{sq}", "-o", "{out}", "--method", "derham", "--gamma", "0.5"],
+            None,
+            "gamma must be > 1",
+        ),
+        (
+            ["smooth", "{sq}", "-o", "{out}", "--method", "chaikin", "--iterations", "-1"],
+            None,
+            "iterations",
+        ),
+        (["smooth", "-", "-o", "{out}"], "x,y\n0,0\n", "--format is required"),
+        (
+            ["smooth", "{sq}", "-o", "{out}", "--alpha", "big"],
+            None,
+            "--alpha must be 'regular' or a number",
+        ),
+    ],
+)
+def test_data_errors_are_one_line_exit_1(runner, tmp_path, args, stdin, message):
+    paths = {
+        "missing": tmp_path / "missing.csv",
+        "empty": write(tmp_path, "empty.csv", ""),
+        "sq": write(tmp_path, "sq.csv", SQUARE),
+        "out": tmp_path / "o.csv",
+    }
+    argv = [a.format(**paths) for a in args]
+    res = runner.invoke(main, argv, input=stdin)
+    assert res.exit_code == 1, res.output
+    err = res.stderr if hasattr(res, "stderr") else res.output
+    lines = [ln for ln in err.splitlines() if ln.strip()]
+    assert len(lines) == 1 and lines[0].startswith("Error: ")
+    assert message in lines[0]
+    assert "Traceback" not in res.output
+
+
+def test_usage_error_exit_2(runner):
+    res = runner.invoke(main, ["smooth"])
+    assert res.exit_code == 2
+    res = runner.invoke(main, ["smooth", "a.csv", "-o", "b.csv", "--method", "bogus"])
+    assert res.exit_code == 2
+
+
+def test_demo_subdivision_section(runner, tmp_path):
+    res = runner.invoke(main, ["demo", str(tmp_path / "d"), "--section", "subdivision"])
+    assert res.exit_code == 0, res.output
+    pngs = sorted(p.name for p in (tmp_path / "d").glob("*.png"))
+    assert pngs == [
+        "subdivision_area_loss.png",
+        "subdivision_combs.png",
+        "subdivision_overview.png",
+    ]
+    summary = json.loads((tmp_path / "d" / "summary.json").read_text())
+    numbers = summary["sections"][0]["numbers"]
+    # Linear corner cutting loses area: Chaikin x4 is strictly smaller than the input.
+    assert numbers["area_Chaikin_x4"]["value"] < numbers["lake_area"]["value"]
+    assert "Linear subdivision" in (tmp_path / "d" / "summary.md").read_text()
+    res = runner.invoke(main, ["demo", str(tmp_path / "e"), "--section", "nope"])
+    assert res.exit_code == 1 and "sections must be among" in res.output
