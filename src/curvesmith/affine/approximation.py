@@ -278,7 +278,8 @@ def _construct(
     probe), then a quadratic equation is solved on that arc. The cost per vertex
     is logarithmic in the samples per edge, so a construction is O(n log(N/n)).
     For an open curve the last arc before ``t_end`` is extrapolated up to
-    ``u_max``. Returns ``(xs, ys, ts, done)``, ``done`` = edges constructed.
+    ``u_max`` or two previous edges (in parameter) beyond the last vertex.
+    Returns ``(xs, ys, ts, done)``, ``done`` = edges constructed.
     """
     px, py, ax, ay, ex, ey = cv.px, cv.py, cv.ax, cv.ay, cv.ex, cv.ey
     n = cv.n
@@ -345,7 +346,8 @@ def _construct(
         c0 = wx * py[kj] - wy * px[kj] - base
         c1 = wx * ay[kj] - wy * ax[kj]
         c2 = wx * ey[kj] - wy * ex[kj]
-        u = _first_root(c0, c1, c2, u_lo, u_max if extrap else 1.0)
+        u_hi = max(u_max, u_lo + 2.0 * (ts[-1] - ts[-2])) if extrap else 1.0
+        u = _first_root(c0, c1, c2, u_lo, u_hi)
         if u is None:
             return xs, ys, ts, len(xs) - 1
         xs.append(px[kj] + u * (ax[kj] + u * ex[kj]))

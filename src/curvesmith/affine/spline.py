@@ -140,7 +140,8 @@ def read_svg_path(source) -> tuple[np.ndarray, bool]:
     """Recover the control polygon from an SVG path of quadratic Bézier segments.
 
     Accepts path data (``"M ... Q ..."``), or an SVG document / file path whose
-    first ``<path>`` is read with svgelements. The segments must join with
+    first ``<path>`` is read with svgelements (its ``d`` data as written: the
+    viewBox and transforms are not applied). The segments must join with
     ``C^1`` continuity as those of a uniform quadratic B-spline do; then the
     control polygon is the list of ``Q`` control points, extended by the
     reflected end points for an open path.
@@ -180,11 +181,12 @@ def read_svg_path(source) -> tuple[np.ndarray, bool]:
                 text = fh.read()
         import io
 
-        doc = svgelements.SVG.parse(io.StringIO(text), reify=True)
+        doc = svgelements.SVG.parse(io.StringIO(text), reify=False)
         paths = [e for e in doc.elements() if isinstance(e, svgelements.Path)]
         if not paths:
             raise CurveFormatError("SVG contains no <path> element")
-        path = paths[0]
+        # the path data in user coordinates: viewBox and transforms are not applied
+        path = svgelements.Path(paths[0].values["d"])
     quads = []
     closed = False
     for seg in path:

@@ -1,0 +1,106 @@
+"""``curvesmith affine``: control polygons of G2 uniform quadratic B-splines (Käferböck)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from xml.sax.saxutils import quoteattr
+
+import click
+
+from .. import affine
+from ..errors import CurveError
+from ._common import FORMAT_OPTION, read_curves, write_curves
+
+__all__ = ["affine_command"]
+
+
+def _svg_document(paths: list[str], bounds) -> str:
+    (x0, y0), (x1, y1) = bounds
+    pad = 0.02 * max(x1 - x0, y1 - y0, 1e-12)
+    view = f"{x0 - pad:.17g} {y0 - pad:.17g} {x1 - x0 + 2 * pad:.17g} {y1 - y0 + 2 * pad:.17g}"
+    body = "\n".join(
+        f'  <path id={quoteattr(f"spline{i}")} d={quoteattr(d)} fill="none" stroke="black" '
+        'stroke-width="0.5" vector-effect="non-scaling-stroke"/>'
+        for i, d in enumerate(paths)
+    )
+    return (
+        '<?xml version="1.0" encoding="UTF-8"?>\n'
+        f'<svg xmlns="http://www.w3.org/2000/svg" viewBox="{view}">\n{body}\n</svg>\n'
+    )
+
+
+@click.command("affine")
+@click.argument("source", metavar="IN")
+@click.option("-o", "--output", "dest", required=True, help="Output file for the control polygons.")
+@click.option(
+    "--vertices",
+    type=int,
+    required=True,
+    help="Vertices of each control polygon (>= 4; about 1/20 of the samples is a good ratio).",
+)
+@click.option(
+    "--spline-svg",
+    type=click.Path(dir_okay=False),
+    default=None,
+    help="Also write the quadratic B-splines as an SVG of Q paths.",
+)
+@click.option(
+    "--closed/--open",
+    "closed",
+    default=None,
+    help="Treat the input curves as closed (convex) or open (default: as stored in IN).",
+)
+@click.option("--match-end", is_flag=True, help="Open curves: end the polygon at the curve's end.")
+@FORMAT_OPTION
+def affine_command(
+    source: str,
+    dest: str,
+    vertices: int,
+    spline_svg: str | None,
+    closed: bool | None,
+    match_end: bool,
+    fmt: str | None,
+) -> None:
+    """Approximate each curve of IN by an affine arc length polyline (Käferböck, section 4).
+
+    The curves in IN are dense samples (font outlines, scanned profiles). Each
+    becomes a control polygon with equal areas det(x_i - x_{i-1}, x_{i+1} - x_i)
+    = A whose uniform quadratic B-spline is curvature continuous; its discrete
+    affine curvatures are smoothed by optimising the second vertex. Curves with
+    inflections are split into pieces; closed curves must be convex. The output
+    properties record A, the smoothness objective and, for closed curves, the
+    closing error. Exit status 1 if a curve could not be approximated.
+    """
+    curves = read_curves(source, fmt)
+    out, paths = [], []
+    lo = hi = None
+    for i, curve in enumerate(curves):
+        if curve.points.shape[1] != 2:
+            raise CurveError(
+                f"curve {i} must be planar (x, y), got {curve.points.shape[1]} columns"
+            )
+        is_closed = curve.closed if closed is None else closed
+        res = affine.approximate(
+            curve.points, vertices=vertices, closed=is_closed, match_end=match_end
+        )
+        if not res.success:
+            raise CurveError(f"curve {i}: {res.message}")
+        props = dict(curve.properties)
+        props.update(
+            affine_area=res.area,
+            affine_objective=res.objective,
+            affine_closing_error=res.closing_error,
+            affine_pieces=int(res.piece_areas.size),
+        )
+        changes = {"properties": props}
+        if not is_closed and curve.kind in ("Polygon", "MultiPolygon"):
+            changes["kind"] = "LineString"
+        out.append(curve.replace(res.points, closed=is_closed, **changes))
+        paths.append(affine.svg_path(res.points, closed=is_closed))
+        pmin, pmax = res.points.min(axis=0), res.points.max(axis=0)
+        lo = pmin if lo is None else lo.clip(max=pmin)
+        hi = pmax if hi is None else hi.clip(min=pmax)
+        click.echo(f"curve {i}: {res.message}", err=True)
+    write_curves(out, dest, fmt)
+    if spline_svg is not None:
+        Path(spline_svg).write_text(_svg_document(paths, (lo, hi)), encoding="utf-8")

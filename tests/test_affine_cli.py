@@ -1,0 +1,61 @@
+"""The ``curvesmith affine`` command."""
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+from curvesmith import affine
+from curvesmith.cli import main
+from curvesmith.cli.affine import affine_command
+from curvesmith.data import load_points
+from curvesmith.io import Curve, read_curves, write_curves
+
+if "affine" not in main.commands:  # registered by the lead in cli/__init__.py
+    main.add_command(affine_command)
+
+
+@pytest.fixture
+def inputs(tmp_path):
+    u = np.linspace(0, 2 * np.pi, 600, endpoint=False)
+    ring = Curve(np.c_[3 * np.cos(u), np.sin(u)], closed=True, kind="Polygon", feature=0)
+    pts = affine.bezier_curve(load_points("affine_bezier8.csv"), np.linspace(0, 1, 600))
+    arc = Curve(pts, closed=False, feature=1)
+    path = tmp_path / "in.geojson"
+    write_curves([ring, arc], path)
+    return path
+
+
+def test_affine_command_writes_control_polygons_and_svg(inputs, tmp_path):
+    out, svg = tmp_path / "out.geojson", tmp_path / "s.svg"
+    result = CliRunner().invoke(
+        main, ["affine", str(inputs), "-o", str(out), "--vertices", "24", "--spline-svg", str(svg)]
+    )
+    assert result.exit_code == 0, result.output
+    curves = read_curves(out)
+    assert len(curves) == 2
+    ring, arc = curves
+    assert ring.closed and ring.points.shape == (24, 2)
+    assert not arc.closed and arc.points.shape == (24, 2)
+    assert affine.is_affine_arc_length(ring.points, closed=True, rtol=1e-6)
+    assert affine.is_affine_arc_length(arc.points, rtol=1e-8)
+    assert ring.properties["affine_area"] == pytest.approx(
+        affine.coordinates(ring.points, closed=True)[0][0]
+    )
+    assert ring.properties["affine_closing_error"] < 1e-6
+    back, closed = affine.read_svg_path(svg)  # first path: the closed ring
+    assert closed
+    np.testing.assert_allclose(back, ring.points, atol=1e-9)
+
+
+def test_affine_command_open_flag_and_errors(inputs, tmp_path):
+    out = tmp_path / "out.csv"
+    result = CliRunner().invoke(
+        main, ["affine", str(inputs), "-o", str(out), "--vertices", "20", "--open"]
+    )
+    assert result.exit_code == 0, result.output
+    assert not any(c.closed for c in read_curves(out))
+    result = CliRunner().invoke(main, ["affine", str(inputs), "-o", str(out), "--vertices", "3"])
+    assert result.exit_code == 1
+    assert "vertices must be an integer >= 4, got 3" in result.output
+    result = CliRunner().invoke(main, ["affine", str(inputs), "-o", str(out)])
+    assert result.exit_code == 2  # --vertices is required
