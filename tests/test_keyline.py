@@ -2,6 +2,7 @@
 
 import itertools
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -464,3 +465,110 @@ def test_fit_bad_input(points, kwargs, match):
         points = np.column_stack([t, y, 0.1 * t])
     with pytest.raises(CurveError, match=match):
         keyline.fit(points, **kwargs)
+
+
+# ------------------------------------------------------------------ CLI
+
+
+def _scan_files(tmp_path):
+    syn = keyline.synthetic_keyline(
+        n_left=80, n_right=70, left=(0.015, None, 0.3), noise=0.005, seed=2
+    )
+    np.savetxt(tmp_path / "a.xyz", syn.points)
+    with (tmp_path / "b.csv").open("w") as fh:
+        fh.write("x,y,z\n")
+        np.savetxt(fh, syn.points, delimiter=",")
+    (tmp_path / "bad.txt").write_text("1 2 3\n4 5\n")
+    return syn
+
+
+def test_cli_keyline_processes_good_files_and_reports_bad_ones(tmp_path):
+    import json
+
+    from click.testing import CliRunner
+
+    from curvesmith.cli.keyline import TABLE_FIELDS, keyline_command
+    from curvesmith.io import read_curves
+
+    _scan_files(tmp_path)
+    out = tmp_path / "out"
+    files = [str(tmp_path / n) for n in ("a.xyz", "bad.txt", "b.csv", "missing.csv")]
+    result = CliRunner().invoke(keyline_command, [*files, "-o", str(out), "--step", "1"])
+    assert result.exit_code == 1, result.output
+    assert "fitted 2 keyline(s) from 4 file(s)" in result.output
+    assert "2 keyline(s) failed" in result.output
+    rows = json.loads((out / "keyline_table.json").read_text())["rows"]
+    assert [(Path(r["file"]).name, r["side"]) for r in rows] == [
+        ("a.xyz", "left"),
+        ("a.xyz", "right"),
+        ("bad.txt", ""),
+        ("b.csv", "left"),
+        ("b.csv", "right"),
+        ("missing.csv", ""),
+    ]
+    assert "2 or 3 numbers on every line, got row widths [2, 3]" in rows[2]["error"]
+    assert rows[2]["success"] is False and rows[5]["success"] is False
+    for r in (rows[0], rows[1], rows[3], rows[4]):
+        assert r["success"] is True and r["error"] == ""
+        assert r["h"] == pytest.approx(1.0, abs=1e-3)
+        assert set(r) == set(TABLE_FIELDS)
+    # the same scan as .xyz and as CSV gives the same table
+    for a, b in ((rows[0], rows[3]), (rows[1], rows[4])):
+        assert a["k"] == pytest.approx(b["k"], rel=1e-9)
+    csv_text = (out / "keyline_table.csv").read_text().splitlines()
+    assert csv_text[0] == ",".join(TABLE_FIELDS) and len(csv_text) == 7
+    curves = read_curves(out / "a_fit.csv")
+    assert [c.properties["id"] for c in curves] == ["keyline", "left", "right"]
+    np.testing.assert_allclose(
+        np.linalg.norm(np.diff(curves[0].points, axis=0), axis=1), 1.0, atol=1e-9
+    )
+
+
+def test_cli_keyline_bundled_scan_and_multi_curve_csv(tmp_path):
+    import json
+
+    from click.testing import CliRunner
+
+    from curvesmith import data
+    from curvesmith.cli.keyline import keyline_command
+
+    pts = data.load_points("keyline_scan_b.csv")
+    with (tmp_path / "two.csv").open("w") as fh:
+        fh.write("id,x,y,z\n")
+        for tag in ("upper", "lower"):
+            for x, y, z in pts[::2].tolist():
+                fh.write(f"{tag},{x!r},{y!r},{z + (5.0 if tag == 'upper' else 0.0)!r}\n")
+    out = tmp_path / "o"
+    args = [str(data.path("keyline_scan_b.csv")), str(tmp_path / "two.csv"), "-o", str(out)]
+    result = CliRunner().invoke(keyline_command, [*args, "--step", "1.0"])
+    assert result.exit_code == 0, result.output
+    rows = json.loads((out / "keyline_table.json").read_text())["rows"]
+    assert [r["curve"] for r in rows] == ["keyline_scan_b"] * 2 + ["two_upper"] * 2 + [
+        "two_lower"
+    ] * 2
+    assert all(r["success"] for r in rows)
+    assert (out / "two_upper_fit.csv").is_file() and (out / "two_lower_fit.csv").is_file()
+    # the bundled scan's truth (PROVENANCE_keyline.md): k = 0.28 left, 0.42 right
+    assert rows[0]["k"] == pytest.approx(0.28, abs=0.05)
+    assert rows[1]["k"] == pytest.approx(0.42, abs=0.05)
+    assert rows[1]["z"] == pytest.approx(0.016, rel=0.1)
+
+
+@pytest.mark.parametrize(
+    ("args", "code", "text"),
+    [
+        (["--step", "0"], 2, "Invalid value for '--step'"),
+        (["--step", "-1"], 2, "Invalid value for '--step'"),
+        ([], 2, "Missing option '-o'"),
+    ],
+)
+def test_cli_keyline_usage_errors(tmp_path, args, code, text):
+    from click.testing import CliRunner
+
+    from curvesmith.cli.keyline import keyline_command
+
+    _scan_files(tmp_path)
+    out = [] if "Missing" in text else ["-o", str(tmp_path / "o")]
+    result = CliRunner().invoke(keyline_command, [str(tmp_path / "a.xyz"), *out, *args])
+    assert result.exit_code == code
+    assert text in result.output

@@ -799,8 +799,9 @@ def _fit_side(side: np.ndarray, options: dict):
     So the side is first fitted at a coarser resolution, every ``m``-th vertex
     (curvature noise down by ``m^2``), and that fit, rescaled to the full
     resolution (``h / m``, ``z / m``; ``phi``, ``q``, ``k`` unchanged), starts
-    the full fit; if that does not succeed the full-resolution guess is tried
-    too, and the better converged fit is kept.
+    the full fit (restarted once from where it stopped if it ran into the
+    iteration limit in a flat valley); if that does not succeed the
+    full-resolution guess is tried too, and the better converged fit is kept.
     """
     from . import elastica
 
@@ -812,7 +813,10 @@ def _fit_side(side: np.ndarray, options: dict):
         coarse = elastica.fit(side[::m], fixed=fixed, **options)
         c = coarse.params
         start = (c.x0, c.y0, c.h / m, c.phi, c.z / m, c.q, c.k)
-        res = elastica.fit(side, fixed=fixed, start=start, **options)
+        first = {"max_iter": 100, **options}
+        res = elastica.fit(side, fixed=fixed, start=start, **first)
+        if not res.success:  # a slow valley ends on the iteration limit: restart there
+            res = elastica.fit(side, fixed=fixed, start=res.params, **options)
         if res.success:
             return res
         candidates.append(res)

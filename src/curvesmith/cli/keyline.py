@@ -1,0 +1,235 @@
+"""``curvesmith keyline``: fit discrete elasticae to a folder of 3D keyline scans (section 5)."""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+import sys
+from pathlib import Path
+
+import click
+import numpy as np
+
+from ..errors import CurveError
+
+__all__ = ["TABLE_FIELDS", "keyline_command", "read_scan"]
+
+#: Columns of ``keyline_table.csv`` (and keys of the rows in ``keyline_table.json``).
+TABLE_FIELDS = (
+    "file",
+    "curve",
+    "side",
+    "n_points",
+    "h",
+    "phi",
+    "phi_deg",
+    "z",
+    "q",
+    "k",
+    "rms",
+    "success",
+    "step",
+    "inflection_index",
+    "plane_rms",
+    "output",
+    "error",
+)
+
+#: Suffixes read as plain whitespace- or comma-separated numbers with numpy.
+PLAIN_SUFFIXES = (".xyz", ".txt", ".dat")
+
+
+def read_scan(path: str | Path) -> list[tuple[str, np.ndarray]]:
+    """Read the keylines of one scan file as ``(name, points)`` pairs.
+
+    ``.xyz``, ``.txt`` and ``.dat`` files are plain tables of numbers (2 or 3
+    columns, whitespace or comma separated, ``#`` comments), one keyline per
+    file; other suffixes (CSV ``x,y,z`` with an optional ``id`` column for
+    several keylines, GeoJSON, SVG) go through ``curvesmith.cli._common.read_curves``.
+
+    Parameters
+    ----------
+    path : str or Path
+        The file.
+
+    Returns
+    -------
+    list of (str, (N, d) ndarray)
+        Name (the file stem, plus ``_<id>`` when the file holds several
+        curves) and points of each keyline.
+
+    Raises
+    ------
+    CurveError
+        If the file cannot be read or parsed.
+    """
+    path = Path(path)
+    if path.suffix.lower() in PLAIN_SUFFIXES:
+        try:
+            text = path.read_text(encoding="utf-8")
+        except OSError as exc:
+            raise CurveError(f"cannot read {path}: {exc.strerror or exc}") from None
+        rows = [ln.split("#", 1)[0].strip() for ln in text.splitlines()]
+        rows = [r.replace(",", " ").split() for r in rows if r]
+        widths = sorted({len(r) for r in rows})
+        if not rows or len(widths) != 1 or widths[0] not in (2, 3):
+            raise CurveError(
+                f"{path} must have 2 or 3 numbers on every line, got row widths {widths}"
+            )
+        try:
+            pts = np.array([[float(v) for v in r] for r in rows], dtype=float)
+        except ValueError as exc:
+            raise CurveError(f"{path} must hold numbers only: {exc}") from None
+        return [(path.stem, pts)]
+    from ._common import read_curves
+
+    try:
+        curves = read_curves(str(path))
+    except OSError as exc:
+        raise CurveError(f"cannot read {path}: {exc.strerror or exc}") from None
+    if len(curves) == 1:
+        return [(path.stem, np.asarray(curves[0].points, dtype=float))]
+    out = []
+    for i, c in enumerate(curves):
+        tag = c.properties.get("id", i)
+        out.append((f"{path.stem}_{tag}", np.asarray(c.points, dtype=float)))
+    return out
+
+
+def _rows_for(file: str, name: str, res, out_name: str) -> list[dict]:
+    rows = []
+    for row in res.table():
+        full = dict.fromkeys(TABLE_FIELDS, "")
+        full.update(row)
+        full.update(
+            file=file,
+            curve=name,
+            step=res.step,
+            inflection_index=res.inflection.index,
+            plane_rms=res.plane.rms_distance if res.plane is not None else 0.0,
+            output=out_name,
+            error="" if res.success else f"{row['side']} fit: " + res.message,
+        )
+        rows.append(full)
+    return rows
+
+
+def _error_row(file: str, name: str, message: str) -> dict:
+    row = dict.fromkeys(TABLE_FIELDS, "")
+    row.update(file=file, curve=name, success=False, error=message)
+    return row
+
+
+def _write_fit(res, dest: Path) -> None:
+    from ..io import Curve
+    from ._common import write_curves
+
+    curves = [
+        Curve(res.points, closed=False, properties={"id": "keyline"}),
+        Curve(res.left.points, closed=False, properties={"id": "left"}),
+        Curve(res.right.points, closed=False, properties={"id": "right"}),
+    ]
+    write_curves(curves, str(dest))
+
+
+def _json_value(v):
+    if isinstance(v, float) and not math.isfinite(v):
+        return None
+    if isinstance(v, np.generic):
+        return v.item()
+    return v
+
+
+@click.command("keyline")
+@click.argument("inputs", metavar="IN...", nargs=-1, required=True, type=click.Path(dir_okay=False))
+@click.option(
+    "-o",
+    "--output",
+    "outdir",
+    required=True,
+    type=click.Path(file_okay=False),
+    help="Output directory (created if needed).",
+)
+@click.option(
+    "--step",
+    type=click.FloatRange(min=0.0, min_open=True),
+    default=None,
+    help="Chord r of the equilateral resampling, in the scan's units "
+    "(default: 1/200 of the keyline's extent).",
+)
+@click.option(
+    "--normal",
+    default="0,0,1",
+    show_default=True,
+    help="Viewing direction NX,NY,NZ: the side of the plane the 2D keyline is seen from.",
+)
+@click.pass_context
+def keyline_command(ctx, inputs, outdir, step, normal) -> None:
+    """Fit a discrete elastica to each side of the inflection of 3D keyline scans.
+
+    Each IN is a scanned keyline: CSV with x,y,z columns (an id column for
+    several keylines per file), or a plain .xyz/.txt/.dat table of numbers.
+    The pipeline of section 5 of Graiff Zurita, Kajiwara & Suzuki runs on
+    each: PCA plane fit, equilateral resampling with step R, principal-axes
+    frame, RDP inflection estimate, and a discrete elastica fitted to each
+    side with its start pinned at the inflection.
+
+    Writes OUTDIR/<name>_fit.csv (the resampled keyline and the two fitted
+    elasticae in the keyline's 2D frame, ids keyline/left/right) and the
+    parameter table (h, phi, z, q, k per side, like Table 1) as
+    OUTDIR/keyline_table.csv and .json. A file that cannot be read or
+    fitted is reported in the table and on stderr; the others are still
+    processed, and the exit status is then 1.
+    """
+    from .. import keyline
+    from ._common import parse_floats
+
+    hint = parse_floats(normal, name="--normal", count=3)
+    out = Path(outdir)
+    out.mkdir(parents=True, exist_ok=True)
+    rows: list[dict] = []
+    failures: list[str] = []
+    fitted = 0
+
+    def fail(file: str, name: str, message: str) -> None:
+        rows.append(_error_row(file, name, message))
+        failures.append(message if file in message else f"{file}: {message}")
+
+    with click.progressbar(inputs, label="Fitting keylines", file=sys.stderr) as bar:
+        for item in bar:
+            file = str(item)
+            try:
+                scans = read_scan(file)
+            except CurveError as exc:
+                fail(file, Path(file).stem, str(exc))
+                continue
+            for name, pts in scans:
+                try:
+                    res = keyline.fit(pts, step=step, normal_hint=hint)
+                    dest = out / f"{name}_fit.csv"
+                    _write_fit(res, dest)
+                except CurveError as exc:
+                    fail(file, name, f"{file} ({name}): {exc}")
+                    continue
+                fitted += 1
+                rows.extend(_rows_for(file, name, res, dest.name))
+                if not res.success:
+                    failures.append(f"{file} ({name}): fit did not converge: {res.message}")
+    table_csv = out / "keyline_table.csv"
+    with table_csv.open("w", newline="", encoding="utf-8") as fh:
+        writer = csv.DictWriter(fh, fieldnames=TABLE_FIELDS, lineterminator="\n")
+        writer.writeheader()
+        writer.writerows(
+            {k: (repr(v) if isinstance(v, float) else v) for k, v in r.items()} for r in rows
+        )
+    (out / "keyline_table.json").write_text(
+        json.dumps({"rows": [{k: _json_value(v) for k, v in r.items()} for r in rows]}, indent=2),
+        encoding="utf-8",
+    )
+    click.echo(f"fitted {fitted} keyline(s) from {len(inputs)} file(s); table: {table_csv}")
+    if failures:
+        for f in failures:
+            click.echo(f"Error: {f}", err=True)
+        click.echo(f"Error: {len(failures)} keyline(s) failed; see {table_csv}", err=True)
+        ctx.exit(1)
