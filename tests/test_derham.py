@@ -223,6 +223,12 @@ def test_length_reports_failure_at_max_level():
     assert res.lower <= res.value <= res.upper
 
 
+def test_length_below_rounding_floor_stops():
+    res = derham.length(TRIANGLE, gamma=3.0, tol=1e-17)
+    assert not res.success and "below the rounding floor" in res.message
+    assert res.level < 24 and res.lower <= res.value <= res.upper
+
+
 def test_length_gamma_2_is_exact():
     res = derham.length(TRIANGLE, gamma=2.0, tol=1e-13)
     assert res.success and res.value == derham.parabola_length(TRIANGLE)

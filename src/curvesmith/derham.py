@@ -19,13 +19,14 @@ Lengths (section 2)
     ``L^{n+1} = (gamma L^n + 2 l^n) / (gamma + 2)`` (verified to rounding in the
     tests, also for chains with inflections, i.e. non-convex polygons).
 
-    Internally a corner is the pair of half-side vectors ``u = S_i - M_{i-1}``,
-    ``v = M_i - S_i``; one de Rham step maps it to the two corners
-    ``((1 - 2 beta) u, beta (u + v))`` and ``(beta (u + v), (1 - 2 beta) v)``,
-    ``beta = 1 / (gamma + 2)``, so that ``L^n = sum |u| + |v|`` and
-    ``l^n = sum |u + v|``. This is the polygon of :func:`~curvesmith.subdivision.de_rham`
-    written per corner (checked against it in the tests); it needs no
-    positions, runs in blocks of bounded memory and carries x-derivatives.
+    Internally the level-``n`` polygon is kept as its side vectors ``e_i``
+    (complex numbers), exactly the polygon of
+    :func:`~curvesmith.subdivision.de_rham` (checked against it in the tests):
+    one step maps them to ``(1 - 2 beta) e_i`` alternating with
+    ``beta (e_i + e_{i+1})``, ``beta = 1 / (gamma + 2)``;
+    ``l^n = sum |e_i + e_{i+1}| / 2`` and ``L^n`` follows from the recurrence.
+    Deep levels are refined in blocks of consecutive sides (bounded memory),
+    and x-derivatives are refined alongside (subdivision is linear).
 
 Acceleration
     ``L^n - L`` decays geometrically (ratio exactly 1/4 for ``gamma = 2``;
@@ -59,6 +60,16 @@ Prescribed length (sections 3-4)
     length with exact x-derivatives (the closed form for ``gamma = 2``),
     followed by a certificate ``l^n(x) <= f(x) <= L^{n+1}(x)`` (outward
     rounded) inside ``[length - tol, length + tol]``.
+
+    Evaluations counted in the results are evaluations of ``f^n``, of the
+    extrapolated or exact length (with derivatives) and of the certificate; the
+    level-0 starting model and the known ``f(0)``, ``f(1)`` are arithmetic on the
+    four control points and are not counted. ``benchmarks/bench_derham.py``
+    measured (one run, shared machine): gamma = 2, tol 1e-12 certified in 3
+    evaluations and about 1 ms, against 5.5 (paper's data) and 7 (random data)
+    secant evaluations and 0.4 to 1 s at tol 1e-9, the secant's reach with levels
+    up to 20. For gamma != 2 the certificate needs one refinement to level
+    17..21 (0.1 to 0.4 s at tol 1e-12).
 
 Section 4 states the rule "choose n with (|AB| + |BC|) 0.25^n < eps / 2"; the
 levels printed in the tables of section 5 (5, 8, 10) do not follow it (it gives
@@ -535,16 +546,29 @@ def length(points, *, gamma: float, tol: float = 1e-9, max_level: int = 24) -> L
             message="exact closed form for gamma = 2 (parabola arcs)",
         )
     floor = 2.0 * _margin(max_level, beta, upper0, e.shape[1] * 2.0**max_level)
+    at_floor = False
     while True:
         n = s.shape[0] - 1
         lo, hi = _certified(s, n, beta, upper0, e.shape[1])
         if hi - lo <= tol or n >= max_level:
+            break
+        if tol <= floor and hi - lo <= 2.0 * floor:
+            at_floor = True  # rounding dominates: more levels cannot narrow the bracket
             break
         width = (1.0 - 2.0 * beta) * (s[:, 1] - s[:, 0])
         want = min(max_level, max(n + 1, _predict_level(width, n, 0.5 * tol, floor)))
         s = _sums(e, want, beta)
     est_w = wynn_epsilon(s[:, 1])
     ok = hi - lo <= tol
+    if ok:
+        message = f"certified bracket of width {hi - lo:.3g} at level {n}"
+    elif at_floor:
+        message = (
+            f"bracket width {hi - lo:.3g} > tol = {tol:g}: tol is below the rounding floor "
+            f"{floor:.3g} of a certificate in double precision"
+        )
+    else:
+        message = f"bracket width {hi - lo:.3g} > tol = {tol:g} at max_level = {max_level}"
     return LengthResult(
         value=float(np.clip(est_w, lo, hi)),
         lower=lo,
@@ -555,11 +579,7 @@ def length(points, *, gamma: float, tol: float = 1e-9, max_level: int = 24) -> L
         lower_sequence=s[:, 0].copy(),
         upper_sequence=s[:, 1].copy(),
         success=ok,
-        message=(
-            f"certified bracket of width {hi - lo:.3g} at level {n}"
-            if ok
-            else f"bracket width {hi - lo:.3g} > tol = {tol:g} at max_level = {max_level}"
-        ),
+        message=message,
     )
 
 
