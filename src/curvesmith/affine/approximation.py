@@ -490,7 +490,11 @@ class Approximation:
     end_gap : float
         Open curves: affine length from ``x_n`` to the end of the curve, in units
         of the affine edge length ``|A|^(1/3)`` (negative: ``x_n`` lies beyond;
-        ``inf`` if the construction failed). 0 for closed curves.
+        ``inf`` if the construction failed). 0 for closed curves. With the
+        paper's ``A = (S/n)^3`` it is a few hundredths for samples at uniform
+        parameter steps; samples at irregular steps bias the affine length of the
+        replacement curve (its tangents assume uniform steps) and the gap can
+        exceed an edge (the message says so): ``match_end=True`` fixes ``A``.
     piece_areas : (P,) ndarray
         Signed ``A`` of every affine arc length piece (one per inflection-free
         part of the curve).
@@ -784,6 +788,11 @@ def _approximate_open(
             f"constructed {n} edges in {len(areas)} piece(s); psi = {objective:.3g}; "
             f"end gap {gap_last:+.3g} edge(s)"
         )
+        if abs(gap_last) > 0.5:
+            msg.append(
+                "the polyline does not reach the end of the curve (A = (S/n)^3 misjudged: "
+                "non-uniform samples?); use match_end=True to fit A"
+            )
     return Approximation(
         points=pts,
         area=float(areas[0]),
