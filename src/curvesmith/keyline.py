@@ -316,8 +316,9 @@ def resample_equilateral(points, step) -> np.ndarray:
     paper's picture, and it makes the arc-length position strictly increase,
     so the polygon has at most ``floor(length / r) + 1`` vertices. Candidates
     are found among all segments of the polyline (the paper's rule is global:
-    a curve that comes back within ``r`` of itself is short-cut), using a k-d
-    tree of segment midpoints so that each step costs ``O(log N + k)``.
+    a curve that comes back within ``r`` of itself is short-cut), using
+    bounding boxes of blocks of ``~sqrt(N)`` segments searched from the right
+    end, so that a step costs ``O(sqrt(N))`` vectorized operations.
 
     Every chord of the result has length ``r`` to rounding, and every vertex
     lies on the input polyline. The caller orients the input: the pipeline of
@@ -355,62 +356,87 @@ def resample_equilateral(points, step) -> np.ndarray:
 
 
 def _resample(p: np.ndarray, r: float) -> tuple[np.ndarray, np.ndarray]:
-    """Return the equilateral polygon and the arc-length positions of its vertices."""
-    from scipy.spatial import cKDTree
+    """Return the equilateral polygon and the arc-length positions of its vertices.
 
+    The segments are grouped in blocks of about ``sqrt(N)`` consecutive
+    segments with their bounding boxes. A block can hold a point at distance
+    ``r`` from the centre only if its box reaches inside the circle and out of
+    it; the candidate blocks are searched from the last one backwards and the
+    first block with an intersection beyond the current arc length holds the
+    intersection closest to the right end. A step costs ``O(N / B + B)``.
+    """
     d = np.diff(p, axis=0)
     seg_len = np.sqrt(np.einsum("ij,ij->i", d, d))
     keep = seg_len > 0.0
     if not keep.any():
         raise CurveError(f"points must not all coincide, got every point at {p[0].tolist()}")
-    starts = p[:-1][keep]
-    d = d[keep]
+    starts = np.ascontiguousarray(p[:-1][keep])
+    d = np.ascontiguousarray(d[keep])
     seg_len = seg_len[keep]
     a2 = seg_len**2
     s0 = np.concatenate([[0.0], np.cumsum(seg_len)])[:-1]
     total = float(s0[-1] + seg_len[-1])
-    lmax = float(seg_len.max())
-    tree = cKDTree(starts + 0.5 * d)
-    radius = r + 0.5 * lmax
+    nseg = seg_len.size
+    bsize = max(32, math.isqrt(nseg))
+    first = np.arange(0, nseg, bsize)
+    last = np.minimum(first + bsize, nseg)
+    ends = starts + d
+    box_lo = np.minimum.reduceat(np.minimum(starts, ends), first, axis=0)
+    box_hi = np.maximum.reduceat(np.maximum(starts, ends), first, axis=0)
+    block_t_end = s0[last - 1] + seg_len[last - 1]
     tol = 1e-12 * r + 8.0 * np.finfo(float).eps * total
+    r_in, r_out = r * (1.0 + 1e-9), r * (1.0 - 1e-9)
+
+    def crossing(blk: int, c: np.ndarray, t_cur: float):
+        sl = slice(first[blk], last[blk])
+        w = starts[sl] - c
+        dd = d[sl]
+        b = np.einsum("ij,ij->i", w, dd)
+        cq = np.einsum("ij,ij->i", w, w) - r * r
+        aa = a2[sl]
+        disc = b * b - aa * cq
+        ok = np.flatnonzero(disc >= 0.0)
+        if ok.size == 0:
+            return None
+        b, cq, aa = b[ok], cq[ok], aa[ok]
+        # roots of aa u^2 + 2 b u + cq = 0, computed without cancellation
+        qq = -(b + np.copysign(np.sqrt(disc[ok]), b))
+        u1 = qq / aa
+        u2 = cq / np.where(qq != 0.0, qq, 1.0)
+        u2[qq == 0.0] = 0.0
+        u = np.concatenate([u1, u2])
+        jj = np.concatenate([ok, ok]) + first[blk]
+        valid = (u >= -1e-13) & (u <= 1.0 + 1e-13)
+        if not valid.any():
+            return None
+        u = np.clip(u[valid], 0.0, 1.0)
+        jj = jj[valid]
+        t = s0[jj] + u * seg_len[jj]
+        m = int(np.argmax(t))
+        if t[m] <= t_cur + tol:
+            return None
+        return float(t[m]), starts[jj[m]] + u[m] * d[jj[m]]
 
     out = [p[0].copy()]
     ts = [0.0]
     c = p[0]
     t_cur = 0.0
     for _ in range(int(total / r) + 2):
-        idx = np.asarray(tree.query_ball_point(c, radius), dtype=np.intp)
-        if idx.size == 0:
-            break
-        w = starts[idx] - c
-        b = np.einsum("ij,ij->i", w, d[idx])
-        cq = np.einsum("ij,ij->i", w, w) - r * r
-        aa = a2[idx]
-        disc = b * b - aa * cq
-        ok = disc >= 0.0
-        if not ok.any():
-            break
-        idx, b, cq, aa, disc = idx[ok], b[ok], cq[ok], aa[ok], disc[ok]
-        sq = np.sqrt(disc)
-        # roots of aa u^2 + 2 b u + cq = 0, computed without cancellation
-        qq = -(b + np.copysign(sq, b))
-        with np.errstate(divide="ignore", invalid="ignore"):
-            u1 = qq / aa
-            u2 = np.where(qq != 0.0, cq / qq, 0.0)
-        u = np.concatenate([u1, u2])
-        jj = np.concatenate([idx, idx])
-        eps = 1e-13
-        valid = (u >= -eps) & (u <= 1.0 + eps)
-        u = np.clip(u[valid], 0.0, 1.0)
-        jj = jj[valid]
-        t = s0[jj] + u * seg_len[jj]
-        ahead = t > t_cur + tol
-        if not ahead.any():
+        gap = np.maximum(np.maximum(box_lo - c, c - box_hi), 0.0)
+        reach = np.maximum(np.abs(c - box_lo), np.abs(c - box_hi))
+        cand = np.flatnonzero(
+            (np.sqrt(np.einsum("ij,ij->i", gap, gap)) <= r_in)
+            & (np.sqrt(np.einsum("ij,ij->i", reach, reach)) >= r_out)
+            & (block_t_end > t_cur + tol)
+        )
+        hit = None
+        for blk in cand[::-1]:
+            hit = crossing(int(blk), c, t_cur)
+            if hit is not None:
+                break
+        if hit is None:
             break  # only the way back remains: A_k is the stop point (Fig. 13)
-        m = int(np.argmax(np.where(ahead, t, -np.inf)))
-        j = jj[m]
-        c = starts[j] + u[m] * d[j]
-        t_cur = float(t[m])
+        t_cur, c = hit
         out.append(c)
         ts.append(t_cur)
     if len(out) < 2:
