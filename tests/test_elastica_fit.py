@@ -1,0 +1,209 @@
+"""Fit and initial guess (sections 4.2-4.3): recovery, noise, basins, bad input, backends."""
+
+import numpy as np
+import pytest
+
+from curvesmith.elastica import PARAM_NAMES, fit, initial_guess, sample
+from curvesmith.elastica.fit import _noise_level
+from curvesmith.errors import CurveError
+
+
+def random_params(rng):
+    """Wide random range: k log-uniform in [0.1, 10] (both cases), h over 2 decades, any phi, q.
+
+    |z| is capped so that the turning per vertex stays below about 0.3 rad (at most ~2 k z).
+    """
+    k = float(np.exp(rng.uniform(np.log(0.1), np.log(10.0))))
+    h = float(np.exp(rng.uniform(-3.0, 1.0)))
+    z = float(rng.uniform(0.02, 0.15)) / max(1.0, k) * float(rng.choice([-1.0, 1.0]))
+    return (
+        float(rng.normal() * 5),
+        float(rng.normal() * 5),
+        h,
+        float(rng.uniform(-np.pi, np.pi)),
+        z,
+        float(rng.uniform(-3.0, 3.0)),
+        k,
+    )
+
+
+def rms(a, b):
+    return float(np.sqrt(np.mean(np.sum((a - b) ** 2, axis=1))))
+
+
+def test_recovers_200_random_elasticae_from_their_own_points():
+    """Acceptance: >= 95 % succeed with positions to 1e-8; no failure is reported as success."""
+    rng = np.random.default_rng(20240601)
+    succeeded = 0
+    single_start = 0
+    cases = {"i": 0, "ii": 0}
+    for _ in range(200):
+        p = random_params(rng)
+        n = int(rng.integers(25, 60))
+        pts = sample(p, n)
+        res = fit(pts)
+        err = float(np.max(np.abs(res.points - pts)))
+        if res.success:
+            assert err < 1e-8 * max(1.0, p[2]), (p, n, err)  # never a wrong answer
+            succeeded += 1
+            single_start += res.stages == 1
+            cases[res.case] += 1
+        else:
+            assert res.message
+    assert succeeded >= 190
+    assert cases["i"] > 40 and cases["ii"] > 40
+
+
+def test_initial_guess_lands_in_the_basin():
+    """The guess of section 4.3 alone: close to the data, and a single start from it converges."""
+    rng = np.random.default_rng(7)
+    for _ in range(40):
+        p = random_params(rng)
+        n = int(rng.integers(30, 80))
+        pts = sample(p, n)
+        g = initial_guess(pts)
+        length = p[2] * (n - 1)
+        assert rms(sample(g, n), pts) < 0.05 * length
+        assert (g.k > 1) == (p[6] > 1)
+        res = fit(pts, start=g, continuation=False)
+        assert res.success and np.max(np.abs(res.points - pts)) < 1e-8 * max(1.0, p[2])
+
+
+@pytest.mark.parametrize("sigma", [1e-3, 1e-2])
+@pytest.mark.parametrize(
+    "p",
+    [
+        (0.0, 0.0, 0.1, 0.3, 0.05, 0.2, 0.6),
+        (1.0, -2.0, 0.1, -1.2, 0.04, 1.0, 2.5),
+        (0.0, 0.0, 0.1, 2.0, -0.08, -0.5, 0.95),
+    ],
+)
+def test_noisy_fit_is_closer_to_the_clean_curve_than_the_data(p, sigma):
+    rng = np.random.default_rng(3)
+    clean = sample(p, 150)
+    data = clean + rng.normal(scale=sigma, size=clean.shape)
+    res = fit(data)
+    assert res.success
+    assert rms(res.points, clean) < sigma  # the data are sigma * sqrt(2) away
+    assert rms(data, clean) > 1.2 * sigma
+    # the noise estimate of the basin check sees the noise (2D rms ~ sigma sqrt 2)
+    assert 0.8 * sigma * np.sqrt(2) < res.noise < 1.25 * sigma * np.sqrt(2)
+
+
+def test_result_fields_and_fixed_parameters():
+    p = (0.5, -0.25, 0.05, 0.3, 0.06, 0.4, 0.7)
+    pts = sample(p, 100)
+    res = fit(pts, fixed={"x0": 0.5, "y0": -0.25})
+    assert res.params.x0 == 0.5 and res.params.y0 == -0.25
+    assert res.success and res.rms < 1e-10 and res.max_distance < 1e-9
+    assert res.case == "ii" and res.iterations > 0 and res.method == "lsq"
+    assert res.points.shape == (100, 2) and res.data.shape == (100, 2)
+    np.testing.assert_allclose(res.cost, 0.5 * 100 * res.rms**2, rtol=1e-9, atol=1e-30)
+    # pinning a wrong start point is honoured: the fit passes through it
+    res = fit(pts, fixed={"x0": 0.6, "y0": -0.25})
+    np.testing.assert_allclose(res.points[0], (0.6, -0.25))
+    assert res.rms > 1e-3
+    # pinning k forces case (ii) parameters to stay
+    res = fit(pts, fixed={"k": 0.7, "h": 0.05})
+    assert res.params.k == 0.7 and res.params.h == 0.05 and res.rms < 1e-10
+    with pytest.raises(AttributeError):
+        res.rms = 0.0
+
+
+def test_start_is_used():
+    p = (0.0, 0.0, 0.05, 0.3, 0.06, 0.4, 0.7)
+    pts = sample(p, 60)
+    res = fit(pts, start=p)
+    assert res.start == p and res.success and res.iterations <= 3
+
+
+def test_long_curve_with_many_loops_needs_continuation():
+    """Near the separatrix the phase error of a single start sends it to a wrong basin; the
+    growing-prefix continuation recovers the curve and the single start reports failure."""
+    rng = np.random.default_rng(8)
+    p = (0.0, 0.0, 0.1, 0.4, 0.2, 0.3, 0.99999)
+    clean = sample(p, 600)
+    data = clean + rng.normal(scale=0.002, size=clean.shape)
+    single = fit(data, continuation=False)
+    assert not single.success and "wrong basin" in single.message
+    auto = fit(data)
+    assert auto.success and auto.stages > 1
+    assert rms(auto.points, clean) < 0.002
+
+
+def test_resample_option_handles_uneven_spacing():
+    p = (0.0, 0.0, 0.1, 0.3, 0.05, 0.2, 0.6)
+    dense = sample(p, 801)
+    t = np.linspace(0.0, 1.0, 120) ** 1.6  # grossly uneven parameter spacing
+    idx = np.round(t * 800).astype(int)
+    uneven = dense[np.unique(idx)]
+    with pytest.raises(CurveError, match=r"unevenly spaced: .*max deviation .*resample"):
+        fit(uneven)
+    res = fit(uneven, resample=0.4)
+    assert res.success
+    steps = np.hypot(*np.diff(res.data, axis=0).T)
+    np.testing.assert_allclose(steps, 0.4, rtol=1e-12)
+    # equal chords of 0.4 on a smooth elastica are not a discrete elastica of h = 0.4: they
+    # differ by O(h^2 kappa / 4) ~ 0.04 here
+    assert res.rms < 0.06
+
+
+@pytest.mark.parametrize(
+    ("points", "match"),
+    [
+        (np.zeros((4, 2)) + np.arange(4)[:, None], "at least 5"),
+        ([[0, 0], [1, 0], [2, 0], [3, 0], [4, 0], [5, 0]], "collinear"),
+        ([[0, 0], [1, 0], [2, np.nan], [3, 0], [4, 1], [5, 0]], "finite|NaN|nan"),
+        ([[0, 0], [1, 0], [2, 0], [5, 0.1], [6, 0.3], [7, 0.6]], r"unevenly spaced.*resample"),
+    ],
+)
+def test_bad_input(points, match):
+    with pytest.raises(CurveError, match=match):
+        fit(points)
+
+
+def test_bad_options():
+    pts = sample((0.0, 0.0, 0.05, 0.3, 0.06, 0.4, 0.7), 30)
+    with pytest.raises(CurveError, match="unknown parameter 'x'"):
+        fit(pts, fixed={"x": 1.0})
+    with pytest.raises(CurveError, match=r"fixed\['k'\] must be > 0"):
+        fit(pts, fixed={"k": -1.0})
+    with pytest.raises(CurveError, match="all 7"):
+        fit(pts, fixed=dict.fromkeys(PARAM_NAMES, 1.0))
+    with pytest.raises(CurveError, match="method must be one of"):
+        fit(pts, method="newton")
+    with pytest.raises(CurveError, match="continuation"):
+        fit(pts, continuation="sometimes")
+    with pytest.raises(CurveError, match="params k must be > 0"):
+        fit(pts, start=(0, 0, 0.05, 0.3, 0.06, 0.4, 0.0))
+
+
+def test_nonconvergence_is_reported_not_returned_as_success():
+    p = (0.0, 0.0, 0.05, 0.3, 0.06, 0.4, 0.7)
+    pts = sample(p, 80)
+    bad_start = (3.0, -2.0, 0.2, 2.5, 0.5, -2.0, 5.0)
+    res = fit(pts, start=bad_start, max_iter=3, continuation=False)
+    assert not res.success and ("did not converge" in res.message or "basin" in res.message)
+    assert np.all(np.isfinite(res.points))
+
+
+def test_noise_level_estimate():
+    rng = np.random.default_rng(0)
+    clean = sample((0.0, 0.0, 0.1, 0.3, 0.05, 0.2, 0.6), 400)
+    assert _noise_level(clean) < 1e-3 * 0.1  # smooth curve: ~1e-4 h of cubic misfit
+    noisy = clean + rng.normal(scale=0.01, size=clean.shape)
+    assert abs(_noise_level(noisy) / (0.01 * np.sqrt(2)) - 1) < 0.1
+
+
+def test_ipopt_backend_matches_least_squares():
+    """The paper's backend (cyipopt, limited-memory quasi-Newton Hessian) reaches the same fit."""
+    pytest.importorskip("cyipopt", reason="install curvesmith[ipopt]")
+    rng = np.random.default_rng(11)
+    clean = sample((0.0, 0.0, 0.1, 0.3, 0.05, 0.2, 0.6), 80)
+    data = clean + rng.normal(scale=1e-3, size=clean.shape)
+    a = fit(data)
+    b = fit(data, method="ipopt")
+    assert b.method == "ipopt" and b.success, b.message
+    assert abs(b.rms - a.rms) < 1e-8 * a.rms
+    assert np.max(np.abs(a.points - b.points)) < 1e-6
+    assert b.iterations > a.iterations
