@@ -25,17 +25,33 @@ from ._coverage import (
 )
 from ._data import us_counties
 from ._engine import Reduction
+from ._io import (
+    DRIVERS,
+    FileSmoothReport,
+    GeographicCRSWarning,
+    equal_area_crs,
+    read_file,
+    smooth_file,
+    write_file,
+)
 from ._smooth import GeometryReduction, SmoothResult, smooth
 
 __all__ = [
+    "DRIVERS",
     "CoverageReduction",
     "CoverageResult",
+    "FileSmoothReport",
+    "GeographicCRSWarning",
     "GeometryReduction",
     "Reduction",
     "SmoothResult",
     "Topology",
     "coverage_topology",
+    "equal_area_crs",
+    "read_file",
     "smooth",
     "smooth_coverage",
+    "smooth_file",
     "us_counties",
+    "write_file",
 ]

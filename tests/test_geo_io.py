@@ -1,0 +1,145 @@
+"""curvesmith.geo file I/O and smooth_file: formats, layers, order, attributes, CRS."""
+
+import geopandas as gpd
+import numpy as np
+import pyogrio
+import pytest
+import shapely
+
+from curvesmith import geo
+from curvesmith.errors import CurveError, CurveFormatError
+
+
+def sample_frame(crs="EPSG:3857"):
+    polys = [
+        shapely.Polygon([(0, 0), (4, 0), (4, 3), (2, 4), (0, 3)], [[(1, 1), (1, 2), (2, 2)]]),
+        shapely.MultiPolygon([shapely.box(10, 0, 12, 2), shapely.box(13, 0, 14, 5)]),
+        shapely.Polygon([(20, 0), (25, 1), (22, 6)]),
+    ]
+    return gpd.GeoDataFrame(
+        {"name": ["c", "a", "b"], "pop": [30, 10, 20]},
+        geometry=polys,
+        crs=crs,
+    )
+
+
+def ring_areas(geoms):
+    out = []
+    for g in geoms:
+        for part in shapely.get_parts(g):
+            for ring in shapely.get_rings(part):
+                out.append(shapely.area(shapely.Polygon(ring)) * (1 if ring.is_ccw else -1))
+    return np.array(out)
+
+
+@pytest.mark.parametrize("suffix", [".gpkg", ".shp", ".geojson", ".fgb"])
+def test_round_trip_every_format(tmp_path, suffix):
+    df = sample_frame()
+    src = tmp_path / f"in{suffix}"
+    geo.write_file(df, src)
+    out = tmp_path / f"out{suffix}"
+    rep = geo.smooth_file(src, out, iterations=2)
+    assert rep.n_features == 3 and rep.crs is not None and not rep.geographic
+    back = geo.read_file(out)
+    assert len(back) == 3
+    assert list(back["name"]) == ["c", "a", "b"]
+    assert list(back["pop"]) == [30, 10, 20]
+    assert back.crs == df.crs
+    assert shapely.is_valid(back.geometry.values).all()
+    np.testing.assert_allclose(shapely.area(back.geometry.values), df.area.values, rtol=1e-9)
+    if suffix != ".shp":  # a Shapefile stores rings in its own orientation
+        np.testing.assert_allclose(
+            ring_areas(back.geometry.values), ring_areas(df.geometry.values), rtol=1e-9
+        )
+
+
+def test_layers_select_and_unknown(tmp_path):
+    path = tmp_path / "two.gpkg"
+    geo.write_file(sample_frame(), path, layer="first")
+    other = sample_frame().iloc[:1]
+    geo.write_file(other, path, layer="second")
+    assert len(geo.read_file(path, layer="second")) == 1
+    assert len(geo.read_file(path, layer=0)) == 3
+    out = tmp_path / "out.gpkg"
+    geo.smooth_file(path, out, layer="second")
+    assert [str(x) for x in pyogrio.list_layers(out)[:, 0]] == ["second"]
+    with pytest.raises(
+        CurveFormatError, match=r"layer 'third' not found .* layers: \['first', 'second'\]"
+    ):
+        geo.read_file(path, layer="third")
+    with pytest.raises(CurveFormatError, match=r"layer must be an index in \[0, 1\]"):
+        geo.read_file(path, layer=5)
+
+
+def test_missing_file_and_unknown_suffix(tmp_path):
+    with pytest.raises(CurveFormatError, match="no such file"):
+        geo.read_file(tmp_path / "nope.gpkg")
+    with pytest.raises(CurveFormatError, match=r"cannot tell the format of .*\.txt"):
+        geo.write_file(sample_frame(), tmp_path / "x.txt")
+
+
+def test_shapefile_rejects_mixed_types(tmp_path):
+    df = gpd.GeoDataFrame(
+        {"k": [1, 2]},
+        geometry=[shapely.box(0, 0, 1, 1), shapely.LineString([(0, 0), (1, 1), (2, 0)])],
+        crs="EPSG:3857",
+    )
+    with pytest.raises(
+        CurveFormatError, match="a Shapefile holds one geometry type, got LineString, Polygon"
+    ):
+        geo.write_file(df, tmp_path / "mixed.shp")
+    src = tmp_path / "mixed.gpkg"
+    geo.write_file(df, src)
+    geo.smooth_file(src, tmp_path / "mixed_out.gpkg")
+    assert list(geo.read_file(tmp_path / "mixed_out.gpkg").geom_type) == ["Polygon", "LineString"]
+
+
+def test_geographic_crs_warns_and_equal_area_keeps_ground_area(tmp_path):
+    df = geo.us_counties(states=["44"])  # Rhode Island, NAD83 degrees
+    src = tmp_path / "ri.fgb"
+    geo.write_file(df, src)
+    with pytest.warns(geo.GeographicCRSWarning, match="geographic CRS"):
+        rep = geo.smooth_file(src, tmp_path / "deg.fgb", coverage=True)
+    assert rep.geographic and not rep.equal_area and rep.coverage_valid
+    rep = geo.smooth_file(src, tmp_path / "ea.fgb", coverage=True, equal_area=True)
+    assert rep.equal_area
+    out = geo.read_file(tmp_path / "ea.fgb")
+    assert out.crs == df.crs
+    laea = geo.equal_area_crs(df)
+    ground_in = df.to_crs(laea).area.values
+    ground_out = out.to_crs(laea).area.values
+    np.testing.assert_allclose(ground_out, ground_in, rtol=1e-9)
+    assert shapely.coverage_is_valid(out.geometry.values)
+
+
+def test_equal_area_needs_crs(tmp_path):
+    df = sample_frame(crs=None)
+    src = tmp_path / "nocrs.gpkg"
+    with pytest.warns(UserWarning, match="'crs' was not provided"):
+        geo.write_file(df, src)
+    with pytest.raises(CurveError, match="equal_area needs a CRS"):
+        geo.smooth_file(src, tmp_path / "o.gpkg", equal_area=True)
+
+
+def test_geojson_coverage_mode(tmp_path):
+    df = geo.us_counties(states=["10"])  # Delaware: 3 counties
+    src = tmp_path / "de.geojson"
+    geo.write_file(df.to_crs("EPSG:5070"), src)
+    out = tmp_path / "de_out.geojson"
+    rep = geo.smooth_file(src, out, coverage=True, iterations=2)
+    assert rep.coverage and rep.coverage_valid and rep.n_features == 3
+    back = geo.read_file(out)
+    assert shapely.coverage_is_valid(back.geometry.values)
+    src_df = geo.read_file(src)
+    np.testing.assert_allclose(back.area.values, src_df.area.values, rtol=1e-9)
+
+
+def test_invalid_feature_in_file_needs_make_valid(tmp_path):
+    df = sample_frame()
+    df.loc[1, "geometry"] = shapely.Polygon([(0, 0), (2, 2), (2, 0), (0, 2)])
+    src = tmp_path / "bad.gpkg"
+    geo.write_file(df, src)
+    with pytest.raises(CurveError, match=r"geometry\[1\] is not valid"):
+        geo.smooth_file(src, tmp_path / "o.gpkg")
+    geo.smooth_file(src, tmp_path / "o.gpkg", make_valid=True)
+    assert shapely.is_valid(geo.read_file(tmp_path / "o.gpkg").geometry.values).all()
