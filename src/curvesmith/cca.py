@@ -245,15 +245,16 @@ def _profile_poly():
 
 
 def _eval_profile(theta: np.ndarray) -> np.ndarray:
-    # Evaluate the PCHIP piecewise cubic (scipy's coefficients) with 6 comparisons + Horner.
+    # Evaluate scipy's PCHIP piecewise cubic (its breakpoints and coefficients) by Horner;
+    # np.take on the 6 pieces is about twice as fast as PPoly.__call__ on large arrays.
     brk, coef = _profile_poly()
-    t = np.clip(theta, 0.0, np.pi)
-    idx = np.zeros(t.shape, dtype=np.intp)
-    for b in brk[1:-1]:
-        idx += t > b
-    dt = t - brk[idx]
-    c = coef[:, idx]
-    return ((c[0] * dt + c[1]) * dt + c[2]) * dt + c[3]
+    idx = np.searchsorted(brk[1:-1], theta, side="left")
+    dt = theta - brk.take(idx)
+    out = coef[0].take(idx)
+    for k in (1, 2, 3):
+        out *= dt
+        out += coef[k].take(idx)
+    return out
 
 
 def alpha_profile(angle):
@@ -491,7 +492,8 @@ def smooth_with_info(
     fig11_total = 0
     unsat_total = 0
     for it in range(1, iterations + 1):
-        cols, fixed, nred, nfig, nunsat = _step(
+        step = _step if len(cols) == 3 or _FORCE_GENERIC else _step2_cols
+        cols, fixed, nred, nfig, nunsat = step(
             cols,
             fixed,
             closed,
@@ -631,6 +633,17 @@ def _plane_frame(q: np.ndarray) -> np.ndarray | None:
 
 
 # --------------------------------------------------------------------------- the CCA1 step
+
+
+_FORCE_GENERIC = False  # tests compare the lean 2D step with the generic one
+
+
+def _step2_cols(cols, fixed, closed, *args):
+    x, y, fixed, nred, nfig, nunsat = _step2(cols[0], cols[1], fixed, closed, *args)
+    return [x, y], fixed, nred, nfig, nunsat
+
+
+_SHRINK = 1.0 - 8.0 * np.finfo(float).eps
 
 
 def _roll_m1(a: np.ndarray) -> np.ndarray:
@@ -788,84 +801,252 @@ def _step(cols, fixed, closed, alpha_fn, restrict, c, C, tilt_n, balance_tol, ma
     return out, newfixed, nred, nfig, nunsat
 
 
+def _step2(x, y, fixed, closed, alpha_fn, restrict, c, C, tilt_n, balance_tol, max_passes):
+    """One 2D CCA1 step on coordinate columns; the same arithmetic as :func:`_step`, leaner."""
+    ex = _roll_m1(x)
+    ex -= x
+    ey = _roll_m1(y)
+    ey -= y
+    length = np.sqrt(ex * ex + ey * ey)
+    body = length if closed else length[:-1]
+    if body.size and body.min() == 0:
+        (x, y), fixed = _compact([x, y], fixed, closed)
+        args = (alpha_fn, restrict, c, C, tilt_n, balance_tol, max_passes)
+        return _step2(x, y, fixed, closed, *args)
+    n = x.shape[0]
+    if closed:
+        edge_on = None
+    else:
+        edge_on = np.ones(n, dtype=bool)
+        edge_on[-1] = False
+        fixed = fixed.copy()
+        fixed[0] = fixed[-1] = True
+        length[-1] = max(float(length[-1]), 1.0)  # absent wrap edge: only guard the divisions
+    inv = 1.0 / length
+    ux = ex * inv
+    uy = ey * inv
+    del ex, ey, inv
+    upx = _roll_p1(ux)
+    upy = _roll_p1(uy)
+    cr = upx * uy - upy * ux  # cross(u_{i-1}, u_i) = sin(turning angle)
+    dot = upx * ux + upy * uy
+    scross = np.abs(cr)
+    any_fixed = bool(fixed.any())
+    theta = np.arctan2(scross, -dot)  # interior angle in [0, pi]
+    if any_fixed:
+        alpha = np.zeros(n)
+        free = ~fixed
+        alpha[free] = alpha_fn(theta[free])
+    else:
+        alpha = alpha_fn(theta)
+    del theta
+    short = np.minimum(length, _roll_p1(length))
+    half_a2 = 0.5 * short * short
+    nred = nunsat = 0
+    if restrict:
+        on = np.ones(n, dtype=bool) if edge_on is None else edge_on
+        alpha, nred, nunsat = _restrict(
+            alpha, half_a2, [cr], scross, dot, short, length, fixed, on, c, C, max_passes
+        )
+    a = alpha * short
+    K = alpha * alpha * half_a2 * cr  # signed cut areas
+    del half_a2, short
+    Kn = _roll_m1(K)
+    A = 0.5 * (K + Kn)  # signed augmentation per edge
+    an = _roll_m1(a)
+    w = 0.5 * (length - a - an)
+    if w.min() > 0:
+        s = A / w
+    else:
+        s = np.zeros(n)
+        np.divide(A, w, out=s, where=w > 0)
+    # cut points L_i = V_i - a u_{i-1}, R_i = V_i + a u_i; apex G_i = M_i + s (uy, -ux)
+    Lx = x - a * upx
+    Ly = y - a * upy
+    Rx = x + a * ux
+    Ry = y + a * uy
+    del upx, upy
+    Gx = _roll_m1(Lx)
+    Gx += Rx
+    Gx *= 0.5
+    Gx += s * uy
+    Gy = _roll_m1(Ly)
+    Gy += Ry
+    Gy *= 0.5
+    Gy -= s * ux
+
+    fig = (K * Kn < 0) & (np.abs(K + Kn) <= (0.5 * balance_tol) * (np.abs(K) + np.abs(Kn)))
+    if edge_on is not None:
+        fig &= edge_on
+    fig &= w > 0
+    nfig = int(np.count_nonzero(fig))
+    single = (a == 0) | fixed if any_fixed else a == 0
+    if nfig == 0 and edge_on is None and not single.any():
+        # regular layout [L_i, R_i, G_i]
+        ox = np.empty(3 * n)
+        oy = np.empty(3 * n)
+        ox[0::3] = Lx
+        ox[1::3] = Rx
+        ox[2::3] = Gx
+        oy[0::3] = Ly
+        oy[1::3] = Ry
+        oy[2::3] = Gy
+        return ox, oy, np.zeros(3 * n, dtype=bool), nred, 0, nunsat
+    on = np.ones(n, dtype=bool) if edge_on is None else edge_on
+    cnt_v = np.where(single, 1, 2)
+    cnt = cnt_v + on + fig
+    start = np.cumsum(cnt) - cnt
+    total = int(start[-1] + cnt[-1])
+    two = ~single
+    s_second = start[two] + 1
+    s_edge = (start + cnt_v)[on]
+    ox = np.empty(total)
+    oy = np.empty(total)
+    ox[start] = np.where(single, x, Lx)
+    oy[start] = np.where(single, y, Ly)
+    ox[s_second] = Rx[two]
+    oy[s_second] = Ry[two]
+    ox[s_edge] = Gx[on]
+    oy[s_edge] = Gy[on]
+    if nfig:
+        i = np.flatnonzero(fig)
+        j = (i + 1) % n
+        s1 = np.sign(K[i])
+        phi = np.full(i.size, tilt_n)
+        if restrict:
+            tau1 = np.arctan2(scross[i], dot[i])
+            tau2 = np.arctan2(scross[j], dot[j])
+            phi = np.minimum(phi, C * 0.5 * np.minimum(tau1, tau2))
+        wi = w[i]
+        hb = 0.5 * wi * np.tan(phi)
+        carry = s1 * A[i] / wi
+        h1, h2 = hb + carry, hb - carry
+        uxi, uyi = ux[i], uy[i]
+        mx = 0.5 * (Rx[i] + Lx[j])
+        my = 0.5 * (Ry[i] + Ly[j])
+        q1x, q1y = 0.5 * (Rx[i] + mx), 0.5 * (Ry[i] + my)
+        q2x, q2y = 0.5 * (mx + Lx[j]), 0.5 * (my + Ly[j])
+        # first apex on side s1 of the right normal (uy, -ux): opposite the cut at V_i
+        se = start[i] + cnt_v[i]
+        ox[se] = q1x + s1 * h1 * uyi
+        oy[se] = q1y - s1 * h1 * uxi
+        ox[se + 1] = q2x - s1 * h2 * uyi
+        oy[se + 1] = q2y + s1 * h2 * uxi
+    newfixed = np.zeros(total, dtype=bool)
+    if any_fixed:
+        newfixed[start[fixed]] = True
+    return ox, oy, newfixed, nred, nfig, nunsat
+
+
 def _restrict(alpha, half_a2, cr, scross, dot, short, length, fixed, edge_on, c, C, max_passes):
     """Local alpha decrease for Definition 2 / Fig. 12 and the section 3.2 inflection rule.
 
-    Returns the decreased alphas, the number of vertices decreased and the number
-    of edges still violating after ``max_passes`` passes.
+    Per edge ``i`` (vertices ``i``, ``i + 1``): convex and end edges need
+    ``w^2 >= c T |A|`` (``tan(gamma) >= c tan(beta)``), inflection edges
+    ``|K_1 + K_2| <= 2 w^2 tan(C |tau_m| / 2)``. The first pass checks every
+    edge, later passes only the edges next to vertices just decreased. Returns
+    the decreased alphas, the number of vertices decreased and the number of
+    edges still violating after ``max_passes`` passes.
     """
     n = alpha.shape[0]
-    alpha0 = alpha
-    free = ~fixed
-    with np.errstate(divide="ignore", invalid="ignore"):
-        tanb = np.where(scross > 0, (1.0 + dot) / scross, np.inf)  # tan(beta) = cot(|tau|/2)
-    tau = np.arctan2(scross, dot)  # |turning angle|
-    tanb_next = _roll_m1(tanb)
-    tau_next = _roll_m1(tau)
-    fixed_next = _roll_m1(fixed)
-    turning = free & (scross > 0)
-    turning_next = _roll_m1(turning)
-    idx_next = np.roll(np.arange(n), -1)
-    shrink = 1.0 - 8.0 * np.finfo(float).eps
+    alpha = alpha.copy()
+    alpha0 = alpha.copy()
+    turning = ~fixed & (scross > 0)
+    tanb = np.zeros(n)
+    np.divide(1.0 + dot, scross, out=tanb, where=turning)  # tan(beta) = cot(|tau| / 2)
+    endish_all = (fixed & _roll_m1(turning)) | (_roll_m1(fixed) & turning)  # end edges
+    a = alpha * short
+    kfac = alpha * alpha * half_a2
+    K = [kfac * ck for ck in cr]
+    edges = None  # None: all edges
     nunsat = 0
     for npass in range(max_passes + 1):
-        a = alpha * short
-        kfac = alpha * alpha * half_a2
-        K1 = [kfac * ck for ck in cr]
-        K2 = [_roll_m1(k) for k in K1]
-        k12 = sum(x * y for x, y in zip(K1, K2, strict=True))
-        ssum = [x + y for x, y in zip(K1, K2, strict=True)]
-        net = np.sqrt(sum(x * x for x in ssum))  # |K1 + K2| = 2 |A|
-        m1 = np.sqrt(sum(x * x for x in K1))
-        m2 = np.sqrt(sum(x * x for x in K2))
-        w = 0.5 * (length - a - _roll_m1(a))
+        if edges is None:  # first pass: all edges, with shifts instead of gathers
+            i = np.arange(n)
+            j = _roll_m1(i)
+            K1 = K
+            K2 = [_roll_m1(k) for k in K]
+            w = 0.5 * (length - a - _roll_m1(a))
+        else:
+            i = edges
+            j = i + 1
+            j[j == n] = 0
+            K1 = [k[i] for k in K]
+            K2 = [k[j] for k in K]
+            w = 0.5 * (length[i] - a[i] - a[j])
+        if len(cr) == 1:
+            k12 = K1[0] * K2[0]
+            net = np.abs(K1[0] + K2[0])
+        else:
+            k12 = sum(p * q for p, q in zip(K1, K2, strict=True))
+            net = np.sqrt(sum((p + q) ** 2 for p, q in zip(K1, K2, strict=True)))
         w2 = w * w
-        has1 = m1 > 0
-        has2 = m2 > 0
-        # convex edges (same side) and end edges next to a fixed vertex
-        convex = edge_on & (
-            (k12 > 0) | (fixed & has2 & turning_next) | (fixed_next & has1 & turning)
-        )
-        T = np.maximum(np.where(turning, tanb, 0.0), np.where(turning_next, tanb_next, 0.0))
-        need_c = 0.5 * c * T * net  # c T |A|
-        viol_c = convex & (w2 < need_c * (1.0 - 1e-12))
+        if edges is None:
+            T = np.maximum(tanb, _roll_m1(tanb))
+            endish = endish_all
+            on = edge_on
+        else:
+            T = np.maximum(tanb[i], tanb[j])
+            endish = endish_all[i]
+            on = edge_on[i]
+        need_c = (0.5 * c) * T * net  # c T |A|
+        viol_c = (w2 < need_c * (1.0 - 1e-12)) & ((k12 > 0) | endish) & on
+        ic = np.flatnonzero(viol_c)
         # inflection edges: epsilon = atan(|A| / w^2) <= C |tau_m| / 2
-        infl = edge_on & (k12 < 0)
-        minor_is_2 = m2 <= m1
-        tau_m = np.where(minor_is_2, tau_next, tau)
-        S2 = 2.0 * w2 * np.tan(0.5 * C * tau_m)  # bound on |K1 + K2|
-        viol_i = infl & (net > S2 * (1.0 + 1e-12))
-        if not (viol_c.any() or viol_i.any()):
+        ii = np.flatnonzero((k12 < 0) & on)
+        if len(cr) == 1:
+            m1 = np.abs(K1[0][ii])
+            m2 = np.abs(K2[0][ii])
+        else:
+            m1 = np.sqrt(sum(k[ii] ** 2 for k in K1))
+            m2 = np.sqrt(sum(k[ii] ** 2 for k in K2))
+        minor2 = m2 <= m1
+        mv = np.where(minor2, j[ii], i[ii])
+        tau_m = np.arctan2(scross[mv], dot[mv])
+        s2 = 2.0 * w2[ii] * np.tan(0.5 * C * tau_m)  # bound on |K_1 + K_2|
+        bad = net[ii] > s2 * (1.0 + 1e-12)
+        nbad = int(np.count_nonzero(bad))
+        if ic.size == 0 and nbad == 0:
             break
         if npass == max_passes:
-            nunsat = int(np.count_nonzero(viol_c) + np.count_nonzero(viol_i))
+            nunsat = int(ic.size + nbad)
             break
-        f_v = np.ones(n)
-        if viol_c.any():
-            ic = np.flatnonzero(viol_c)
-            f = np.sqrt(w2[ic] / need_c[ic]) * shrink
-            np.minimum.at(f_v, ic, f)
-            np.minimum.at(f_v, idx_next[ic], f)
-        if viol_i.any():
-            ii = np.flatnonzero(viol_i)
-            mi2 = minor_is_2[ii]
-            mag_d = np.where(mi2, m1[ii], m2[ii])
-            dotab = k12[ii]  # K_d . K_m (symmetric)
-            mag_m2 = np.where(mi2, m2[ii], m1[ii]) ** 2
-            s2 = S2[ii]
-            disc = dotab * dotab - mag_d * mag_d * (mag_m2 - s2 * s2)
+        f = np.sqrt(w2[ic] / need_c[ic]) * _SHRINK
+        verts = [i[ic], j[ic]]
+        facs = [f, f]
+        if nbad:
+            ib, mi2 = ii[bad], minor2[bad]
+            mag_d = np.where(mi2, m1[bad], m2[bad])
+            mag_m = np.where(mi2, m2[bad], m1[bad])
+            dotab = k12[ib]  # K_d . K_m
+            sb = s2[bad]
+            # largest t = f^2 with |t K_d + K_m| <= s2 (2D: t = (|K_m| + s2) / |K_d|)
+            disc = dotab * dotab - mag_d * mag_d * (mag_m * mag_m - sb * sb)
             ok = disc >= 0
-            t = np.where(ok, (-dotab + np.sqrt(np.maximum(disc, 0.0))) / (mag_d * mag_d), 0.0)
-            f_dom = np.sqrt(np.clip(t, 0.0, 1.0)) * shrink
-            dom = np.where(mi2, ii, idx_next[ii])
-            np.minimum.at(f_v, dom[ok], f_dom[ok])
+            t = (-dotab + np.sqrt(np.maximum(disc, 0.0))) / (mag_d * mag_d)
+            f_dom = np.sqrt(np.clip(t, 0.0, 1.0)) * _SHRINK
+            dom = np.where(mi2, i[ib], j[ib])
+            verts.append(dom[ok])
+            facs.append(f_dom[ok])
             if not ok.all():
-                # 3D only: reducing the dominant cut alone cannot reach the bound; scale both
-                jj = ii[~ok]
-                fb = np.sqrt(s2[~ok] / net[jj]) * shrink
-                np.minimum.at(f_v, jj, fb)
-                np.minimum.at(f_v, idx_next[jj], fb)
+                # 3D only: the dominant cut alone cannot reach the bound; scale both
+                fb = np.sqrt(sb[~ok] / net[ib[~ok]]) * _SHRINK
+                verts += [i[ib[~ok]], j[ib[~ok]]]
+                facs += [fb, fb]
+        v = np.concatenate(verts)
+        fv = np.concatenate(facs)
+        f_v = np.ones(n)
+        np.minimum.at(f_v, v, fv)  # per vertex the smallest factor of its edges
         f_v[fixed] = 1.0
-        alpha = alpha * f_v
+        v = np.flatnonzero(f_v < 1.0)
+        alpha[v] *= f_v[v]
+        a[v] = alpha[v] * short[v]
+        kv = alpha[v] * alpha[v] * half_a2[v]
+        for k, ck in zip(K, cr, strict=True):
+            k[v] = kv * ck[v]
+        touched = np.zeros(n, dtype=bool)
+        touched[v] = True
+        touched[v - 1] = True  # edge v - 1 ends at v (index -1 wraps to n - 1)
+        edges = np.flatnonzero(touched)
     nred = int(np.count_nonzero(alpha < alpha0))
     return alpha, nred, nunsat
