@@ -10,6 +10,7 @@ matplotlib.use("Agg")
 settings.register_profile(
     "ci",
     derandomize=True,
+    database=None,
     max_examples=60,
     deadline=None,
     suppress_health_check=[HealthCheck.too_slow],

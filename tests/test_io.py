@@ -642,6 +642,10 @@ def features(draw):
             pts = draw(st.lists(coord, min_size=3 if closed else 2, max_size=7))
             if closed and (pts[0] == pts[-1] or len({tuple(p) for p in pts}) < 3):
                 pts = [[float(i), float(i * i)] + [0.5] * (dim - 2) for i in range(3)]
+            if not closed and len(pts) >= 4 and pts[0] == pts[-1]:
+                # An open GeoJSON LineString that ends where it starts is a ring by the file
+                # convention (tested in test_geojson_open_line_ending_at_start_warns).
+                pts = pts[:-1]
             out.append({"points": pts, "closed": closed, "part": part, "ring": ring, "kind": kind})
     props = draw(
         st.dictionaries(
@@ -1062,3 +1066,12 @@ def test_svg_nested_svg_viewport_is_applied():
     )
     (c,) = read_svg(doc)
     np.testing.assert_allclose(c.points, [[10, 20], [60, 70]], atol=1e-12)
+
+
+def test_geojson_open_line_ending_at_start_warns():
+    c = Curve([[0, 0], [1, 0], [1, 1], [0, 0]], closed=False)
+    buf = io.StringIO()
+    with pytest.warns(UserWarning, match="read it back as a closed ring"):
+        write_geojson([c], buf)
+    (back,) = read_geojson(io.StringIO(buf.getvalue()))
+    assert back.closed and back.points.shape == (3, 2)

@@ -1041,6 +1041,14 @@ def _line_coords(c: Curve) -> list:
     out = c.points.tolist()
     if c.closed:
         out.append(out[0])
+    elif len(out) >= 4 and out[0] == out[-1]:
+        # GeoJSON has no closedness flag for LineStrings: such a line reads back as a ring.
+        warnings.warn(
+            f"an open curve of feature {c.feature} ends where it starts; GeoJSON readers "
+            "(curvesmith included) will read it back as a closed ring",
+            UserWarning,
+            stacklevel=4,
+        )
     return out
 
 
