@@ -27,6 +27,9 @@ Notes on the paper
 * Section 4.4, step 3, prints ``A := (S~_i - S~_{i-1}) / (n_i - n_{i-1})``; an
   affine length per edge must be cubed to give the area constant, as in
   ``A = (S / n)^3`` of section 4.2. The cube is used here.
+* Section 4 defines ``S_i`` as the affine arc length "from ``x_i`` to
+  ``x_{i-1}``" with the integral over ``[t_i, t_{i+1}]``: it runs from ``x_i``
+  to ``x_{i+1}``.
 * The initial ``t_1`` is the exact fractional parameter with affine length
   ``S / n`` from ``x_0`` (the paper rounds it to an integer "for simplicity").
 * The end tangents of ``f~`` (not specified in the paper) are those of the

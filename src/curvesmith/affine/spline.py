@@ -298,7 +298,10 @@ def joint_curvatures(
     ``det(f', f'') / |f'|^3``; in ``R^3`` (``degree = 3``) the torsion
     ``det(f', f'', f''') / |f' x f''|^2``; in general ``R^n`` with ``degree = n``
     the last Frenet curvature through the formula of the proof of Theorem 4,
-    ``k_{n-1} = det(f', .., f^(n)) |f' ^ .. ^ f^(n-2)| / (|f'| |f' ^ .. ^ f^(n-1)|^2)``.
+    ``k_{n-1} = det(f', .., f^(n)) |f' ^ .. ^ f^(n-2)| / (|f'| |f' ^ .. ^ f^(n-1)|^2)``
+    (the paper prints ``|f|`` for ``|f'|`` in the denominator; with ``|f'|`` the
+    formula gives the classical curvature for ``n = 2`` and torsion for
+    ``n = 3``, checked in the tests).
     Each side is evaluated from its own polynomial piece (PPoly form of the
     :class:`scipy.interpolate.BSpline`), so a jump is measured exactly.
 
