@@ -317,7 +317,7 @@ def resample_equilateral(points, step) -> np.ndarray:
     so the polygon has at most ``floor(length / r) + 1`` vertices. Candidates
     are found among all segments of the polyline (the paper's rule is global:
     a curve that comes back within ``r`` of itself is short-cut), using
-    bounding boxes of blocks of ``~sqrt(N)`` segments searched from the right
+    bounding circles of blocks of ``~sqrt(N)`` segments searched from the right
     end, so that a step costs ``O(sqrt(N))`` vectorized operations.
 
     Every chord of the result has length ``r`` to rounding, and every vertex
@@ -358,12 +358,13 @@ def resample_equilateral(points, step) -> np.ndarray:
 def _resample(p: np.ndarray, r: float) -> tuple[np.ndarray, np.ndarray]:
     """Return the equilateral polygon and the arc-length positions of its vertices.
 
-    The segments are grouped in blocks of about ``sqrt(N)`` consecutive
-    segments with their bounding boxes. A block can hold a point at distance
-    ``r`` from the centre only if its box reaches inside the circle and out of
-    it; the candidate blocks are searched from the last one backwards and the
-    first block with an intersection beyond the current arc length holds the
-    intersection closest to the right end. A step costs ``O(N / B + B)``.
+    The segments are grouped in blocks of ``B ~ sqrt(N)`` consecutive segments
+    with a bounding circle each. A block can hold a point at distance ``r``
+    from the centre ``c`` only if ``| |c - m| - r | <= rho`` for its circle
+    ``(m, rho)``; the candidate blocks are searched from the last one
+    backwards and the first block with an intersection beyond the current arc
+    length holds the intersection closest to the right end. A step costs
+    ``O(N / B + B)`` in a fixed number of numpy calls.
     """
     d = np.diff(p, axis=0)
     seg_len = np.sqrt(np.einsum("ij,ij->i", d, d))
@@ -377,61 +378,52 @@ def _resample(p: np.ndarray, r: float) -> tuple[np.ndarray, np.ndarray]:
     s0 = np.concatenate([[0.0], np.cumsum(seg_len)])[:-1]
     total = float(s0[-1] + seg_len[-1])
     nseg = seg_len.size
-    bsize = max(32, math.isqrt(nseg))
+    bsize = max(64, math.isqrt(nseg))
     first = np.arange(0, nseg, bsize)
     last = np.minimum(first + bsize, nseg)
     ends = starts + d
     box_lo = np.minimum.reduceat(np.minimum(starts, ends), first, axis=0)
     box_hi = np.maximum.reduceat(np.maximum(starts, ends), first, axis=0)
+    centre = 0.5 * (box_lo + box_hi)  # bounding circle of each block
+    radius = 0.5 * np.sqrt(np.einsum("ij,ij->i", box_hi - box_lo, box_hi - box_lo))
+    radius = radius * (1.0 + 1e-12) + 1e-12 * r
     block_t_end = s0[last - 1] + seg_len[last - 1]
     tol = 1e-12 * r + 8.0 * np.finfo(float).eps * total
-    r_in, r_out = r * (1.0 + 1e-9), r * (1.0 - 1e-9)
+    eps = 1e-13
 
     def crossing(blk: int, c: np.ndarray, t_cur: float):
         sl = slice(first[blk], last[blk])
         w = starts[sl] - c
-        dd = d[sl]
-        b = np.einsum("ij,ij->i", w, dd)
-        cq = np.einsum("ij,ij->i", w, w) - r * r
+        b = np.einsum("ij,ij->i", w, d[sl])
         aa = a2[sl]
-        disc = b * b - aa * cq
-        ok = np.flatnonzero(disc >= 0.0)
-        if ok.size == 0:
-            return None
-        b, cq, aa = b[ok], cq[ok], aa[ok]
-        # roots of aa u^2 + 2 b u + cq = 0, computed without cancellation
-        qq = -(b + np.copysign(np.sqrt(disc[ok]), b))
-        u1 = qq / aa
-        u2 = cq / np.where(qq != 0.0, qq, 1.0)
-        u2[qq == 0.0] = 0.0
-        u = np.concatenate([u1, u2])
-        jj = np.concatenate([ok, ok]) + first[blk]
-        valid = (u >= -1e-13) & (u <= 1.0 + 1e-13)
-        if not valid.any():
-            return None
-        u = np.clip(u[valid], 0.0, 1.0)
-        jj = jj[valid]
-        t = s0[jj] + u * seg_len[jj]
+        disc = b * b - aa * (np.einsum("ij,ij->i", w, w) - r * r)
+        sq = np.sqrt(np.maximum(disc, 0.0))
+        # roots of aa u^2 + 2 b u + cq = 0; the larger one unless it is past the segment.
+        # (the point a + u d is accurate to ~eps * r either way: no cancellation concern)
+        u = (sq - b) / aa
+        u = np.where(u <= 1.0 + eps, u, (-sq - b) / aa)
+        valid = (disc >= 0.0) & (u >= -eps) & (u <= 1.0 + eps)
+        u = np.clip(u, 0.0, 1.0)
+        t = np.where(valid, s0[sl] + u * seg_len[sl], -np.inf)
         m = int(np.argmax(t))
         if t[m] <= t_cur + tol:
             return None
-        return float(t[m]), starts[jj[m]] + u[m] * d[jj[m]]
+        j = first[blk] + m
+        return float(t[m]), starts[j] + u[m] * d[j]
 
     out = [p[0].copy()]
     ts = [0.0]
     c = p[0]
     t_cur = 0.0
+    lo_blk = 0
     for _ in range(int(total / r) + 2):
-        gap = np.maximum(np.maximum(box_lo - c, c - box_hi), 0.0)
-        reach = np.maximum(np.abs(c - box_lo), np.abs(c - box_hi))
-        cand = np.flatnonzero(
-            (np.sqrt(np.einsum("ij,ij->i", gap, gap)) <= r_in)
-            & (np.sqrt(np.einsum("ij,ij->i", reach, reach)) >= r_out)
-            & (block_t_end > t_cur + tol)
-        )
+        while block_t_end[lo_blk] <= t_cur + tol and lo_blk < first.size - 1:
+            lo_blk += 1  # blocks wholly behind A_k cannot hold the next vertex
+        dc = centre[lo_blk:] - c
+        cand = np.flatnonzero(np.abs(np.sqrt(np.einsum("ij,ij->i", dc, dc)) - r) <= radius[lo_blk:])
         hit = None
         for blk in cand[::-1]:
-            hit = crossing(int(blk), c, t_cur)
+            hit = crossing(lo_blk + int(blk), c, t_cur)
             if hit is not None:
                 break
         if hit is None:
