@@ -1,0 +1,80 @@
+"""The `curvesmith fair` command (click command object `fair_command`)."""
+
+import json
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+from curvesmith import data
+from curvesmith.cli.fair import fair_command
+from curvesmith.elastica import fit, sample
+
+
+def cli():
+    """The curvesmith group with `fair` registered (the lead registers it in cli/__init__)."""
+    from curvesmith.cli import main
+
+    if "fair" not in main.commands:
+        main.add_command(fair_command)
+    return main
+
+
+def write_csv(path, pts):
+    np.savetxt(path, pts, fmt="%.10f", delimiter=",", header="x,y", comments="")
+
+
+def read_csv(path):
+    return np.loadtxt(path, delimiter=",", skiprows=1)
+
+
+def test_fair_writes_fit_report_and_plot(tmp_path):
+    src = data.path("elastica_wave.csv")
+    out, rep, png = tmp_path / "out.csv", tmp_path / "r.json", tmp_path / "p.png"
+    result = CliRunner().invoke(
+        fair_command, [str(src), "-o", str(out), "--report", str(rep), "--plot", str(png)]
+    )
+    assert result.exit_code == 0, result.output
+    assert "fitted 1 curve" in result.output
+    fitted = read_csv(out)
+    expected = fit(data.load_points("elastica_wave.csv"))
+    np.testing.assert_allclose(fitted, expected.points, atol=1e-8)
+    report = json.loads(rep.read_text())
+    row = report["curves"][0]
+    assert row["success"] and row["case"] == "ii" and not row["resampled"]
+    assert abs(row["params"]["k"] - 0.75) < 0.01 and abs(row["params"]["h"] - 1.0) < 0.01
+    assert row["rms"] == pytest.approx(expected.rms, rel=1e-9)
+    assert png.stat().st_size > 10_000
+
+
+def test_fair_resamples_uneven_input_when_needed(tmp_path):
+    src = data.path("elastica_digitised.csv")
+    out, rep = tmp_path / "out.csv", tmp_path / "r.json"
+    result = CliRunner().invoke(fair_command, [str(src), "-o", str(out), "--report", str(rep)])
+    assert result.exit_code == 0, result.output
+    row = json.loads(rep.read_text())["curves"][0]
+    assert row["resampled"] and row["success"]
+    steps = np.hypot(*np.diff(read_csv(out), axis=0).T)
+    np.testing.assert_allclose(steps, row["params"]["h"], rtol=1e-10)
+    # --no-resample refuses, naming the spread and pointing to resampling
+    result = CliRunner().invoke(cli(), ["fair", str(src), "-o", str(out), "--no-resample"])
+    assert result.exit_code == 1
+    assert "unevenly spaced" in result.output and "resample" in result.output
+
+
+def test_fair_step_option(tmp_path):
+    src, out = tmp_path / "in.csv", tmp_path / "out.csv"
+    write_csv(src, sample((0.0, 0.0, 0.1, 0.2, 0.05, 0.3, 0.6), 200))
+    result = CliRunner().invoke(fair_command, [str(src), "-o", str(out), "--step", "0.25"])
+    assert result.exit_code == 0, result.output
+    np.testing.assert_allclose(np.hypot(*np.diff(read_csv(out), axis=0).T), 0.25, rtol=1e-4)
+    bad = CliRunner().invoke(fair_command, [str(src), "-o", str(out), "--step", "-1"])
+    assert bad.exit_code == 2 and "--step" in bad.output
+
+
+def test_fair_errors_exit_nonzero(tmp_path):
+    src, out = tmp_path / "line.csv", tmp_path / "out.csv"
+    write_csv(src, np.column_stack((np.arange(10.0), np.zeros(10))))
+    result = CliRunner().invoke(cli(), ["fair", str(src), "-o", str(out)])
+    assert result.exit_code == 1
+    assert "Error: curve 0: points are collinear" in result.output
