@@ -344,7 +344,7 @@ def test_default_method_certified_to_1e12(gamma, target):
     res = derham.interpolate(A, UA, C, UC, length=target, gamma=gamma, tol=1e-12)
     assert res.success and res.certified, res.message
     assert target - 1e-12 <= res.lower <= res.length <= res.upper <= target + 1e-12
-    assert res.evaluations <= 6
+    assert res.evaluations <= 3
     # the certificate is a real bracket of the curve at x
     lo, up = derham.length_bounds(
         derham.control_polygon(A, UA, C, UC, res.x), gamma=gamma, levels=10
@@ -356,7 +356,7 @@ def test_default_uses_far_fewer_evaluations_than_secant():
     fast = derham.interpolate(A, UA, C, UC, length=3.2, tol=1e-9)
     slow = derham.interpolate(A, UA, C, UC, length=3.2, tol=1e-9, method="secant")
     assert fast.certified and slow.success
-    assert 2 * fast.evaluations <= slow.evaluations
+    assert 3 * fast.evaluations <= slow.evaluations
 
 
 def test_curve_points_lie_on_the_curve_and_have_the_tangents():

@@ -56,20 +56,21 @@ Prescribed length (sections 3-4)
     ``f(x) = L(x, x)`` increases from ``|AC|`` to ``|AB| + |BC|``.
     :func:`interpolate` solves ``f(x) = length`` by the paper's regula falsi
     (Lemma 4) or modified secant method (Lemma 5) on ``f^n``, or by the default
-    ``"accelerated"`` method: safeguarded Halley steps on an extrapolated
-    length with exact x-derivatives (the closed form for ``gamma = 2``),
-    followed by a certificate ``l^n(x) <= f(x) <= L^{n+1}(x)`` (outward
+    ``"accelerated"`` method: bracketed inversion of a local Taylor polynomial of
+    an extrapolated length (the closed form for ``gamma = 2``), followed by a
+    certificate ``l^n(x) <= f(x) <= L^{n+1}(x)`` (outward
     rounded) inside ``[length - tol, length + tol]``.
 
     Evaluations counted in the results are evaluations of ``f^n``, of the
     extrapolated or exact length (with derivatives) and of the certificate; the
     level-0 starting model and the known ``f(0)``, ``f(1)`` are arithmetic on the
-    four control points and are not counted. ``benchmarks/bench_derham.py``
-    measured (one run, shared machine): gamma = 2, tol 1e-12 certified in 3
-    evaluations and about 1 ms, against 5.5 (paper's data) and 7 (random data)
-    secant evaluations and 0.4 to 1 s at tol 1e-9, the secant's reach with levels
-    up to 20. For gamma != 2 the certificate needs one refinement to level
-    17..21 (0.1 to 0.4 s at tol 1e-12).
+    four control points and are not counted (the evaluations of the default
+    method return a Taylor polynomial of order 12 in x). ``benchmarks/bench_derham.py``
+    measured (one run, shared machine): gamma = 2, certified to tol 1e-12 in 2
+    evaluations and about 1 ms median, where the secant method needs 6
+    evaluations at level 22 (about 8 s per case) for 1e-12, and 5.5 (paper's
+    data) or 7 (random data) at 1e-9. For gamma != 2 the certificate needs one
+    refinement to level 17..21 (0.05 to 0.4 s at tol 1e-12).
 
 Section 4 states the rule "choose n with (|AB| + |BC|) 0.25^n < eps / 2"; the
 levels printed in the tables of section 5 (5, 8, 10) do not follow it (it gives
@@ -109,7 +110,7 @@ METHODS = ("accelerated", "regula_falsi", "secant")
 _EPS = float(np.finfo(float).eps)
 _CHUNK = 1 << 18  # corners refined together; bounds memory at high levels
 _MAX_LEVEL = 26
-_GL_T, _GL_W = np.polynomial.legendre.leggauss(24)
+_GL_T, _GL_W = np.polynomial.legendre.leggauss(32)
 _GL_T = 0.5 * (_GL_T + 1.0)
 _GL_W = 0.5 * _GL_W
 
@@ -139,22 +140,43 @@ def _refine(e: np.ndarray, beta: float, s: np.ndarray | None = None) -> np.ndarr
     return out
 
 
-def _abs_sums(w: np.ndarray, order: int) -> np.ndarray:
-    """Sums of |w| and its first ``order`` x-derivatives; rows of w: value, derivative."""
-    z = w[0]
+def _abs_taylor(z: np.ndarray, dz: np.ndarray, order: int) -> np.ndarray:
+    """Taylor coefficients in h of ``|z + h dz|`` up to ``h^order``, shape (order + 1, ...).
+
+    ``|z + h dz|² = q0 + q1 h + q2 h²`` with ``q0 = |z|²``, ``q1 = 2 Re(conj(z) dz)``,
+    ``q2 = |dz|²``; squaring the series gives ``a_0 = |z|``, ``a_1 = q1 / (2 a_0)``,
+    ``a_2 = det(z, dz)² / (2 |z|³)`` (written without cancellation) and
+    ``a_k = -sum_{j=1}^{k-1} a_j a_{k-j} / (2 a_0)`` for ``k >= 3``. The series
+    converges for ``|h| < |z| / |dz|``. Where ``z = 0`` only ``a_1 = |dz|`` is set.
+    """
     r = np.abs(z)
+    out = np.zeros((order + 1, *np.shape(z)))
+    out[0] = r
     if order == 0:
-        return np.array([r.sum()])
-    dz = w[1]
+        return out
     pos = r > 0.0
     safe = np.where(pos, r, 1.0)
-    dot = z.real * dz.real + z.imag * dz.imag
-    d1 = np.where(pos, dot / safe, np.abs(dz))
-    if order == 1:
-        return np.array([r.sum(), d1.sum()])
-    cross = z.real * dz.imag - z.imag * dz.real
-    d2 = np.where(pos, cross * cross / (safe * safe * safe), 0.0)
-    return np.array([r.sum(), d1.sum(), d2.sum()])
+    out[1] = np.where(pos, (z.real * dz.real + z.imag * dz.imag) / safe, np.abs(dz))
+    if order >= 2:
+        cross = z.real * dz.imag - z.imag * dz.real
+        out[2] = np.where(pos, 0.5 * cross * cross / (safe * safe * safe), 0.0)
+    inv = np.where(pos, -0.5 / safe, 0.0)
+    for k in range(3, order + 1):
+        acc = out[1] * out[k - 1]
+        for j in range(2, k):
+            acc += out[j] * out[k - j]
+        out[k] = acc * inv
+    return out
+
+
+def _abs_sums(w: np.ndarray, order: int) -> np.ndarray:
+    """Sums of the Taylor coefficients in x of ``|w|`` up to ``x^order``.
+
+    Rows of w: the side vectors and (if ``order >= 1``) their x-derivatives.
+    """
+    if order == 0:
+        return np.array([np.abs(w[0]).sum()])
+    return _abs_taylor(w[0], w[1], order).sum(axis=1)
 
 
 def _accumulate(
@@ -184,13 +206,16 @@ def _accumulate(
 
 
 def _sums(e: np.ndarray, levels: int, beta: float, order: int = 0) -> np.ndarray:
-    """Columns ``l, (l', l''), L, (L', L'')`` for levels ``0 .. levels`` of side array ``e``.
+    """Per-level ``l^k`` and ``L^k`` (and their Taylor coefficients in x up to ``order``).
 
-    ``e`` is (m, K) complex: row 0 the side vectors, row 1 (if ``order >= 1``) their
-    x-derivatives. ``L^0 = sum |e_i| - (|e_0| + |e_{K-1}|) / 2`` and the higher
-    ``L^k`` follow from the recurrence ``L^{k+1} = (1 - 2 beta) L^k + 2 beta l^k``
-    of section 2, which holds term by term (the norms of the new sides are
-    ``(1 - 2 beta) |e_i|`` and ``beta |e_i + e_{i+1}|``), also for derivatives.
+    Returns ``(levels + 1, 2 (order + 1))``: columns ``l_0 .. l_order`` then
+    ``L_0 .. L_order`` (coefficient j of ``h^j``). ``e`` is (m, K) complex: row 0
+    the side vectors, row 1 (if ``order >= 1``) their x-derivatives.
+    ``L^0 = sum |e_i| - (|e_0| + |e_{K-1}|) / 2`` and the higher ``L^k`` follow
+    from the recurrence ``L^{k+1} = (1 - 2 beta) L^k + 2 beta l^k`` of section 2,
+    which holds term by term (the norms of the new sides are
+    ``(1 - 2 beta) |e_i|`` and ``beta |e_i + e_{i+1}|``), hence also for every
+    Taylor coefficient.
     """
     m = order + 1
     out = np.zeros((levels + 1, 2 * m))
@@ -700,11 +725,12 @@ class InterpolationResult:
         plus or minus its rounding bound).
     iterations : int
         Index ``p`` of the returned iterate ``x_p`` (paper's methods, as counted in
-        its tables) or number of Halley steps (``"accelerated"``).
+        its tables) or number of Taylor steps (``"accelerated"``).
     evaluations : int
         Number of length evaluations (``f^n``, or the extrapolated or exact
-        length with derivatives, or the certifying refinement); the known values
-        ``f(0) = |AC|`` and ``f(1) = |AB| + |BC|`` are not counted.
+        length with its Taylor polynomial, or the certifying refinement); the
+        known values ``f(0) = |AC|``, ``f(1) = |AB| + |BC|`` and the level-0
+        starting model (arithmetic on the four control points) are not counted.
     level : int
         Level ``n`` of ``f^n`` (paper's methods) or of the certificate.
     certified : bool
@@ -758,26 +784,26 @@ class _Problem:
         return e[None] if order == 0 else np.stack([e, self.e1])
 
     def sums(self, x: float, levels: int, order: int = 0) -> np.ndarray:
-        """Columns ``l, (l', l''), L, (L', L'')`` for levels ``0 .. levels``."""
+        """Columns as in :func:`_sums` for levels ``0 .. levels``."""
         self.evaluations += 1
         return _sums(self.sides(x, order), levels, self.beta, order)
 
-    def exact(self, x: float) -> tuple[float, float, float]:
-        """For gamma = 2: f, f', f'' (closed form; derivatives by 24-point Gauss-Legendre)."""
+    def exact(self, x: float, order: int) -> np.ndarray:
+        """For gamma = 2: Taylor coefficients of f at x up to ``h^order``.
+
+        The constant term is the closed form (:func:`parabola_length`); the
+        others integrate the coefficients of ``|r(t) + h r_x(t)|`` over each arc
+        by Gauss-Legendre quadrature (the integrand is analytic in t).
+        """
         self.evaluations += 1
         e = self.e0 + x * self.e1
         v = np.stack([e.real, e.imag], axis=1)
-        f = float(_parabola_arcs(v[:-1], v[1:]).sum())
         t = _GL_T[:, None]
         r = e[None, :-1] + t * (e[1:] - e[:-1])[None]
         rx = self.e1[None, :-1] + t * (self.e1[1:] - self.e1[:-1])[None]
-        nr = np.abs(r)
-        nr = np.where(nr > 0.0, nr, 1.0)
-        d1 = (r.real * rx.real + r.imag * rx.imag) / nr
-        cr = r.real * rx.imag - r.imag * rx.real
-        d2 = cr * cr / nr**3
-        w = _GL_W[:, None]
-        return f, float((w * d1).sum()), float((w * d2).sum())
+        c = (_abs_taylor(r, rx, order) * _GL_W[None, :, None]).sum(axis=(1, 2))
+        c[0] = _parabola_arcs(v[:-1], v[1:]).sum()
+        return c
 
 
 def interpolate(
@@ -822,11 +848,11 @@ def interpolate(
         ``x_{3k+1} = min(u, x_1, x_4, .., x_{3k-2})``.
         Both on ``g = f^n - length`` with the algorithm of section 4: ``n`` from
         ``(|AB| + |BC|) 0.25^n < eps / 2`` and stop when ``|f^n(x_p) - length| <= eps / 2``.
-        ``"accelerated"`` (default): safeguarded Halley iteration, bracketed in
-        ``[0, 1]``, on the exact length (``gamma = 2``) or on Wynn's
-        extrapolation of ``L^k(x)`` with exact x-derivatives, then certified by
-        ``l^n(x) <= f(x) <= L^{n+1}(x)`` at the level ``n`` where the bracket
-        fits within ``tol``.
+        ``"accelerated"`` (default): steps from a local Taylor polynomial (order
+        12 in x) of the exact length (``gamma = 2``) or of Wynn's extrapolation
+        of ``L^k(x)``, bracketed in ``[0, 1]``, then certified by the exact
+        length or by ``l^n(x) <= f(x) <= L^{n+1}(x)`` at the level ``n`` where
+        the bracket fits within ``tol``; usually two length evaluations.
     level : int, optional
         Subdivision level ``k`` of the returned points (``2^(k+1) + 1`` points).
     length_level : int, optional
@@ -1007,76 +1033,105 @@ def _initial_guess(prob: _Problem, target: float) -> float:
     return min(max(x, 1e-6), 1.0 - 1e-6)
 
 
-def _accelerated(prob: _Problem, target: float, tol: float, cap: int):
-    """Safeguarded Halley iteration on an accurate length model, then a certificate.
+_TAYLOR = 12  # order of the local Taylor model of f used by the default method
 
-    Model: the exact length for ``gamma = 2`` (derivatives by Gauss-Legendre);
-    otherwise Wynn's epsilon extrapolation of ``L^0(x) .. L^m(x)`` and of
-    ``L'``, with ``m = 12``, accurate to about 1e-13 relative on the paper's data
-    (measured against level 20), and ``L^m''``. The iteration starts from the
-    level-0 model (:func:`_initial_guess`), keeps a bracket
-    ``[x_lo, x_hi]`` with ``f(x_lo) < length < f(x_hi)`` (``f`` is increasing,
-    Proposition 3) and bisects whenever a Halley step leaves it. Once the
-    predicted residual after the next step, ``f' (f''/f')² e³`` with
-    ``e = |g| / f'``, is below ``tol / 10``, the step is taken without another
-    model evaluation and the result goes straight to the certificate:
-    the exact length (``gamma = 2``) or ``l^n(x) <= f(x) <= L^{n+1}(x)`` at the
-    level ``n`` predicted from the observed contraction of ``L^k - l^k``. If the
-    certificate is narrow enough but off-centre, x is corrected by a Newton
-    step on its midpoint and certified again.
+
+def _taylor_step(c: np.ndarray, target: float, lo: float, hi: float, x: float):
+    """Solve ``sum_k c_k h^k = target`` for h by Newton's method on the polynomial.
+
+    Returns ``(h, tail)`` with ``tail`` an estimate of the truncation error
+    ``4 |c_K h^K|``, or ``(None, inf)`` if Newton fails or leaves ``(lo, hi)``.
+    """
+    g, d1, d2 = c[0] - target, c[1], 2.0 * c[2]
+    den = 2.0 * d1 * d1 - g * d2
+    h = -2.0 * g * d1 / den if den > 0.0 and d1 > 0.0 else -g / max(d1, _EPS)
+    poly = np.polynomial.Polynomial(c)
+    dpoly = poly.deriv()
+    for _ in range(60):
+        step = (poly(h) - target) / dpoly(h)
+        h -= step
+        if not (lo < x + h < hi and math.isfinite(h)):
+            return None, math.inf
+        if abs(step) <= 4.0 * _EPS * max(abs(h), 1e-300) or step == 0.0:
+            break
+    return h, 4.0 * abs(c[-1]) * abs(h) ** (len(c) - 1)
+
+
+def _accelerated(prob: _Problem, target: float, tol: float, cap: int):
+    """Local Taylor inversion of an accurate length model, then a certificate.
+
+    Model: the Taylor polynomial of order 12 of ``f`` at the current x -- for
+    ``gamma = 2`` the closed form plus Gauss-Legendre coefficients, otherwise
+    Wynn's epsilon extrapolation of the Taylor coefficients of
+    ``L^0(x) .. L^m(x)``, ``m = 8, 10, 12`` by tolerance (each ``|side|`` is the square root of a
+    quadratic in x, whose coefficients follow from a recurrence). The model's
+    constant term is accurate to about 1e-13 relative on the paper's data
+    (measured against level 20). From the level-0 starting guess
+    (:func:`_initial_guess`), the polynomial is solved for the step; the
+    iteration keeps a bracket ``[x_lo, x_hi]`` with ``f(x_lo) < length < f(x_hi)``
+    (``f`` increases, Proposition 3) and bisects when the step fails or leaves it.
+    When the truncation estimate of the step is below ``tol / 10`` the step is
+    taken without another model evaluation and the result goes to the
+    certificate: the exact length (``gamma = 2``) or
+    ``l^n(x) <= f(x) <= L^{n+1}(x)`` at the level ``n`` predicted from the
+    observed contraction of ``L^k - l^k``. If that certificate is narrow enough
+    but off-centre, x is corrected by a Newton step on its midpoint and
+    certified again. Typically two length evaluations in all.
     """
     exact = prob.gamma == 2.0
-    m = 12
+    # model level: Wynn's estimate at level 8 / 10 / 12 is good to about 1e-11 / 1e-13 / 1e-14
+    m = 8 if tol >= 1e-7 else (10 if tol >= 1e-10 else 12)
+    order = _TAYLOR
     beta = prob.beta
     m_round = 32.0 * _EPS * prob.f1
     last: dict[str, np.ndarray] = {}
 
-    def model(x: float) -> tuple[float, float, float]:
+    def model(x: float) -> np.ndarray:
         if exact:
-            return prob.exact(x)
-        s = prob.sums(x, m, order=2)
+            return prob.exact(x, order)
+        s = prob.sums(x, m, order=order)
         last["s"] = s
-        return wynn_epsilon(s[:, 3]), wynn_epsilon(s[:, 4]), float(s[m, 5])
+        return np.array([wynn_epsilon(s[:, order + 1 + k]) for k in range(order + 1)])
 
     x_lo, x_hi = 0.0, 1.0
     x = _initial_guess(prob, target)
     its = 0
-    f = g = d1 = float("nan")
-    while its < cap:
-        f, d1, d2 = model(x)
-        g = f - target
+    c = model(x)
+    while True:
+        g = float(c[0]) - target
         if g < 0.0:
             x_lo = x
         else:
             x_hi = x
         if abs(g) + m_round <= (tol if exact else 0.1 * tol):
+            break  # x itself is the answer (the last evaluation certifies it for gamma = 2)
+        if its >= cap or x_hi - x_lo <= 4.0 * _EPS:
             break
-        e = abs(g) / d1 if d1 > 0.0 else 1.0
-        predicted = d1 * (d2 / d1) ** 2 * e**3 if d1 > 0.0 else math.inf
-        x = _halley(x, g, d1, d2, x_lo, x_hi)
+        h, tail = _taylor_step(c, target, x_lo, x_hi, x)
+        x = 0.5 * (x_lo + x_hi) if h is None else x + h
         its += 1
-        if predicted <= 0.1 * tol or x_hi - x_lo <= 4.0 * _EPS:
-            if exact:  # the final evaluation is the certificate
-                f, d1, d2 = model(x)
-                g = f - target
-                if abs(g) + m_round <= tol or x_hi - x_lo <= 4.0 * _EPS:
-                    break
-                x_lo, x_hi = (x, x_hi) if g < 0.0 else (x_lo, x)
-                continue
-            break
+        final = tail <= 0.1 * tol
+        if exact or not final:
+            c = model(x)
+            continue
+        break  # gamma != 2: go to the certificate at x without another model evaluation
     if exact:
+        f = float(c[0])
+        g = f - target
         lo, hi = f - m_round, f + m_round
         ok = target - tol <= lo and hi <= target + tol
         message = (
             f"certified |f(x) - length| <= {abs(g) + m_round:.3g} (exact length, gamma = 2) "
-            f"after {its} Halley steps"
+            f"after {its} steps"
             if ok
             else f"no certified solution after {its} steps: |f(x) - length| = {abs(g):.3g}"
         )
         return x, f, lo, hi, its, 0, ok, message
+    d1 = float(c[1])
+    f = float(c[0])
     # Certificate for gamma != 2, at the level predicted from the last model evaluation.
     s = last["s"]
-    width = (1.0 - 2.0 * beta) * (s[:, 3] - s[:, 0])
+    width = (1.0 - 2.0 * beta) * (s[:, order + 1] - s[:, 0])
     margin = _margin(_MAX_LEVEL, beta, prob.f1, 3 * 2.0**_MAX_LEVEL)
     if tol <= 2.0 * margin:
         lo, hi = _certified(s, m, beta, prob.f1, 3)
@@ -1085,7 +1140,7 @@ def _accelerated(prob: _Problem, target: float, tol: float, cap: int):
             "of a certificate in double precision"
         )
         return x, float(np.clip(f, lo, hi)), lo, hi, its, m, False, message
-    n = _predict_level(width, m, 0.8 * tol, 2.0 * margin) if tol > 2.0 * margin else _MAX_LEVEL
+    n = _predict_level(width, m, 0.8 * tol, 2.0 * margin)
     n = min(max(n, m), 24)
     lo = hi = float("nan")
     ok = False
@@ -1104,9 +1159,7 @@ def _accelerated(prob: _Problem, target: float, tol: float, cap: int):
     # the certificate's own sequence L^0(x) .. L^n(x) at the final x, extrapolated
     est = float(np.clip(wynn_epsilon(sc[:, 1]), lo, hi))
     if ok:
-        message = (
-            f"certified: length in [{lo:.15g}, {hi:.15g}] (level {n}) after {its} Halley steps"
-        )
+        message = f"certified: length in [{lo:.15g}, {hi:.15g}] (level {n}) after {its} steps"
     else:
         message = (
             f"not certified: bracket [{lo:.15g}, {hi:.15g}] at level {n} does not fit "
