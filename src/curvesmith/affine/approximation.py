@@ -276,9 +276,10 @@ def _construct(
 
     Each new vertex is the first intersection after ``x_{i-1}`` of ``f~`` with the
     line ``det(x_{i-1} - x_{i-2}, z - x_{i-1}) = A``. The arc holding it is found by
-    a galloping search over the samples (``g(z) = det(w, z - x_{i-1})`` increases
-    while the tangent has not turned past ``w``, which is checked at every
-    probe), then a quadratic equation is solved on that arc. The cost per vertex
+    a galloping search over the samples, started at the guess "same parameter
+    step as the previous edge" (``g(z) = det(w, z - x_{i-1})`` increases while the
+    tangent has not turned past ``w``, which is checked at the guess and at every
+    forward probe), then a quadratic equation is solved on that arc. The cost per vertex
     is logarithmic in the samples per edge, so a construction is O(n log(N/n)).
     For an open curve the last arc before ``t_end`` is extrapolated up to
     ``u_max`` or two previous edges (in parameter) beyond the last vertex.
@@ -303,12 +304,27 @@ def _construct(
         if not closed and j0 > jlast:
             seg, extrap = jlast, True
         else:
-            last_ok, off = j0, 1
-            while True:
-                jp = min(j0 + off, jmax)
-                kk = jp % n if closed else jp
-                if sgn * (wx * py[kk] - wy * px[kk] - base) >= 0.0:
-                    lo, hi = last_ok, jp
+            # start at the guess "same parameter step as the last edge"
+            start = j0
+            jg = min(max(math.floor(2.0 * tprev - ts[-2]), j0 + 1), jmax)
+            kg = jg % n if closed else jg
+            if closed or jg < n:
+                tx, ty = ax[kg], ay[kg]
+            else:
+                tx, ty = ax[n - 1] + 2.0 * ex[n - 1], ay[n - 1] + 2.0 * ey[n - 1]
+            if sgn * (wx * ty - wy * tx) > 0.0:  # g still increasing at the guess
+                if sgn * (wx * py[kg] - wy * px[kg] - base) >= 0.0:
+                    # crossing in (tprev, jg]: gallop backwards, then bisect
+                    hi, off = jg, 1
+                    while True:
+                        lo = hi - off
+                        if lo <= j0:
+                            lo = j0
+                            break
+                        kl = lo % n if closed else lo
+                        if sgn * (wx * py[kl] - wy * px[kl] - base) < 0.0:
+                            break
+                        hi, off = lo, 2 * off
                     while hi - lo > 1:
                         mid = (lo + hi) // 2
                         km = mid % n if closed else mid
@@ -317,29 +333,46 @@ def _construct(
                         else:
                             lo = mid
                     seg = hi - 1
-                    break
-                if closed or jp < n:
-                    tx, ty = ax[kk], ay[kk]
                 else:
-                    tx, ty = ax[n - 1] + 2.0 * ex[n - 1], ay[n - 1] + 2.0 * ey[n - 1]
-                if sgn * (wx * ty - wy * tx) <= 0.0:
-                    # past the maximum of g: scan the last bracket arc by arc
-                    for jj in range(last_ok, jp):
-                        kj = jj % n if closed else jj
-                        u_lo = tprev - jj if jj == j0 else 0.0
-                        c0 = wx * py[kj] - wy * px[kj] - base
-                        c1 = wx * ay[kj] - wy * ax[kj]
-                        c2 = wx * ey[kj] - wy * ex[kj]
-                        if _first_root(c0, c1, c2, u_lo, 1.0) is not None:
-                            seg = jj
-                            break
-                    break
-                last_ok = jp
-                if jp >= jmax:
-                    if not closed:
-                        seg, extrap = jlast, True
-                    break
-                off *= 2
+                    start = jg
+            if seg < 0:
+                last_ok, off = start, 1
+                while True:
+                    jp = min(start + off, jmax)
+                    kk = jp % n if closed else jp
+                    if sgn * (wx * py[kk] - wy * px[kk] - base) >= 0.0:
+                        lo, hi = last_ok, jp
+                        while hi - lo > 1:
+                            mid = (lo + hi) // 2
+                            km = mid % n if closed else mid
+                            if sgn * (wx * py[km] - wy * px[km] - base) >= 0.0:
+                                hi = mid
+                            else:
+                                lo = mid
+                        seg = hi - 1
+                        break
+                    if closed or jp < n:
+                        tx, ty = ax[kk], ay[kk]
+                    else:
+                        tx, ty = ax[n - 1] + 2.0 * ex[n - 1], ay[n - 1] + 2.0 * ey[n - 1]
+                    if sgn * (wx * ty - wy * tx) <= 0.0:
+                        # past the maximum of g: scan the last bracket arc by arc
+                        for jj in range(last_ok, jp):
+                            kj = jj % n if closed else jj
+                            u_lo = tprev - jj if jj == j0 else 0.0
+                            c0 = wx * py[kj] - wy * px[kj] - base
+                            c1 = wx * ay[kj] - wy * ax[kj]
+                            c2 = wx * ey[kj] - wy * ex[kj]
+                            if _first_root(c0, c1, c2, u_lo, 1.0) is not None:
+                                seg = jj
+                                break
+                        break
+                    last_ok = jp
+                    if jp >= jmax:
+                        if not closed:
+                            seg, extrap = jlast, True
+                        break
+                    off *= 2
         if seg < 0:
             return xs, ys, ts, len(xs) - 1
         kj = seg % n if closed else seg
