@@ -560,6 +560,8 @@ def test_cli_keyline_bundled_scan_and_multi_curve_csv(tmp_path):
         (["--step", "0"], 2, "Invalid value for '--step'"),
         (["--step", "-1"], 2, "Invalid value for '--step'"),
         ([], 2, "Missing option '-o'"),
+        (["--normal", "1,2"], 2, "--normal must be 3 comma-separated numbers, got '1,2'"),
+        (["--normal", "0,0,0"], 2, "--normal must be a nonzero vector"),
     ],
 )
 def test_cli_keyline_usage_errors(tmp_path, args, code, text):
@@ -572,3 +574,31 @@ def test_cli_keyline_usage_errors(tmp_path, args, code, text):
     result = CliRunner().invoke(keyline_command, [str(tmp_path / "a.xyz"), *out, *args])
     assert result.exit_code == code
     assert text in result.output
+
+
+def test_cli_keyline_normal_flips_the_view(tmp_path):
+    import json
+
+    from click.testing import CliRunner
+
+    from curvesmith.cli.keyline import keyline_command
+
+    _scan_files(tmp_path)
+    tables = []
+    for normal in ("0,0,1", "0,0,-1"):
+        out = tmp_path / normal.replace(",", "_")
+        args = [str(tmp_path / "a.xyz"), "-o", str(out), "--step", "1", "--normal", normal]
+        result = CliRunner().invoke(keyline_command, args)
+        assert result.exit_code == 0, result.output
+        tables.append(json.loads((out / "keyline_table.json").read_text())["rows"])
+    # seen from the other side the keyline is mirrored about x'': the mirror image of the
+    # elastica (phi, z, q, k) is (-phi, -z, -q, k), canonically (-phi, z, q - 2K, k)
+    from scipy.special import ellipk
+
+    for a, b in zip(*tables, strict=True):
+        assert b["k"] == pytest.approx(a["k"], rel=1e-6)
+        assert b["z"] == pytest.approx(a["z"], rel=1e-6)
+        assert b["h"] == pytest.approx(a["h"], rel=1e-9)
+        assert b["phi"] == pytest.approx(-a["phi"], abs=1e-6)
+        big_k = float(ellipk(a["k"] ** 2))
+        assert b["q"] == pytest.approx((a["q"] - 2 * big_k) % (4 * big_k), abs=1e-5)

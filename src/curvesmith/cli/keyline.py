@@ -185,7 +185,12 @@ def keyline_command(ctx, inputs, outdir, step, normal) -> None:
     from .. import keyline
     from ._common import parse_floats
 
-    hint = parse_floats(normal, name="--normal", count=3)
+    try:
+        hint = parse_floats(normal, name="--normal", count=3)
+        if not any(hint):
+            raise CurveError(f"--normal must be a nonzero vector, got {normal!r}")
+    except CurveError as exc:
+        raise click.BadParameter(str(exc), param_hint="--normal") from None
     out = Path(outdir)
     out.mkdir(parents=True, exist_ok=True)
     rows: list[dict] = []
