@@ -356,3 +356,34 @@ def test_bad_input_raises_clear_errors():
         affine.approximate(s_curve, vertices=5)
     with pytest.raises(CurveError, match="misses the curve"):
         affine.construct(affine.replacement_curve(curve), t1=1.0, area=50.0, vertices=10)
+
+
+def test_orientation_reversal_flips_area_only():
+    p = affine.bezier_curve(BEZIER8, np.linspace(0, 1, 800))
+    fwd = affine.approximate(p, vertices=40)
+    back = affine.approximate(p[::-1], vertices=40)
+    assert back.area == pytest.approx(-fwd.area, rel=1e-12)  # same S, opposite sign
+    assert back.success and back.area < 0
+    # affine curvature does not depend on the orientation: same curve, similar values
+    np.testing.assert_allclose(back.kappa_m[::-1], fwd.kappa_m, rtol=0.02)
+    th = np.linspace(0, 2 * np.pi, 900, endpoint=False)
+    ring = np.c_[2 * np.cos(th) + 0.15 * np.cos(2 * th), np.sin(th) + 0.1 * np.sin(2 * th)]
+    ccw = affine.approximate(ring, vertices=25, closed=True)
+    cw = affine.approximate(ring[::-1], vertices=25, closed=True)
+    assert ccw.success and cw.success
+    assert cw.area == pytest.approx(-ccw.area, rel=1e-9)
+    # a repeated closing sample is dropped
+    again = affine.approximate(np.r_[ring, ring[:1]], vertices=25, closed=True)
+    np.testing.assert_allclose(again.points, ccw.points, atol=1e-12)
+
+
+def test_replacement_curve_length_function_and_extension():
+    p = affine.bezier_curve(BEZIER8, np.linspace(0, 1, 101))
+    rc = affine.replacement_curve(p)
+    np.testing.assert_allclose(rc.affine_length_at(np.arange(101.0)), rc.cumulative, atol=1e-14)
+    np.testing.assert_allclose(rc.evaluate(np.arange(101.0)), p, atol=1e-13)
+    # beyond the end the last parabolic arc is continued
+    c, q0 = rc.controls[-1], p[-2]
+    u = 1.5
+    expected = (1 - u) ** 2 * q0 + 2 * u * (1 - u) * c + u**2 * p[-1]
+    np.testing.assert_allclose(rc.evaluate([99 + u])[0], expected, atol=1e-13)

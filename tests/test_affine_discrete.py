@@ -366,3 +366,13 @@ def test_osculating_conic_rejects_bad_arguments():
         affine.osculating_conic(x, 0, kind="best")
     with pytest.raises(CurveError, match="index must be an integer in"):
         affine.osculating_conic(x, 3)
+
+
+@pytest.mark.parametrize("n", [2, 3])
+def test_theorem5_closed_polygon_keeps_ln(n):
+    rng = np.random.default_rng(20 + n)
+    x = rng.normal(size=(9, n))
+    y = lane_riesenfeld(x, degree=n, closed=True)
+    assert y.shape[0] == 18
+    total = affine.affine_length(x, closed=True)
+    assert affine.affine_length(y, closed=True) == pytest.approx(total, rel=1e-9)
