@@ -174,6 +174,14 @@ def test_plane_fit_recovers_normal_of_tilted_noisy_plane(seed):
     assert angle < 5e-3
     np.testing.assert_allclose(pf.rms_distance, 0.01, rtol=0.1)
     np.testing.assert_allclose(np.sqrt(pf.eigenvalues[2]), pf.rms_distance, rtol=1e-10)
+    # the paper's covariance C = (1/m) sum (p - p_bar)(p - p_bar)^t, eigenvalues descending,
+    # eigenvectors e1, e2, e3 (reference: numpy's symmetric eigensolver on C itself)
+    q = pts - pts.mean(axis=0)
+    cov = q.T @ q / len(pts)
+    lam, vec = np.linalg.eigh(cov)
+    np.testing.assert_allclose(pf.eigenvalues, lam[::-1], rtol=1e-9, atol=1e-15)
+    np.testing.assert_allclose(np.abs(pf.axes @ vec[:, ::-1]), np.eye(3), atol=1e-6)
+    np.testing.assert_allclose(pf.centroid, pts.mean(axis=0), rtol=1e-14)
 
 
 def test_plane_fit_exact_plane_and_in_plane_isometry():
