@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import itertools
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
@@ -307,6 +308,7 @@ def smooth_coverage(
     make_valid: bool = False,
     validate: bool = True,
     full_output: bool = False,
+    map_arcs: Callable[[Topology], list[np.ndarray]] | None = None,
 ) -> Any:
     """Smooth a polygonal coverage so that every polygon keeps its area and no gap opens.
 
@@ -346,6 +348,10 @@ def smooth_coverage(
         Check the result with :func:`shapely.coverage_is_valid`.
     full_output : bool
         Return a :class:`CoverageResult`.
+    map_arcs : callable, optional
+        ``map_arcs(topology) -> list of arrays``: the first, full-strength smoothing of
+        every arc, e.g. run in parallel (:mod:`curvesmith.batch` passes a Dask map here).
+        Conflicts are then resolved here as usual.
 
     Returns
     -------
@@ -403,7 +409,10 @@ def smooth_coverage(
         bad = ~shapely.is_empty(invalid)
     invalid_report = {int(idx[k]): float(shapely.length(invalid[k])) for k in np.nonzero(bad)[0]}
     topo = coverage_topology(g, frozen_edges=invalid if bad.any() else None)
-    smoothed, reductions = smooth_arcs(topo, method=method, iterations=iterations, alpha=alpha)
+    initial = map_arcs(topo) if (map_arcs is not None and iterations > 0) else None
+    smoothed, reductions = smooth_arcs(
+        topo, method=method, iterations=iterations, alpha=alpha, initial=initial
+    )
     new = rebuild(topo, smoothed)
     out[idx] = new
     a0 = shapely.area(g)

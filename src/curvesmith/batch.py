@@ -1,0 +1,428 @@
+"""Smoothing GIS files at scale on Dask (the ``dask`` extra: ``dask[distributed]``).
+
+Features are cut into partitions of ``partition_size`` consecutive features; every
+partition is one task (not one task per feature) run by a Dask cluster: a local cluster of
+worker processes by default, or an existing scheduler given by its address. The output
+has exactly the input's features in the input's order. A feature whose smoothing fails is
+written unchanged and listed, with the reason, in the errors report — never dropped.
+
+In coverage mode the arc-node structure is built once (on the client), the arcs are cut
+into chunks smoothed in parallel, and conflicts between arcs are resolved on the client
+(:func:`curvesmith.geo.smooth_coverage` with a parallel ``map_arcs``).
+"""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ._validate import as_int
+from .errors import CurveError, require
+
+__all__ = ["BatchReport", "FeatureError", "smooth_file", "smooth_partitioned"]
+
+
+@dataclass(frozen=True)
+class FeatureError:
+    """A feature that could not be smoothed and was written unchanged.
+
+    Attributes
+    ----------
+    index : int
+        Position of the feature in the input (0-based).
+    reason : str
+        The error message.
+    """
+
+    index: int
+    reason: str
+
+
+@dataclass(frozen=True)
+class BatchReport:
+    """What :func:`smooth_file` did.
+
+    Attributes
+    ----------
+    n_features : int
+        Features read and written (the same, in the same order).
+    n_partitions : int
+        Tasks submitted (feature partitions, or arc chunks in coverage mode).
+    errors : tuple of FeatureError
+        Features written unchanged, with the reason.
+    errors_path : str or None
+        Where the errors report (JSON) was written.
+    n_reductions : int
+        Pieces smoothed less to keep the output valid.
+    seconds : float
+        Wall-clock time of the smoothing (reading and writing excluded).
+    coverage_valid : bool or None
+        Coverage mode: :func:`shapely.coverage_is_valid` on the output.
+    """
+
+    n_features: int
+    n_partitions: int
+    errors: tuple[FeatureError, ...]
+    errors_path: str | None
+    n_reductions: int
+    seconds: float
+    coverage_valid: bool | None
+
+
+# ---------------------------------------------------------------------------- tasks
+
+
+def _smooth_partition(
+    geoms: np.ndarray, start: int, options: dict[str, Any]
+) -> tuple[np.ndarray, list[tuple[int, str]], int]:
+    """Smooth one partition; a failing feature is kept unchanged and reported."""
+    from . import geo
+
+    try:
+        res = geo.smooth(geoms, full_output=True, **options)
+        return res.geometry, [], len(res.reductions)
+    except Exception:
+        pass
+    out = np.array(geoms, dtype=object, copy=True)
+    errors: list[tuple[int, str]] = []
+    n_red = 0
+    for k, g in enumerate(geoms):
+        try:
+            res = geo.smooth(np.array([g], dtype=object), full_output=True, **options)
+            out[k] = res.geometry[0]
+            n_red += len(res.reductions)
+        except Exception as exc:
+            errors.append((start + k, f"{type(exc).__name__}: {exc}"))
+    return out, errors, n_red
+
+
+def _smooth_arc_chunk(
+    arcs: list[np.ndarray], loops: np.ndarray, frozen: np.ndarray, options: dict[str, Any]
+) -> tuple[list[np.ndarray], list[tuple[int, str]]]:
+    """Full-strength smoothing of a chunk of coverage arcs; failing arcs stay unchanged."""
+    from .geo._engine import Level
+    from .geo._smooth import make_smoother
+
+    smoother = make_smoother(options["method"], options["alpha"])
+    level = Level(options["iterations"])
+    out: list[np.ndarray] = []
+    errors: list[tuple[int, str]] = []
+    for k, (xy, loop, fz) in enumerate(zip(arcs, loops, frozen, strict=True)):
+        if fz:
+            out.append(xy)
+            continue
+        try:
+            out.append(smoother(xy, bool(loop), level))
+        except Exception as exc:
+            out.append(xy)
+            errors.append((k, f"{type(exc).__name__}: {exc}"))
+    return out, errors
+
+
+# ---------------------------------------------------------------------------- cluster
+
+
+class _Cluster:
+    """A distributed Client on a new local cluster or on an existing scheduler."""
+
+    def __init__(self, workers: int | None, scheduler: str | None):
+        distributed = require("distributed", "dask", "batch smoothing")
+        self.cluster = None
+        if scheduler is not None:
+            try:
+                self.client = distributed.Client(scheduler, timeout="20s")
+            except OSError as exc:
+                raise CurveError(
+                    f"cannot connect to the Dask scheduler at {scheduler!r}: {exc}"
+                ) from exc
+        else:
+            n = 2 if workers is None else workers
+            self.cluster = distributed.LocalCluster(
+                n_workers=n,
+                threads_per_worker=1,
+                processes=True,
+                dashboard_address=":0",
+                silence_logs=40,
+            )
+            self.client = distributed.Client(self.cluster)
+
+    def close(self) -> None:
+        self.client.close()
+        if self.cluster is not None:
+            self.cluster.close()
+
+
+def _run(client, fn: Callable, args: Sequence[tuple], progress: bool) -> list[Any]:
+    """Submit one task per argument tuple, show a progress bar, gather in order."""
+    distributed = require("distributed", "dask", "batch smoothing")
+    futures = [client.submit(fn, *a, pure=False) for a in args]
+    if progress:
+        distributed.progress(futures, notebook=False)
+    return client.gather(futures)
+
+
+# ---------------------------------------------------------------------------- API
+
+
+def smooth_partitioned(
+    geometry: Any,
+    *,
+    method: str = "cca",
+    iterations: int = 1,
+    alpha: Any = "regular",
+    make_valid: bool = False,
+    partition_size: int = 1000,
+    workers: int | None = None,
+    scheduler: str | None = None,
+    client: Any = None,
+    progress: bool = False,
+) -> tuple[Any, tuple[FeatureError, ...], int, int]:
+    """Smooth features (array, GeoSeries or GeoDataFrame) on Dask, partition by partition.
+
+    Parameters
+    ----------
+    geometry : sequence of shapely geometries, GeoSeries or GeoDataFrame
+        The features; the output has the same type, order, index, columns and CRS.
+    method, iterations, alpha, make_valid
+        As in :func:`curvesmith.geo.smooth`.
+    partition_size : int
+        Features per task.
+    workers : int, optional
+        Worker processes of the local cluster (default 2).
+    scheduler : str, optional
+        Address of an existing Dask scheduler (e.g. ``"tcp://127.0.0.1:8786"``).
+    client : distributed.Client, optional
+        An existing client (then ``workers``/``scheduler`` are ignored).
+    progress : bool
+        Show a progress bar on the terminal.
+
+    Returns
+    -------
+    smoothed : object
+        Same type as the input.
+    errors : tuple of FeatureError
+        Features written unchanged.
+    n_partitions : int
+        Tasks submitted.
+    n_reductions : int
+        Pieces smoothed less to keep features valid.
+    """
+    from .geo._smooth import as_geometry_array, check_method
+
+    iterations = check_method(method, iterations, alpha)
+    partition_size = as_int(partition_size, name="partition_size", minimum=1)
+    if workers is not None:
+        workers = as_int(workers, name="workers", minimum=1)
+    geoms, wrap = as_geometry_array(geometry)
+    options = {"method": method, "iterations": iterations, "alpha": alpha, "make_valid": make_valid}
+    starts = list(range(0, len(geoms), partition_size))
+    args = [(geoms[s : s + partition_size], s, options) for s in starts]
+    own = None
+    if client is None:
+        own = _Cluster(workers, scheduler)
+        client = own.client
+    try:
+        results = _run(client, _smooth_partition, args, progress) if args else []
+    finally:
+        if own is not None:
+            own.close()
+    out = np.array(geoms, dtype=object, copy=True)
+    errors: list[FeatureError] = []
+    n_red = 0
+    for s, (part, errs, nr) in zip(starts, results, strict=True):
+        out[s : s + len(part)] = part
+        errors += [FeatureError(i, r) for i, r in errs]
+        n_red += nr
+    return wrap(out), tuple(errors), len(args), n_red
+
+
+def smooth_file(
+    in_path: str | Path,
+    out_path: str | Path,
+    *,
+    method: str = "cca",
+    iterations: int = 1,
+    alpha: Any = "regular",
+    layer: str | int | None = None,
+    coverage: bool = False,
+    equal_area: bool = False,
+    make_valid: bool = False,
+    snap: float | None = None,
+    partition_size: int = 1000,
+    workers: int | None = None,
+    scheduler: str | None = None,
+    client: Any = None,
+    progress: bool = True,
+    errors_path: str | Path | None = None,
+) -> BatchReport:
+    """Smooth a GIS file on Dask and write the result and an errors report.
+
+    Parameters
+    ----------
+    in_path, out_path : str or Path
+        GeoPackage, Shapefile, GeoJSON or FlatGeobuf (see :func:`curvesmith.geo.read_file`).
+    method, iterations, alpha, make_valid
+        As in :func:`curvesmith.geo.smooth`.
+    layer : str or int, optional
+        Input layer.
+    coverage : bool
+        Coverage mode (:func:`curvesmith.geo.smooth_coverage`), parallel over arcs.
+    equal_area : bool
+        Smooth in an equal-area projection and transform back.
+    snap : float, optional
+        Coverage mode: snapping distance for :func:`shapely.coverage_clean`.
+    partition_size : int
+        Features per task (arcs per task in coverage mode).
+    workers : int, optional
+        Worker processes of the local cluster (default 2).
+    scheduler : str, optional
+        Address of an existing Dask scheduler instead of a local cluster.
+    client : distributed.Client, optional
+        An existing client.
+    progress : bool
+        Show a progress bar on the terminal.
+    errors_path : str or Path, optional
+        Where to write the errors report (JSON list of ``{"index", "reason"}``);
+        default ``OUT.errors.json`` beside the output. Always written.
+
+    Returns
+    -------
+    BatchReport
+    """
+    import time
+    import warnings
+
+    from . import geo
+    from .geo._io import GeographicCRSWarning
+
+    partition_size = as_int(partition_size, name="partition_size", minimum=1)
+    df = geo.read_file(in_path, layer=layer)
+    crs = df.crs
+    if equal_area and crs is None:
+        raise CurveError(f"equal_area needs a CRS, but {str(in_path)!r} has none")
+    if crs is not None and crs.is_geographic and not equal_area:
+        warnings.warn(
+            f"{str(in_path)!r} is in a geographic CRS ({crs.name}): smoothing keeps planar "
+            f"areas in degrees, not ground areas; use --equal-area",
+            GeographicCRSWarning,
+            stacklevel=2,
+        )
+    work = df.to_crs(geo.equal_area_crs(df)) if equal_area else df
+    t0 = time.perf_counter()
+    if coverage:
+        out, errors, n_tasks, n_red, valid = _coverage_on_dask(
+            work,
+            method=method,
+            iterations=iterations,
+            alpha=alpha,
+            make_valid=make_valid,
+            snap=snap,
+            chunk=partition_size,
+            workers=workers,
+            scheduler=scheduler,
+            client=client,
+            progress=progress,
+        )
+    else:
+        if snap is not None:
+            raise CurveError("snap applies to coverage mode only (coverage=True)")
+        out, errors, n_tasks, n_red = smooth_partitioned(
+            work,
+            method=method,
+            iterations=iterations,
+            alpha=alpha,
+            make_valid=make_valid,
+            partition_size=partition_size,
+            workers=workers,
+            scheduler=scheduler,
+            client=client,
+            progress=progress,
+        )
+        valid = None
+    seconds = time.perf_counter() - t0
+    if equal_area:
+        out = out.to_crs(crs)
+    out_layer = None if layer is None or isinstance(layer, int) else str(layer)
+    geo.write_file(out, out_path, layer=out_layer)
+    if errors_path is None:
+        errors_path = Path(str(out_path) + ".errors.json")
+    Path(errors_path).write_text(
+        json.dumps([{"index": e.index, "reason": e.reason} for e in errors], indent=1) + "\n"
+    )
+    return BatchReport(
+        n_features=len(out),
+        n_partitions=n_tasks,
+        errors=tuple(errors),
+        errors_path=str(errors_path),
+        n_reductions=n_red,
+        seconds=seconds,
+        coverage_valid=valid,
+    )
+
+
+def _coverage_on_dask(
+    df, *, method, iterations, alpha, make_valid, snap, chunk, workers, scheduler, client, progress
+):
+    from . import geo
+
+    own = None
+    if client is None:
+        own = _Cluster(workers, scheduler)
+        client = own.client
+    arc_errors: list[tuple[int, str]] = []
+    n_tasks = 0
+    seen: dict[str, Any] = {}
+
+    def map_arcs(topo) -> list[np.ndarray]:
+        nonlocal n_tasks
+        seen["topo"] = topo
+        options = {"method": method, "iterations": iterations, "alpha": alpha}
+        starts = list(range(0, len(topo.arcs), chunk))
+        args = [
+            (
+                list(topo.arcs[s : s + chunk]),
+                topo.loops[s : s + chunk],
+                topo.frozen[s : s + chunk],
+                options,
+            )
+            for s in starts
+        ]
+        n_tasks = len(args)
+        results = _run(client, _smooth_arc_chunk, args, progress)
+        out: list[np.ndarray] = []
+        for s, (arcs, errs) in zip(starts, results, strict=True):
+            out += arcs
+            arc_errors.extend((s + k, r) for k, r in errs)
+        return out
+
+    try:
+        res = geo.smooth_coverage(
+            df,
+            method=method,
+            iterations=iterations,
+            alpha=alpha,
+            snap=snap,
+            make_valid=make_valid,
+            full_output=True,
+            map_arcs=map_arcs,
+        )
+    finally:
+        if own is not None:
+            own.close()
+    errors: list[FeatureError] = []
+    if arc_errors:
+        import shapely
+
+        geoms = np.asarray(df.geometry.values, dtype=object)
+        present = np.array([g is not None and not shapely.is_empty(g) for g in geoms])
+        idx = np.nonzero(present)[0]  # smooth_coverage numbers the non-empty features
+        for arc, reason in arc_errors:
+            for p in seen["topo"].arc_polygons[arc]:
+                errors.append(FeatureError(int(idx[p]), f"arc {arc} left unchanged: {reason}"))
+        errors.sort(key=lambda e: e.index)
+    return res.geometry, tuple(errors), n_tasks, len(res.reductions), res.coverage_valid

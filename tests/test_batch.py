@@ -1,0 +1,126 @@
+"""curvesmith.batch: Dask partitions, order, errors report, coverage mode, scheduler address."""
+
+import json
+
+import distributed
+import numpy as np
+import pytest
+import shapely
+
+from curvesmith import batch, geo
+from curvesmith.errors import CurveError
+
+
+@pytest.fixture(scope="module")
+def cluster():
+    """A scheduler and two worker processes on 127.0.0.1, started by the test (bounded)."""
+    lc = distributed.LocalCluster(
+        host="127.0.0.1",
+        n_workers=2,
+        threads_per_worker=1,
+        processes=True,
+        dashboard_address=":0",
+        silence_logs=40,
+        timeout="60s",
+    )
+    try:
+        yield lc
+    finally:
+        lc.close(timeout=30)
+
+
+@pytest.fixture(scope="module")
+def counties_file(tmp_path_factory):
+    df = geo.us_counties(states=["19", "31"]).to_crs("EPSG:5070")  # Iowa and Nebraska
+    bad = df.copy()
+    bad.loc[7, "geometry"] = shapely.Polygon([(0, 0), (2, 2), (2, 0), (0, 2)])  # bow-tie
+    d = tmp_path_factory.mktemp("batch")
+    geo.write_file(df, d / "good.gpkg")
+    geo.write_file(bad, d / "bad.gpkg")
+    return d, df
+
+
+def test_file_on_existing_scheduler_keeps_order_and_reports_failures(cluster, counties_file):
+    d, df = counties_file
+    out = d / "out.gpkg"
+    rep = batch.smooth_file(
+        d / "bad.gpkg",
+        out,
+        scheduler=cluster.scheduler_address,
+        partition_size=40,
+        iterations=2,
+        progress=False,
+    )
+    n = len(df)
+    assert rep.n_features == n
+    assert rep.n_partitions == -(-n // 40)
+    assert [e.index for e in rep.errors] == [7]
+    assert "not valid (Self-intersection" in rep.errors[0].reason
+    report = json.loads((d / "out.gpkg.errors.json").read_text())
+    assert report == [{"index": 7, "reason": rep.errors[0].reason}]
+    back = geo.read_file(out)
+    assert list(back["GEOID"]) == list(df["GEOID"])
+    assert back.crs == df.crs
+    assert back.geometry.iloc[7].equals(shapely.Polygon([(0, 0), (2, 2), (2, 0), (0, 2)]))
+    ok = np.arange(n) != 7
+    a_in = shapely.area(df.geometry.values[ok])
+    a_out = shapely.area(back.geometry.values[ok])
+    np.testing.assert_allclose(a_out, a_in, rtol=1e-9)
+    assert shapely.is_valid(back.geometry.values[ok]).all()
+
+
+def test_partitioned_equals_sequential(cluster, counties_file):
+    _, df = counties_file
+    with distributed.Client(cluster.scheduler_address) as client:
+        out, errors, n_tasks, _ = batch.smooth_partitioned(
+            df, client=client, partition_size=25, iterations=1
+        )
+    assert errors == () and n_tasks == -(-len(df) // 25)
+    ref = geo.smooth(df, iterations=1)
+    assert list(out.index) == list(df.index)
+    assert all(
+        shapely.equals_exact(a, b, 0.0) for a, b in zip(out.geometry, ref.geometry, strict=True)
+    )
+
+
+def test_coverage_mode_in_parallel_over_arcs(cluster, counties_file):
+    d, df = counties_file
+    out = d / "cov.fgb"
+    rep = batch.smooth_file(
+        d / "good.gpkg",
+        out,
+        coverage=True,
+        scheduler=cluster.scheduler_address,
+        partition_size=300,
+        progress=False,
+    )
+    assert rep.coverage_valid is True
+    assert rep.errors == ()
+    assert rep.n_partitions >= 2
+    back = geo.read_file(out)
+    assert list(back["GEOID"]) == list(df["GEOID"])
+    assert shapely.coverage_is_valid(back.geometry.values)
+    np.testing.assert_allclose(back.area.values, df.area.values, rtol=1e-9)
+    ref = geo.smooth_coverage(df)
+    assert all(
+        shapely.equals_exact(a, b, 0.0) for a, b in zip(back.geometry, ref.geometry, strict=True)
+    )
+
+
+def test_default_local_cluster(tmp_path):
+    df = geo.us_counties(states=["10"]).to_crs("EPSG:5070")  # Delaware, 3 counties
+    geo.write_file(df, tmp_path / "de.shp")
+    rep = batch.smooth_file(
+        tmp_path / "de.shp", tmp_path / "o.shp", workers=1, partition_size=2, progress=False
+    )
+    assert rep.n_features == 3 and rep.n_partitions == 2 and rep.errors == ()
+    assert json.loads((tmp_path / "o.shp.errors.json").read_text()) == []
+    back = geo.read_file(tmp_path / "o.shp")
+    np.testing.assert_allclose(back.area.values, df.area.values, rtol=1e-9)
+
+
+def test_bad_options(tmp_path):
+    with pytest.raises(CurveError, match="partition_size must be an integer >= 1, got 0"):
+        batch.smooth_file(tmp_path / "x.gpkg", tmp_path / "y.gpkg", partition_size=0)
+    with pytest.raises(CurveError, match="workers must be an integer >= 1, got 0"):
+        batch.smooth_partitioned([shapely.box(0, 0, 1, 1)], workers=0)
