@@ -318,6 +318,29 @@ def test_inflection_asymmetric_sine_keyline(seed):
     assert abs(est.index - true_index) <= 2
 
 
+@given(
+    st.floats(min_value=0.05, max_value=0.85),
+    st.floats(min_value=0.05, max_value=0.85),
+    st.integers(min_value=15, max_value=200),
+    st.integers(min_value=15, max_value=200),
+    st.floats(min_value=0.1, max_value=0.95),
+    st.floats(min_value=0.1, max_value=0.95),
+    st.floats(min_value=-3.0, max_value=3.0),
+)
+def test_inflection_of_two_exact_elastica_halves(kl, kr, nl, nr, span_l, span_r, phi):
+    # S curves made of two exact discrete elastica halves with kappa = 0 at the joint; each
+    # half spans a fraction of the lobe (2K of argument), lobes turning by up to 2 asin(0.85)
+    from scipy.special import ellipk
+
+    zl = span_l * 2 * float(ellipk(kl**2)) / nl
+    zr = span_r * 2 * float(ellipk(kr**2)) / nr
+    syn = keyline.synthetic_keyline(
+        left=(zl, None, kl), right=(zr, None, kr), n_left=nl, n_right=nr, phi=phi
+    )
+    est = keyline.estimate_inflection(syn.vertices)
+    assert abs(est.index - syn.joint) <= 1
+
+
 def test_inflection_follows_fig14_steps_on_a_cubic():
     x = np.linspace(-1.5, 2.0, 301)
     est = keyline.estimate_inflection(np.column_stack([x, x**3 / 3 - 0.3 * x**2]))
