@@ -31,7 +31,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 from scipy.optimize import least_squares
-from scipy.signal import savgol_filter
+from scipy.signal import savgol_coeffs
 from scipy.special import ellipk
 
 from .._validate import as_float, as_int, as_points
@@ -130,13 +130,23 @@ def _spacing_check(p: np.ndarray, tol: float) -> None:
 
 
 def _noise_level(p: np.ndarray) -> float:
-    """Rms distance of the data from a sliding cubic fit (window 7), de-biased."""
+    """Rms distance of the data from a sliding cubic fit (window 7), de-biased.
+
+    Interior vertices only: ``p - S p`` with the Savitzky-Golay smoother ``S``; the
+    residual variance of white noise is ``(1 - c_0) sigma^2`` (``c_0 = 1/3``, the
+    centre weight), so dividing by ``1 - c_0`` gives back the per-vertex noise.
+    """
     n = p.shape[0]
     window, order = (7, 3) if n >= 7 else (5, 2)
-    smooth = savgol_filter(p, window, order, axis=0, mode="interp")
-    # Variance left by a projection onto polynomials of degree `order` at the window centre.
-    keep = 1.0 - (order + 1) / window if window == 5 else 1.0 - 7.0 / 21.0
-    return float(np.sqrt(np.mean(np.sum((p - smooth) ** 2, axis=1)) / keep))
+    coeffs = savgol_coeffs(window, order)
+    resid = np.stack(
+        [
+            p[window // 2 : n - window // 2, j] - np.convolve(p[:, j], coeffs, mode="valid")
+            for j in range(2)
+        ],
+        axis=1,
+    )
+    return float(np.sqrt(np.mean(np.sum(resid**2, axis=1)) / (1.0 - coeffs[window // 2])))
 
 
 class _Problem:
@@ -269,7 +279,7 @@ def fit(
         Limit per stage: function evaluations for lsq (default 400), iterations
         for IPOPT (default 3000).
     tol : float, optional
-        Solver tolerance: ``ftol = xtol = gtol`` for lsq (default 1e-14); IPOPT's
+        Solver tolerance: ``ftol = xtol = gtol`` for lsq (default 1e-12); IPOPT's
         scaled optimality error ``tol`` (default 1e-6: with the limited-memory
         Hessian tighter values stall; at 1e-6 the rms agrees with lsq to ~1e-10).
 
@@ -302,7 +312,7 @@ def fit(
         max_iter = 400 if method == "lsq" else 3000
     max_iter = as_int(max_iter, name="max_iter", minimum=1)
     if tol is None:
-        tol = 1e-14 if method == "lsq" else 1e-6
+        tol = 1e-12 if method == "lsq" else 1e-6
     tol = as_float(tol, name="tol", low=0.0)
     if continuation not in ("auto", True, False):
         raise CurveError(f"continuation must be 'auto', True or False, got {continuation!r}")
