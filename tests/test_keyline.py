@@ -487,6 +487,8 @@ def test_fit_default_step_is_extent_over_200():
         ("arc", {"step": 0.05}, "convex arc"),
         ("early", {"step": 0.05}, "inflection away from the ends"),
         ("sine", {"min_side_points": 3}, "min_side_points must be an integer >= 5"),
+        ("sine", {"inflection": 5000}, r"inflection must be an integer in \[0, "),
+        ("sine", {"inflection": 2}, "3 vertices on the left side"),
     ],
 )
 def test_fit_bad_input(points, kwargs, match):
@@ -633,3 +635,16 @@ def test_cli_keyline_normal_flips_the_view(tmp_path):
         assert b["phi"] == pytest.approx(-a["phi"], abs=1e-6)
         big_k = float(ellipk(a["k"] ** 2))
         assert b["q"] == pytest.approx((a["q"] - 2 * big_k) % (4 * big_k), abs=1e-5)
+
+
+def test_fit_with_given_inflection_matches_the_estimate_when_equal():
+    syn = keyline.synthetic_keyline(n_left=60, n_right=50, left=(0.02, None, 0.3))
+    auto = keyline.fit(syn.points, step=1.0)
+    given_ = keyline.fit(syn.points, step=1.0, inflection=auto.inflection.index)
+    assert given_.inflection.labels == ()
+    assert given_.table() == auto.table()
+    shifted = keyline.fit(syn.points, step=1.0, inflection=auto.inflection.index + 3)
+    assert shifted.inflection.index == syn.joint + 3
+    assert shifted.table()[1]["n_points"] == auto.table()[1]["n_points"] - 3
+    # pinned 3 vertices into the right half: the right side is still one exact elastica
+    assert shifted.right.rms < 1e-8

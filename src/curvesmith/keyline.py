@@ -56,11 +56,15 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ._validate import as_float, as_int, as_points
 from .errors import CurveError
+
+if TYPE_CHECKING:
+    from .elastica import FitResult
 
 __all__ = [
     "DEFAULT_STEPS",
@@ -672,11 +676,11 @@ class KeylineFit:
         The second principal component analysis (x'y' -> x''y'').
     inflection : InflectionEstimate
         The RDP estimate; ``inflection.index`` indexes `points`.
-    left, right : elastica fit results
+    left, right : curvesmith.elastica.FitResult
         Fits of ``points[index::-1]`` (from the inflection to the left end) and
         ``points[index:]`` (to the right end), each with ``(x0, y0)`` pinned at
-        the inflection point (section 5.4): fields ``params``, ``points``,
-        ``rms``, ``success``, ``message`` (see ``curvesmith.elastica.fit``).
+        the inflection point (section 5.4): ``params``, ``points``, ``rms``,
+        ``success``, ``message``, ... (see ``curvesmith.elastica.fit``).
     """
 
     points: np.ndarray
@@ -684,8 +688,8 @@ class KeylineFit:
     plane: PlaneFit | None
     frame: PrincipalFrame
     inflection: InflectionEstimate
-    left: object
-    right: object
+    left: FitResult
+    right: FitResult
 
     @property
     def success(self) -> bool:
@@ -749,6 +753,7 @@ def fit(
     *,
     step: float | None = None,
     normal_hint=(0.0, 0.0, 1.0),
+    inflection: int | None = None,
     min_side_points: int = 5,
     fit_options: dict | None = None,
 ) -> KeylineFit:
@@ -781,6 +786,11 @@ def fit(
         :data:`DEFAULT_STEPS` (200).
     normal_hint : (3,) array_like, optional
         Side from which the plane is viewed, see :func:`fit_plane` (3D only).
+    inflection : int, optional
+        Vertex index of the equilateral polygon to use as the inflection
+        instead of the RDP estimate (e.g. to correct an estimate moved by
+        noise, as for F16/F24 in the paper); the result's
+        ``inflection.labels`` is then empty.
     min_side_points : int, optional
         Minimum number of vertices on each side of the inflection (>= 5).
     fit_options : dict, optional
@@ -824,7 +834,11 @@ def fit(
         )
     frame = _principal_frame(poly)
     xy = frame.coords
-    est = _estimate_inflection(xy)
+    if inflection is None:
+        est = _estimate_inflection(xy)
+    else:
+        j = as_int(inflection, name="inflection", minimum=0, maximum=xy.shape[0] - 1)
+        est = InflectionEstimate(index=j, point=xy[j].copy(), labels=())
     i = est.index
     n_left, n_right = i + 1, xy.shape[0] - i
     if min(n_left, n_right) < min_side:
