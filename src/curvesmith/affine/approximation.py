@@ -227,6 +227,7 @@ class _Curve:
         self.ax, self.ay = a2[:, 0].tolist(), a2[:, 1].tolist()
         self.ex, self.ey = e[:, 0].tolist(), e[:, 1].tolist()
         self.cum = rc.cumulative.tolist()
+        self.ncum = (-rc.cumulative).tolist()
         self.len = rc.lengths.tolist()
         self.total = float(rc.cumulative[-1])
         self.rc = rc
@@ -251,17 +252,24 @@ class _Curve:
         j = min(max(math.floor(t), 0), n - 1)
         return self.cum[j] + (t - j) * self.len[j]
 
-    def t_of_s(self, s: float, sign: float) -> float:
-        """Parameter with signed affine length `s` (lengths of one sign are monotone)."""
+    def t_of_s(self, s: float, sign: float, lo: int = 0, hi: int | None = None) -> float:
+        """Parameter with signed affine length `s`, searched on the arcs ``lo .. hi - 1``.
+
+        The affine length is monotone only on an inflection-free part of the
+        curve, so the search is restricted to the arcs of the current piece.
+        """
         n = self.n
         turns = 0.0
         if self.closed:
             turns = math.floor(s / self.total)
             s = s - turns * self.total
-        cum = self.cum if sign > 0 else [-x for x in self.cum]
+            lo, hi = 0, n
+        elif hi is None:
+            hi = n
+        cum = self.cum if sign > 0 else self.ncum
         ss = s if sign > 0 else -s
-        j = bisect.bisect_right(cum, ss) - 1
-        j = min(max(j, 0), n - 1)
+        j = bisect.bisect_right(cum, ss, lo, hi + 1) - 1
+        j = min(max(j, lo, 0), hi - 1, n - 1)
         # skip degenerate arcs (zero length) forward
         seg = self.len[j] * (1 if sign > 0 else -1)
         if seg <= 0:
@@ -580,7 +588,9 @@ class _Piece:
     def search(self, area: float, search: str, xtol: float, iterations: int) -> float:
         step = abs(area) ** (1.0 / 3.0)
         s0 = self.cv.s_of_t(self.t0)
-        t1 = self.cv.t_of_s(s0 + self.sign * step, self.sign)
+        lo = max(math.floor(self.t0), 0)
+        hi = self.cv.n if self.cv.closed else min(self.cv.n, math.ceil(self.t_end))
+        t1 = self.cv.t_of_s(s0 + self.sign * step, self.sign, lo, max(hi, lo + 1))
         h = max(t1 - self.t0, 1e-9)
         a, d = self.t0 + 1e-6 * h, self.t0 + 2.0 * h  # the paper's interval [0, 2 t_1]
         # coarse bracket (guards against a non-unimodal psi far from the optimum)
@@ -661,8 +671,8 @@ def approximate(
     max_iterations : int, optional
         Iteration limit of the search.
     skip : int, optional
-        Curvatures ``l`` skipped at each end of a piece next to an inflection in
-        the objective (section 4.4, step 3).
+        For curves with inflections: curvatures ``l`` skipped at both ends of
+        every inflection-free piece in the objective (section 4.4, step 3).
     match_end : bool, optional
         Open curves: adjust ``A`` (re-optimising ``t_1`` each time) until ``x_n``
         is the end of the curve. The paper keeps ``A = (S/n)^3`` (default False);
@@ -766,9 +776,10 @@ def _approximate_open(
     edges = np.diff(idx)
     if np.any(edges < 3):
         raise CurveError(
-            "vertices must give every inflection-free piece at least 3 edges; "
-            f"with vertices={n + 1} "
-            f"the {len(bounds) - 1} pieces get {edges.tolist()} edges: use more vertices"
+            f"vertices must give each of the {len(bounds) - 1} inflection-free pieces at least "
+            f"3 edges (section 4.4), got vertices={n + 1} and a piece with "
+            f"{int(edges.min())} edges: use more vertices"
+            + (" or smooth the samples (noise makes inflections)" if len(bounds) > 6 else "")
         )
     penalty = 1e6
     xs_all, ys_all, ts_all = [], [], []
@@ -783,8 +794,9 @@ def _approximate_open(
         t_end = float(bounds[pi + 1])
         sign = 1.0 if cv.s_of_t(t_end) - cv.s_of_t(bounds[pi]) > 0 else -1.0
         last = pi == len(bounds) - 2
-        lo = skip if pi > 0 else 0
-        hi = skip if not last else 0
+        # section 4.4: with inflections, l curvatures are skipped at both ends of every
+        # sub-polyline (a curve end may itself be an inflection, like sin x at 0)
+        lo = hi = skip if len(bounds) > 2 else 0
         while m - 2 - lo - hi < 2 and (lo or hi):  # keep at least two curvatures
             lo, hi = (lo - 1, hi) if lo >= hi else (lo, hi - 1)
         piece = _Piece(cv, t0, t_end, m, sign, lo, hi, penalty)
