@@ -142,6 +142,16 @@ def run(ctx) -> None:
     )
 
     # --- the parameter table (Table 1)
+    ctx.text(
+        "Each keyline is two exact discrete elastica halves joined at an inflection, embedded "
+        "in a tilted plane and scanned with 8 points per edge and 3D Gaussian noise of "
+        "0.01-0.02 mm (edge 1 mm). The pipeline recovers h to 1e-4 and the shape parameters "
+        "z and k to a few per cent; the RDP estimate of the inflection, which recurses down "
+        "to adjacent vertices as the paper prescribes, moves by up to about a dozen vertices "
+        "under this noise because near an inflection the curve leaves its chords only "
+        "cubically. The phase q is measured from the pinned vertex, so it inherits that "
+        "shift (about z per vertex); the paper observes the same sensitivity (F16, F24)."
+    )
     lines = [
         "Fitted parameters per keyline and side (canonical form; true values in parentheses). "
         "Step r = 1 mm; K06 has an arc-like right side, like F16/F24 in the paper.",
