@@ -659,3 +659,38 @@ def test_zero_iterations_and_input_untouched():
     np.testing.assert_array_equal(out, p)
     cca.smooth(p, closed=True, iterations=2)
     np.testing.assert_array_equal(p, before)
+
+
+@pytest.mark.parametrize(
+    ("points", "closed", "kwargs"),
+    [
+        (np.random.default_rng(4).normal(size=(12, 2)), True, {}),
+        (np.random.default_rng(5).normal(size=(12, 2)), False, {"anchors": [4, 7]}),
+        (np.column_stack([np.arange(7.0), np.arange(7) % 2]), False, {}),  # Fig. 11 edges
+        (np.array([[0, 0], [4, 0], [4, 1], [2, 1.002], [0, 1]]), True, {"alpha": 0.3}),
+    ],
+)
+def test_lean_2d_step_matches_generic_step(monkeypatch, points, closed, kwargs):
+    lean = cca.smooth_with_info(points, closed=closed, iterations=3, **kwargs)
+    monkeypatch.setattr(cca, "_FORCE_GENERIC", True)
+    generic = cca.smooth_with_info(points, closed=closed, iterations=3, **kwargs)
+    np.testing.assert_allclose(lean.points, generic.points, rtol=0, atol=1e-13)
+    assert lean.reductions == generic.reductions
+    assert lean.fig11_edges == generic.fig11_edges
+
+
+def test_min_factor_floor_reports_unsatisfied():
+    p = np.array([[0, 0], [4, 0], [4, 1], [2, 1.002], [0, 1]], dtype=float)
+    strict = cca.smooth_with_info(p, closed=True, iterations=2)
+    floored = cca.smooth_with_info(p, closed=True, iterations=2, min_factor=0.9)
+    assert strict.success and strict.unsatisfied == 0
+    assert not floored.success and floored.unsatisfied > 0
+    assert "restrictions not met" in floored.message
+    assert_area_kept(p, floored.points)
+    # the floor is honoured: the first step's cut at the sharp corner (4, 0) stays >= 0.9 alpha
+    one = cca.smooth(p, closed=True, min_factor=0.9)
+    a_profile = cca.alpha_profile(np.pi / 2) * 1.0  # shorter edge at (4, 0) has length 1
+    cut = np.linalg.norm(one[4] - p[1])  # R_1 = V_1 + a u_1
+    assert cut >= 0.9 * a_profile * (1 - 1e-12)
+    with pytest.raises(CurveError, match=r"min_factor must be in \[0, 1\), got 1"):
+        cca.smooth(p, closed=True, min_factor=1.0)

@@ -340,6 +340,7 @@ def smooth(
     tilt: float = np.pi / 8,
     balance_tol: float = 1e-9,
     max_passes: int = 16,
+    min_factor: float = 0.0,
 ) -> np.ndarray:
     """Area-preserving CCA1 smoothing of a polygon or polyline (Gordon 2010).
 
@@ -379,6 +380,13 @@ def smooth(
         mean cut area count as balanced and get the Fig. 11 construction (2D).
     max_passes : int, optional
         Maximum number of restriction passes per step.
+    min_factor : float, optional
+        Floor of the local decrease, in [0, 1): a restricted alpha never drops
+        below ``min_factor`` times the profile's alpha (the ``epsilon < alpha_i``
+        of Definition 2). With the default 0 the restrictions are always met, at
+        the price of almost uncut corners next to nearly straight vertices
+        (Fig. 12); a floor such as 0.5 keeps those corners smoothing, and edges
+        where it binds are counted in :attr:`CCAResult.unsatisfied`.
 
     Returns
     -------
@@ -413,6 +421,7 @@ def smooth(
         tilt=tilt,
         balance_tol=balance_tol,
         max_passes=max_passes,
+        min_factor=min_factor,
     ).points
 
 
@@ -429,12 +438,15 @@ def smooth_with_info(
     tilt: float = np.pi / 8,
     balance_tol: float = 1e-9,
     max_passes: int = 16,
+    min_factor: float = 0.0,
 ) -> CCAResult:
     """Like :func:`smooth`, returning a :class:`CCAResult` with restriction counts.
 
     Parameters
     ----------
-    points, closed, iterations, alpha, anchors, c, C, restrict, tilt, balance_tol, max_passes
+    points, closed, iterations, alpha, anchors, c, C, restrict, tilt, balance_tol
+        As in :func:`smooth`.
+    max_passes, min_factor
         As in :func:`smooth`.
 
     Returns
@@ -457,6 +469,7 @@ def smooth_with_info(
     tilt = as_float(tilt, name="tilt", low=0.0, high=np.pi / 4, high_open=False)
     balance_tol = as_float(balance_tol, name="balance_tol", low=0.0, high=1.0, low_open=False)
     max_passes = as_int(max_passes, name="max_passes", minimum=1)
+    min_factor = as_float(min_factor, name="min_factor", low=0.0, high=1.0, low_open=False)
     alpha_fn = _alpha_function(alpha)
     raw = as_points(points, closed=closed, min_points=1, dim=(2, 3))
     n_in = raw.shape[0]
@@ -503,7 +516,7 @@ def smooth_with_info(
             C,
             tilt / 2.0**it,
             balance_tol,
-            max_passes,
+            (max_passes, min_factor),
         )
         red_steps.append(nred)
         fig11_total += nfig
@@ -668,7 +681,7 @@ def _compact(cols, fixed, closed):
     return [np.ascontiguousarray(p[:, k]) for k in range(p.shape[1])], fixed
 
 
-def _step(cols, fixed, closed, alpha_fn, restrict, c, C, tilt_n, balance_tol, max_passes):
+def _step(cols, fixed, closed, alpha_fn, restrict, c, C, tilt_n, balance_tol, limits):
     d = len(cols)
     e = [_roll_m1(x) - x for x in cols]  # edge i: V_i -> V_{i+1} (wrap edge absent if open)
     length = np.sqrt(sum(ek * ek for ek in e))
@@ -711,7 +724,7 @@ def _step(cols, fixed, closed, alpha_fn, restrict, c, C, tilt_n, balance_tol, ma
     nunsat = 0
     if restrict:
         alpha, nred, nunsat = _restrict(
-            alpha, half_a2, cr, scross, dot, short, length, fixed, edge_on, c, C, max_passes
+            alpha, half_a2, cr, scross, dot, short, length, fixed, edge_on, c, C, limits
         )
 
     a = alpha * short
@@ -801,7 +814,7 @@ def _step(cols, fixed, closed, alpha_fn, restrict, c, C, tilt_n, balance_tol, ma
     return out, newfixed, nred, nfig, nunsat
 
 
-def _step2(x, y, fixed, closed, alpha_fn, restrict, c, C, tilt_n, balance_tol, max_passes):
+def _step2(x, y, fixed, closed, alpha_fn, restrict, c, C, tilt_n, balance_tol, limits):
     """One 2D CCA1 step on coordinate columns; the same arithmetic as :func:`_step`, leaner."""
     ex = _roll_m1(x)
     ex -= x
@@ -811,7 +824,7 @@ def _step2(x, y, fixed, closed, alpha_fn, restrict, c, C, tilt_n, balance_tol, m
     body = length if closed else length[:-1]
     if body.size and body.min() == 0:
         (x, y), fixed = _compact([x, y], fixed, closed)
-        args = (alpha_fn, restrict, c, C, tilt_n, balance_tol, max_passes)
+        args = (alpha_fn, restrict, c, C, tilt_n, balance_tol, limits)
         return _step2(x, y, fixed, closed, *args)
     n = x.shape[0]
     if closed:
@@ -846,7 +859,7 @@ def _step2(x, y, fixed, closed, alpha_fn, restrict, c, C, tilt_n, balance_tol, m
     if restrict:
         on = np.ones(n, dtype=bool) if edge_on is None else edge_on
         alpha, nred, nunsat = _restrict(
-            alpha, half_a2, [cr], scross, dot, short, length, fixed, on, c, C, max_passes
+            alpha, half_a2, [cr], scross, dot, short, length, fixed, on, c, C, limits
         )
     a = alpha * short
     K = alpha * alpha * half_a2 * cr  # signed cut areas
@@ -938,7 +951,7 @@ def _step2(x, y, fixed, closed, alpha_fn, restrict, c, C, tilt_n, balance_tol, m
     return ox, oy, newfixed, nred, nfig, nunsat
 
 
-def _restrict(alpha, half_a2, cr, scross, dot, short, length, fixed, edge_on, c, C, max_passes):
+def _restrict(alpha, half_a2, cr, scross, dot, short, length, fixed, edge_on, c, C, limits):
     """Local alpha decrease for Definition 2 / Fig. 12 and the section 3.2 inflection rule.
 
     Per edge ``i`` (vertices ``i``, ``i + 1``): convex and end edges need
@@ -948,9 +961,11 @@ def _restrict(alpha, half_a2, cr, scross, dot, short, length, fixed, edge_on, c,
     the decreased alphas, the number of vertices decreased and the number of
     edges still violating after ``max_passes`` passes.
     """
+    max_passes, min_factor = limits
     n = alpha.shape[0]
     alpha = alpha.copy()
     alpha0 = alpha.copy()
+    floor = min_factor * alpha0
     turning = ~fixed & (scross > 0)
     tanb = np.zeros(n)
     np.divide(1.0 + dot, scross, out=tanb, where=turning)  # tan(beta) = cot(|tau| / 2)
@@ -1039,7 +1054,14 @@ def _restrict(alpha, half_a2, cr, scross, dot, short, length, fixed, edge_on, c,
         np.minimum.at(f_v, v, fv)  # per vertex the smallest factor of its edges
         f_v[fixed] = 1.0
         v = np.flatnonzero(f_v < 1.0)
-        alpha[v] *= f_v[v]
+        new = np.maximum(alpha[v] * f_v[v], floor[v])
+        moved = new < alpha[v]
+        if not moved.all():
+            v, new = v[moved], new[moved]
+            if v.size == 0:  # every violation sits at the floor
+                nunsat = int(ic.size + nbad)
+                break
+        alpha[v] = new
         a[v] = alpha[v] * short[v]
         kv = alpha[v] * alpha[v] * half_a2[v]
         for k, ck in zip(K, cr, strict=True):

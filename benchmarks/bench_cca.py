@@ -1,0 +1,101 @@
+"""Benchmark of curvesmith.cca.smooth against subdivision.chaikin on the same polygons.
+
+Seeded random polygons of 1e2 .. 1e6 vertices (``--quick``: up to 1e5), 1 .. 5
+iterations (capped so the output stays below ~30 M vertices). Two families:
+``wavy`` (a smooth closed curve, few restriction decreases) and ``jagged``
+(radius noise, many inflections and local alpha decreases). For each case the
+median wall time over the repeats, output vertices per second for CCA and
+Chaikin, the time ratio per output vertex (CCA / Chaikin), and the peak traced
+memory of one CCA run as a multiple of the output array (tracemalloc).
+
+Run: ``python benchmarks/bench_cca.py [--quick] [--repeats R]``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import time
+import tracemalloc
+
+import numpy as np
+
+from curvesmith import cca, subdivision
+
+MAX_OUTPUT = 30_000_000
+
+
+def polygon(kind: str, n: int, rng: np.random.Generator) -> np.ndarray:
+    t = 2 * np.pi * np.arange(n) / n
+    if kind == "wavy":
+        r = 1 + 0.1 * np.sin(7 * t) + 0.05 * np.cos(3 * t)
+    else:
+        r = 1 + 0.3 * rng.uniform(size=n)
+    return np.column_stack([r * np.cos(t), r * np.sin(t)])
+
+
+def timed(fn, repeats: int) -> tuple[float, np.ndarray]:
+    times = []
+    out = None
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        out = fn()
+        times.append(time.perf_counter() - t0)
+    return statistics.median(times), out
+
+
+def peak_ratio(fn, out_bytes: int) -> float:
+    tracemalloc.start()
+    fn()
+    _, peak = tracemalloc.get_traced_memory()
+    tracemalloc.stop()
+    return peak / out_bytes
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--quick", action="store_true", help="sizes up to 1e5, 2 repeats")
+    ap.add_argument("--repeats", type=int, default=None, help="timing repeats (median)")
+    ap.add_argument("--no-memory", action="store_true", help="skip the tracemalloc runs")
+    args = ap.parse_args()
+    sizes = [10**2, 10**3, 10**4, 10**5] + ([] if args.quick else [10**6])
+    repeats = args.repeats or (2 if args.quick else 3)
+    rng = np.random.default_rng(1234)
+    cca.smooth(polygon("wavy", 100, rng), closed=True)  # warm-up (scipy import, PCHIP)
+    header = (
+        f"{'shape':>6} {'N':>8} {'it':>2} {'out':>10} {'cca s':>8} {'cca Mv/s':>9} "
+        f"{'chaikin Mv/s':>12} {'ratio':>6} {'reduced':>8} {'peak/out':>8}"
+    )
+    print(header)
+    print("-" * len(header))
+    for kind in ("wavy", "jagged"):
+        for n in sizes:
+            p = polygon(kind, n, rng)
+            for it in range(1, 6):
+                if n * 3**it > MAX_OUTPUT:
+                    break
+                t_cca, out = timed(
+                    lambda p=p, it=it: cca.smooth(p, closed=True, iterations=it), repeats
+                )
+                t_ch, ch = timed(
+                    lambda p=p, it=it: subdivision.chaikin(p, closed=True, iterations=it), repeats
+                )
+                info = cca.smooth_with_info(p, closed=True, iterations=it) if n <= 10**5 else None
+                v_cca = out.shape[0] / t_cca / 1e6
+                v_ch = ch.shape[0] / t_ch / 1e6
+                mem = (
+                    float("nan")
+                    if args.no_memory or n * 3**it > 3_000_000
+                    else peak_ratio(
+                        lambda p=p, it=it: cca.smooth(p, closed=True, iterations=it), out.nbytes
+                    )
+                )
+                red = "-" if info is None else str(info.reductions)
+                print(
+                    f"{kind:>6} {n:>8} {it:>2} {out.shape[0]:>10} {t_cca:>8.3f} {v_cca:>9.2f} "
+                    f"{v_ch:>12.2f} {v_cca and v_ch / v_cca:>6.2f} {red:>8} {mem:>8.2f}"
+                )
+
+
+if __name__ == "__main__":
+    main()
