@@ -14,6 +14,7 @@ from curvesmith.elastica import (
     invariants,
     sample,
     segment_length,
+    tangent_angles,
 )
 from curvesmith.elastica.exact import _as_params, _positions_and_jacobian
 from curvesmith.errors import CurveError
@@ -232,3 +233,13 @@ def test_segment_length_and_curvature_errors():
         sample((0, 0, 1, 0, 0.1, 0, 1.0), 1)
     with pytest.raises(CurveError, match=r"case \(i\) needs"):
         sample((0, 0, 1, 0, 0.1, 0, 2.0), 5, case="i")
+
+
+def test_tangent_angles_turn_by_the_curvature_angles():
+    p = (0.0, 0.0, 0.1, 0.3, 0.08, 0.2, 1.4)  # case (i): keeps turning, beyond 2 pi
+    pts = sample(p, 200)
+    theta = tangent_angles(pts)
+    turn = np.diff(theta)
+    np.testing.assert_allclose(2 / p[2] * np.tan(turn / 2), curvature(pts), rtol=1e-10)
+    assert theta[-1] - theta[0] > 2 * np.pi
+    np.testing.assert_allclose(theta[0], np.arctan2(*(pts[1] - pts[0])[::-1]))

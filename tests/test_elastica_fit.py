@@ -207,3 +207,39 @@ def test_ipopt_backend_matches_least_squares():
     assert abs(b.rms - a.rms) < 1e-8 * a.rms
     assert np.max(np.abs(a.points - b.points)) < 1e-6
     assert b.iterations > a.iterations
+
+
+def test_equilateral_resampler_keeps_order_and_step():
+    from curvesmith.elastica._resample import equilateral
+
+    rng = np.random.default_rng(5)
+    poly = np.cumsum(rng.normal(size=(40, 2)), axis=0)
+    out = equilateral(poly, 0.7)
+    np.testing.assert_allclose(np.hypot(*np.diff(out, axis=0).T), 0.7, rtol=1e-12)
+    np.testing.assert_array_equal(out[0], poly[0])
+    # every vertex lies on the polyline, at non-decreasing polyline positions
+    positions = []
+    for q in out:
+        best = None
+        for i in range(len(poly) - 1):
+            a, b = poly[i], poly[i + 1]
+            t = np.clip((q - a) @ (b - a) / ((b - a) @ (b - a)), 0, 1)
+            d = np.hypot(*(a + t * (b - a) - q))
+            if best is None or d < best[0] - 1e-12:
+                best = (d, i + t)
+        assert best[0] < 1e-9
+        positions.append(best[1])
+    assert np.all(np.diff(positions) > 0)
+    # stops when nothing ahead on the polyline is 0.7 away from the last vertex
+    pos = positions[-1]
+    ts = np.linspace(pos, len(poly) - 1, 2000)
+    i = np.minimum(ts.astype(int), len(poly) - 2)
+    ahead = poly[i] + (ts - i)[:, None] * (poly[i + 1] - poly[i])
+    assert np.max(np.hypot(*(ahead - out[-1]).T)) < 0.7
+
+
+def test_five_points_are_enough():
+    p = (0.0, 0.0, 0.3, 0.2, 0.2, 0.3, 0.6)
+    pts = sample(p, 5)
+    res = fit(pts, start=(0.0, 0.0, 0.31, 0.2, 0.21, 0.29, 0.62))
+    assert res.success and res.max_distance < 1e-9

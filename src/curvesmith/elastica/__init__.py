@@ -31,6 +31,7 @@ from .exact import (
     invariants,
     sample,
     segment_length,
+    tangent_angles,
 )
 from .fit import PARAM_NAMES, FitResult, fit
 from .guess import initial_guess
@@ -48,4 +49,5 @@ __all__ = [
     "invariants",
     "sample",
     "segment_length",
+    "tangent_angles",
 ]

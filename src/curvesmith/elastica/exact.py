@@ -54,6 +54,7 @@ __all__ = [
     "invariants",
     "sample",
     "segment_length",
+    "tangent_angles",
 ]
 
 #: Within this distance of m = 1 the k-derivative is a central difference of the
@@ -432,6 +433,31 @@ def _segment_length(p: np.ndarray, rtol: float) -> float:
             "resample to equal steps first"
         )
     return h
+
+
+def tangent_angles(points) -> np.ndarray:
+    """Discrete angle function ``Theta_n`` of eqs. (3.1)/(4.32), continuous (unwrapped).
+
+    Parameters
+    ----------
+    points : (N, 2) array_like
+        Vertices, ``N >= 2``, no zero-length edges.
+
+    Returns
+    -------
+    (N-1,) ndarray
+        Angle of ``gamma_{n+1} - gamma_n`` from the x axis, counter-clockwise, in
+        radians; consecutive values differ by the turning angles ``K_{n+1}`` in
+        ``(-pi, pi)``.
+
+    Examples
+    --------
+    >>> np.degrees(tangent_angles([[0, 0], [1, 0], [1, 1], [0, 1]]))
+    array([  0.,  90., 180.])
+    """
+    p = as_points(points, min_points=2, distinct=True)
+    e = np.diff(p, axis=0)
+    return np.unwrap(np.arctan2(e[:, 1], e[:, 0]))
 
 
 def curvature(points, *, rtol: float = 1e-6) -> np.ndarray:
