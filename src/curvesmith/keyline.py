@@ -522,6 +522,10 @@ def _farthest(p: np.ndarray, i: int, j: int) -> tuple[int, int, float]:
     return i + 1 + m, int(np.sign(cross[m])), float(dist[m])
 
 
+#: Largest number of vertices used to measure how far a sub-polyline is from convex.
+_DEPTH_SAMPLES = 1024
+
+
 def _concavity_depth(p: np.ndarray, i: int, j: int) -> float:
     """Largest distance from a vertex of p[i..j] to the boundary of their convex hull.
 
@@ -531,6 +535,8 @@ def _concavity_depth(p: np.ndarray, i: int, j: int) -> float:
     from scipy.spatial import ConvexHull, QhullError
 
     q = p[i : j + 1]
+    if q.shape[0] > _DEPTH_SAMPLES:  # the measure is coarse-scale: cap its O(n * facets) cost
+        q = q[np.linspace(0, q.shape[0] - 1, _DEPTH_SAMPLES).round().astype(np.intp)]
     if q.shape[0] < 4:
         return 0.0
     try:
