@@ -341,6 +341,13 @@ def test_inflection_of_two_exact_elastica_halves(kl, kr, nl, nr, span_l, span_r,
     assert abs(est.index - syn.joint) <= 1
 
 
+def test_inflection_dense_polyline():
+    # 20001 vertices: step (1) measures convexity on 1024 sampled vertices
+    x = np.linspace(-1.0, 2.5, 20001)
+    est = keyline.estimate_inflection(np.column_stack([x, x**3 / 3 - 0.4 * x**2]))
+    assert abs(x[est.index] - 0.4) <= x[1] - x[0] + 1e-12
+
+
 def test_inflection_follows_fig14_steps_on_a_cubic():
     x = np.linspace(-1.5, 2.0, 301)
     est = keyline.estimate_inflection(np.column_stack([x, x**3 / 3 - 0.3 * x**2]))
