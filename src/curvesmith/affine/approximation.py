@@ -515,7 +515,8 @@ class Approximation:
     t : (M,) ndarray
         Parameters of the vertices on the replacement curve, in sample units
         (``x_i = f~(t_i)``; may exceed the last sample where the final arc was
-        extrapolated).
+        extrapolated). Closed curves: increasing from ``t_0`` in ``[0, N)``
+        (``x_0`` is moved off the first sample when closing needs it).
     t1 : float
         The optimised parameter of ``x_1``.
     objective : float
@@ -916,7 +917,7 @@ def _approximate_closed(cv, n, search, xtol, iterations, close_abs) -> Approxima
     z3 = np.array([z[0], 0.0, z[1]])
     full, ts, err = _closing(cv, z3, sign, n)
     if err > 1e-3 * close_abs:
-        z3 = least_squares(residual, z3, args=(1e-4,), max_nfev=300, **opts).x
+        z3 = least_squares(residual, z3, args=(1e-4,), max_nfev=60, **opts).x
         z3 = least_squares(residual, z3, args=(0.0,), max_nfev=100, **opts).x  # polish closure
         full, ts, err = _closing(cv, z3, sign, n)
     piece.evaluations += 2
@@ -940,7 +941,7 @@ def _approximate_closed(cv, n, search, xtol, iterations, close_abs) -> Approxima
         curvature=k,
         kappa_m=k * abs(area) ** (-2.0 / 3.0),
         valid=np.ones(n, dtype=bool),
-        t=np.asarray(ts[:n]),
+        t=np.asarray(ts[:n]) - math.floor(ts[0] / cv.n) * cv.n,  # t_0 in [0, N)
         t1=t1,
         objective=psi,
         success=bool(ok),
