@@ -422,3 +422,21 @@ def test_curve_with_three_inflections():
     exact = -1 / (3 * s ** (2 / 3)) - 5 * np.cos(xm) ** 2 / (9 * s ** (8 / 3))
     rel4 = np.abs(res4.kappa_m[res4.valid] / exact - 1)[s > 0.3]
     assert rel4.max() < 0.05
+
+
+@settings(max_examples=12)
+@given(st.integers(0, 10_000), st.integers(6, 30))
+def test_property_convex_curves_give_g2_affine_arc_length_polylines(seed, vertices):
+    rng = np.random.default_rng(seed)
+    ang = np.sort(rng.uniform(0, 1.7 * np.pi, 7))  # convex control polygon: no inflection
+    m = rng.normal(size=(2, 2)) + 2 * np.eye(2)
+    control = np.c_[np.cos(ang), np.sin(ang)] @ m.T
+    p = affine.bezier_curve(control, np.linspace(0, 1, 20 * vertices))
+    res = affine.approximate(p, vertices=vertices)
+    assert res.success, res.message
+    assert res.points.shape == (vertices, 2)
+    assert all(np.isfinite(f).all() for f in (res.points, res.curvature, res.kappa_m, res.t))
+    assert affine.is_affine_arc_length(res.points, rtol=1e-9)
+    left, right = affine.joint_curvatures(res.points)
+    np.testing.assert_allclose(left, right, rtol=1e-7)
+    assert res.objective >= 0 and abs(res.end_gap) < 1.0
