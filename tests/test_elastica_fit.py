@@ -197,7 +197,9 @@ def test_noise_level_estimate():
 
 def test_ipopt_backend_matches_least_squares():
     """The paper's backend (cyipopt, limited-memory quasi-Newton Hessian) reaches the same fit."""
-    pytest.importorskip("cyipopt", reason="install curvesmith[ipopt]")
+    import cyipopt  # the ipopt extra is installed in CI: this test must run, not skip
+
+    assert hasattr(cyipopt, "minimize_ipopt")
     rng = np.random.default_rng(11)
     clean = sample((0.0, 0.0, 0.1, 0.3, 0.05, 0.2, 0.6), 80)
     data = clean + rng.normal(scale=1e-3, size=clean.shape)
@@ -243,3 +245,14 @@ def test_five_points_are_enough():
     pts = sample(p, 5)
     res = fit(pts, start=(0.0, 0.0, 0.31, 0.2, 0.21, 0.29, 0.62))
     assert res.success and res.max_distance < 1e-9
+
+
+def test_ipopt_backend_missing_dependency_error(monkeypatch):
+    import sys
+
+    from curvesmith.errors import MissingDependencyError
+
+    monkeypatch.setitem(sys.modules, "cyipopt", None)
+    pts = sample((0.0, 0.0, 0.05, 0.3, 0.06, 0.4, 0.7), 30)
+    with pytest.raises(MissingDependencyError, match=r"curvesmith\[ipopt\]"):
+        fit(pts, method="ipopt")
