@@ -212,11 +212,16 @@ def _solve(data, start: ElasticaParams, pinned: dict[int, float], method: str, m
         ok = res.status > 0
         return prob.full(res.x), int(res.njev or res.nfev), ok, str(res.message)
     cyipopt = require("cyipopt", "ipopt", "fit(..., method='ipopt')")
+    # Variables scaled by the column norms of the Jacobian at the start (what
+    # least_squares does with x_scale="jac"): d gamma_n / dz grows like n, so
+    # unscaled the quasi-Newton iteration can wander off on long curves.
+    scale = np.linalg.norm(prob.jacobian(x0), axis=0)
+    scale = np.where(scale > 0, scale, 1.0)
     res = cyipopt.minimize_ipopt(
-        prob.objective,
-        x0,
-        jac=prob.gradient,
-        bounds=list(zip(lo, hi, strict=True)),
+        lambda y: prob.objective(y / scale),
+        x0 * scale,
+        jac=lambda y: prob.gradient(y / scale) / scale,
+        bounds=list(zip(lo * scale, hi * scale, strict=True)),
         options={
             "hessian_approximation": "limited-memory",
             "tol": tol,
@@ -226,7 +231,7 @@ def _solve(data, start: ElasticaParams, pinned: dict[int, float], method: str, m
         },
     )
     ok = bool(res.success)
-    return prob.full(res.x), int(res.nit), ok, str(res.message)
+    return prob.full(res.x / scale), int(res.nit), ok, str(res.message)
 
 
 def _segment_index_length(p: ElasticaParams) -> float:
