@@ -582,10 +582,16 @@ def test_cli_keyline_bundled_scan_and_multi_curve_csv(tmp_path):
     args = [str(data.path("keyline_scan_b.csv")), str(tmp_path / "two.csv"), "-o", str(out)]
     result = CliRunner().invoke(keyline_command, [*args, "--step", "1.0"])
     assert result.exit_code == 0, result.output
-    rows = json.loads((out / "keyline_table.json").read_text())["rows"]
-    assert [r["curve"] for r in rows] == ["keyline_scan_b"] * 2 + ["two_upper"] * 2 + [
-        "two_lower"
-    ] * 2
+    table = json.loads((out / "keyline_table.json").read_text())
+    rows = table["rows"]
+    names = ["keyline_scan_b", "two_upper", "two_lower"]
+    assert [r["curve"] for r in rows] == [n for n in names for _ in range(2)]
+    for s, side in enumerate(("left", "right")):
+        summ = table["summary"][side]
+        vals = np.array([r["k"] for r in rows[s::2]])
+        assert summ["count"] == 3
+        assert summ["mean"]["k"] == pytest.approx(vals.mean(), rel=1e-12)
+        assert summ["std"]["k"] == pytest.approx(vals.std(), rel=1e-9, abs=1e-15)
     assert all(r["success"] for r in rows)
     assert (out / "two_upper_fit.csv").is_file() and (out / "two_lower_fit.csv").is_file()
     # the bundled scan's truth (PROVENANCE_keyline.md): k = 0.28 left, 0.42 right

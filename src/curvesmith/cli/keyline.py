@@ -13,7 +13,7 @@ import numpy as np
 
 from ..errors import CurveError
 
-__all__ = ["TABLE_FIELDS", "keyline_command", "read_scan"]
+__all__ = ["SUMMARY_PARAMS", "TABLE_FIELDS", "keyline_command", "read_scan"]
 
 #: Columns of ``keyline_table.csv`` (and keys of the rows in ``keyline_table.json``).
 TABLE_FIELDS = (
@@ -35,6 +35,9 @@ TABLE_FIELDS = (
     "output",
     "error",
 )
+
+#: Parameters averaged in the ``summary`` of ``keyline_table.json`` (Table 1 of the paper).
+SUMMARY_PARAMS = ("h", "phi", "phi_deg", "z", "q", "k")
 
 #: Suffixes read as plain whitespace- or comma-separated numbers with numpy.
 PLAIN_SUFFIXES = (".xyz", ".txt", ".dat")
@@ -133,6 +136,20 @@ def _write_fit(res, dest: Path) -> None:
     write_curves(curves, str(dest))
 
 
+def _summary(rows: list[dict]) -> dict:
+    """Mean and standard deviation per side over the converged fits, like Table 1."""
+    out = {}
+    for side in ("left", "right"):
+        good = [r for r in rows if r["side"] == side and r["success"] is True]
+        entry: dict = {"count": len(good)}
+        if good:
+            vals = np.array([[r[c] for c in SUMMARY_PARAMS] for r in good], dtype=float)
+            entry["mean"] = dict(zip(SUMMARY_PARAMS, vals.mean(axis=0).tolist(), strict=True))
+            entry["std"] = dict(zip(SUMMARY_PARAMS, vals.std(axis=0).tolist(), strict=True))
+        out[side] = entry
+    return out
+
+
 def _json_value(v):
     if isinstance(v, float) and not math.isfinite(v):
         return None
@@ -178,7 +195,8 @@ def keyline_command(ctx, inputs, outdir, step, normal) -> None:
     Writes OUTDIR/<name>_fit.csv (the resampled keyline and the two fitted
     elasticae in the keyline's 2D frame, ids keyline/left/right) and the
     parameter table (h, phi, z, q, k per side, like Table 1) as
-    OUTDIR/keyline_table.csv and .json. A file that cannot be read or
+    OUTDIR/keyline_table.csv and .json (with the mean and standard deviation
+    per side over the converged fits). A file that cannot be read or
     fitted is reported in the table and on stderr; the others are still
     processed, and the exit status is then 1.
     """
@@ -229,7 +247,13 @@ def keyline_command(ctx, inputs, outdir, step, normal) -> None:
             {k: (repr(v) if isinstance(v, float) else v) for k, v in r.items()} for r in rows
         )
     (out / "keyline_table.json").write_text(
-        json.dumps({"rows": [{k: _json_value(v) for k, v in r.items()} for r in rows]}, indent=2),
+        json.dumps(
+            {
+                "rows": [{k: _json_value(v) for k, v in r.items()} for r in rows],
+                "summary": _summary(rows),
+            },
+            indent=2,
+        ),
         encoding="utf-8",
     )
     click.echo(f"fitted {fitted} keyline(s) from {len(inputs)} file(s); table: {table_csv}")
