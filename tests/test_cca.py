@@ -694,3 +694,23 @@ def test_min_factor_floor_reports_unsatisfied():
     assert cut >= 0.9 * a_profile * (1 - 1e-12)
     with pytest.raises(CurveError, match=r"min_factor must be in \[0, 1\), got 1"):
         cca.smooth(p, closed=True, min_factor=1.0)
+
+
+def test_end_edge_fig9_half_cut_and_shrinking():
+    p = np.array([[0, 0], [3, 0], [4, 2]], dtype=float)
+    out = cca.smooth(p, closed=False, alpha=0.25, restrict=False)
+    # layout: A = V0, G (apex on the end edge), L1, R1, apex on edge 1, V2
+    a_, g, l1, r1 = out[0], out[1], out[2], out[3]
+    v = p[1]
+    cut = 0.5 * ((v - l1)[0] * (r1 - l1)[1] - (v - l1)[1] * (r1 - l1)[0])  # signed cut at B
+    aug = 0.5 * ((g - a_)[0] * (l1 - g)[1] - (g - a_)[1] * (l1 - g)[0])  # triangle A G C
+    assert aug == pytest.approx(cut / 2, rel=1e-13)  # half the cut area (Fig. 9)
+    assert g[1] < 0 < r1[1]  # on the opposite side of AB to the cut corner
+    assert np.linalg.norm(g - a_) == pytest.approx(np.linalg.norm(g - l1), rel=1e-13)  # isosceles
+    # Lemmas 12-13: end edges shrink geometrically (eventually by < 1/sqrt(2) per step)
+    cur, lens = p, []
+    for _ in range(6):
+        cur = cca.smooth(cur, closed=False)
+        lens.append(np.linalg.norm(cur[1] - cur[0]))
+    ratios = np.array(lens[1:]) / np.array(lens[:-1])
+    assert np.all(ratios < 1 / np.sqrt(2))

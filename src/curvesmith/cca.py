@@ -37,10 +37,14 @@ where needed, vertex by vertex, in a few vectorized passes:
 * convex edges and end edges: Definition 2 asks for the apex ``G`` strictly
   inside the triangle ``ECD`` bounded by the extended cutting lines, with
   ``|EF| / |IF| >= c > 1``. With ``beta_i`` the half interior angle at the
-  endpoints and ``gamma`` the apex half-angle, ``tan(beta_i) = |CF| / |EF|``
-  and ``tan(gamma) = |CF| / |IF|`` (Lemma 5 proof), so the condition is
-  ``tan(gamma) >= c tan(beta_i)`` for both endpoints (for the end edge of Fig. 9
-  ``tan(gamma) / tan(beta) = |EF| / |GF|``, the same form). As
+  endpoints and ``gamma`` the apex half-angle, ``tan(beta_1) = |CF| / |EF|``,
+  ``tan(beta_2) = |DF| / |EF|``, and the sides CG, DG meet the line EF at
+  heights ``|CF| / tan(gamma)`` and ``|DF| / tan(gamma)``. The Lemma 5 proof
+  uses ``|MF| <= |IF|`` with M on CG, so I lies on the extension of the other
+  side and the condition reads ``tan(gamma) >= c tan(beta_i)`` for both
+  endpoints -- which is also exactly "G strictly inside ECD" (``gamma > beta_i``)
+  with a margin. For the end edge of Fig. 9 ``tan(gamma) / tan(beta) = |EF| / |GF|``,
+  the same form. As
   ``tan(gamma) = w^2 / |A|`` for base half-width ``w`` and area ``A``, both
   endpoint alphas are scaled by ``sqrt(w^2 / (c T |A|))``, ``T = max tan(beta_i)``,
   when it fails (the very obtuse angles of Fig. 12). Scaling only decreases the
@@ -56,11 +60,19 @@ where needed, vertex by vertex, in a few vectorized passes:
   :class:`CCAResult`.
 * at an exactly straight vertex (``tau = 0``, outside Lemma 4's hypotheses,
   where the bounding-hull wedge is empty) no restriction is imposed.
+* in 3D an edge counts as convex when ``K_B . K_C > 0`` and as an inflection
+  edge when ``K_B . K_C < 0``; the same bounds apply to ``|A| = |K_B + K_C| / 2``.
 
 With the defaults ``c = 2`` (the rate ``min(2, c)`` of the Lemma 5 proof is
-then 2) and ``C = 1/2``, convex input with all angles < pi stays convex and
-every new angle exceeds the old angle it replaces (Lemma 4); every new edge is
-shorter than the edge it comes from (at most 2/3 of it; Lemma 6).
+then 2), ``C = 1/2`` and ``min_factor = 0``, convex input with all angles < pi
+stays convex and every new angle exceeds the old angle it replaces (Lemma 4);
+every new edge is shorter than the edge it comes from (at most 2/3 of it;
+Lemma 6). The price, visible in the ``cca`` demo: next to a nearly straight
+vertex Definition 2 can only be met with a tiny cut (``K`` must vanish as
+``tan(beta)`` of the neighbour blows up), so such corners stay almost uncut.
+Definition 2 also asks ``alpha_i > epsilon``; ``min_factor`` is that floor, as
+a fraction of the profile alpha (e.g. 0.8 smooths those corners; edges where
+the floor binds are counted in :attr:`CCAResult.unsatisfied`).
 
 alpha-profiles (section 4)
 --------------------------
@@ -90,6 +102,17 @@ every plane -- exactly invariant, and which reduces to the 2D rule (net area
 at inflections) for coplanar half-planes. Fig. 11 is 2D only (the paper:
 "the concept of an inflection edge is meaningless" in 3D).
 
+Input handling and numerics
+---------------------------
+Consecutive duplicate points are removed first (an anchor on a removed copy
+moves to the kept one); fewer than 3 (closed) or 2 (open) distinct points
+raise :class:`~curvesmith.errors.CurveError`. The work is done relative to the
+first vertex; fixed vertices (ends, anchors) are returned bit-exact. Zero-length
+edges created on the way (spikes) are compacted; nothing divides by zero.
+Every step is a fixed sequence of whole-array numpy operations (no loop per
+vertex); the restriction passes after the first touch only the edges next to
+vertices just decreased.
+
 Vertex count
 ------------
 Per step a closed n-gon becomes a 3n-gon; an open polyline with N vertices
@@ -105,6 +128,8 @@ Paper typos found while verifying (scratch scripts, then the tests)
   interior angle, so the range is ``pi/6 <= beta < pi/2`` (at pi/2 eq. (5) has
   the limit ``8 alpha^2 + 4 alpha - 1 = 0``, checked).
 * Proof of Lemma 4: "G is strictly interior to triangle GCD" should read ECD.
+* Proof of Lemma 2: "pi(E) and pi(F) are internal to AB and AC" should read
+  AB and BC.
 * Eq. (5) itself is right: its small root ``1 / (2 + sqrt(2 tan(gamma) sin(2 beta)))``
   turns the square into a regular 12-gon (all edges equal to 1e-15) and gives
   every apex of a regular n-gon the half-angle ``gamma = (beta + pi)/3`` of
@@ -888,11 +913,16 @@ def _step2(x, y, fixed, closed, alpha_fn, restrict, c, C, tilt_n, balance_tol, l
     Gy *= 0.5
     Gy -= s * ux
 
-    fig = (K * Kn < 0) & (np.abs(K + Kn) <= (0.5 * balance_tol) * (np.abs(K) + np.abs(Kn)))
+    # Fig. 11 candidates: inflection edges (opposite cut signs), usually few
+    cand = np.flatnonzero(K * Kn < 0)
+    kc, knc = K[cand], Kn[cand]
+    ok = np.abs(kc + knc) <= (0.5 * balance_tol) * (np.abs(kc) + np.abs(knc))
+    ok &= w[cand] > 0
     if edge_on is not None:
-        fig &= edge_on
-    fig &= w > 0
-    nfig = int(np.count_nonzero(fig))
+        ok &= edge_on[cand]
+    fig = np.zeros(n, dtype=bool)
+    fig[cand[ok]] = True
+    nfig = int(np.count_nonzero(ok))
     single = (a == 0) | fixed if any_fixed else a == 0
     if nfig == 0 and edge_on is None and not single.any():
         # regular layout [L_i, R_i, G_i]
