@@ -661,3 +661,35 @@ def test_fit_with_given_inflection_matches_the_estimate_when_equal():
     assert shifted.table()[1]["n_points"] == auto.table()[1]["n_points"] - 3
     # pinned 3 vertices into the right half: the right side is still one exact elastica
     assert shifted.right.rms < 1e-8
+
+
+def test_cli_keyline_non_converged_side_is_reported_and_exits_1(tmp_path, monkeypatch):
+    import dataclasses
+    import json
+
+    from click.testing import CliRunner
+
+    from curvesmith.cli.keyline import keyline_command
+
+    _scan_files(tmp_path)
+    real_fit = keyline.fit
+
+    def right_fails(*args, **kwargs):
+        res = real_fit(*args, **kwargs)
+        failed = dataclasses.replace(res.right, success=False, message="did not converge")
+        return dataclasses.replace(res, right=failed)
+
+    monkeypatch.setattr(keyline, "fit", right_fails)
+    out = tmp_path / "o"
+    args = [str(tmp_path / "a.xyz"), str(tmp_path / "b.csv"), "-o", str(out), "--step", "1"]
+    result = CliRunner().invoke(keyline_command, args)
+    assert result.exit_code == 1
+    assert "fitted 2 keyline(s)" in result.output
+    assert "fit did not converge" in result.output
+    table = json.loads((out / "keyline_table.json").read_text())
+    assert [(r["side"], r["success"], r["error"]) for r in table["rows"][:2]] == [
+        ("left", True, ""),
+        ("right", False, "right fit: did not converge"),
+    ]
+    assert table["summary"]["left"]["count"] == 2 and table["summary"]["right"]["count"] == 0
+    assert (out / "a_fit.csv").is_file() and (out / "b_fit.csv").is_file()

@@ -102,6 +102,7 @@ def read_scan(path: str | Path) -> list[tuple[str, np.ndarray]]:
 
 def _rows_for(file: str, name: str, res, out_name: str) -> list[dict]:
     rows = []
+    side_message = {"left": res.left.message, "right": res.right.message}
     for row in res.table():
         full = dict.fromkeys(TABLE_FIELDS, "")
         full.update(row)
@@ -112,7 +113,7 @@ def _rows_for(file: str, name: str, res, out_name: str) -> list[dict]:
             inflection_index=res.inflection.index,
             plane_rms=res.plane.rms_distance if res.plane is not None else 0.0,
             output=out_name,
-            error="" if res.success else f"{row['side']} fit: " + res.message,
+            error="" if row["success"] else f"{row['side']} fit: {side_message[row['side']]}",
         )
         rows.append(full)
     return rows
