@@ -714,3 +714,49 @@ def test_end_edge_fig9_half_cut_and_shrinking():
         lens.append(np.linalg.norm(cur[1] - cur[0]))
     ratios = np.array(lens[1:]) / np.array(lens[:-1])
     assert np.all(ratios < 1 / np.sqrt(2))
+
+
+@given(random_polygons(min_n=4, max_n=9), st.data())
+def test_random_anchors_keep_every_piece(p, data):
+    n = len(p)
+    anchors = sorted(
+        set(data.draw(st.lists(st.integers(0, n - 1), min_size=1, max_size=3), label="anchors"))
+    )
+    out = cca.smooth(p, closed=True, iterations=2, anchors=anchors)
+    assert_area_kept(p, out)
+    pos = [int(np.flatnonzero(np.all(out == p[a], axis=1))[0]) for a in anchors]
+    assert pos == sorted(pos)
+    for k, a in enumerate(anchors):  # each piece against its own chord
+        b = anchors[(k + 1) % len(anchors)]
+        piece = p[a : b + 1] if b > a else np.vstack([p[a:], p[: b + 1]])
+        s0, s1 = pos[k], pos[(k + 1) % len(pos)]
+        seg = out[s0 : s1 + 1] if s1 > s0 else np.vstack([out[s0:], out[: s1 + 1]])
+        assert_area_kept(piece, seg)
+
+
+@given(random_polygons(min_n=3, max_n=8), st.data())
+def test_duplicates_and_collinear_insertions(p, data):
+    rows = []
+    for i in range(len(p)):
+        rows.append(p[i])
+        kind = data.draw(st.sampled_from(["none", "dup", "mid"]), label=f"insert {i}")
+        if kind == "dup":
+            rows.append(p[i].copy())
+        elif kind == "mid":
+            rows.append(0.5 * (p[i] + p[(i + 1) % len(p)]))
+    q = np.array(rows)
+    out = cca.smooth(q, closed=True, iterations=3)
+    assert np.isfinite(out).all()
+    assert_area_kept(p, out)
+
+
+@given(st.lists(st.tuples(coord, coord, coord), min_size=4, max_size=8), st.integers(1, 4))
+def test_3d_vector_area_random(pts, iterations):
+    p = np.array(pts)
+    if np.linalg.norm(np.diff(p, axis=0), axis=1).min() < 1e-3:
+        p = p + np.arange(len(p))[:, None] * np.array([1.0, 0.5, -0.25])
+    out = cca.smooth(p, closed=True, iterations=iterations)
+    assert np.isfinite(out).all()
+    va0, va1 = vector_area(p), vector_area(out)
+    scale = np.abs(p - p.mean(axis=0)).max() ** 2 * len(p)
+    np.testing.assert_allclose(va1, va0, rtol=0, atol=1e-13 * scale)
