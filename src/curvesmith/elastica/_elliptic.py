@@ -137,16 +137,16 @@ def ellipj_am(u, m):
     return _ellipj_unit(np.array(u), np.array(m))
 
 
-def _legendre_d(phi: np.ndarray, m: np.ndarray) -> np.ndarray:
-    """Legendre's ``D(phi|m) = int_0^phi sin^2 / sqrt(1 - m sin^2)``, any real phi, 0 <= m <= 1."""
+def _legendre_d(phi: np.ndarray, m) -> np.ndarray:
+    """Legendre's ``D(phi|m) = int_0^phi sin^2 / sqrt(1 - m sin^2)``, any real phi, 0 <= m < 1."""
     j = np.round(phi / np.pi)
     r = phi - j * np.pi
     s = np.sin(r)
     c = np.cos(r)
     part = s**3 * elliprd(c * c, 1.0 - m * s * s, 1.0) / 3.0
-    with np.errstate(divide="ignore", invalid="ignore"):
-        complete = np.where(j != 0, elliprd(0.0, 1.0 - m, 1.0) / 3.0, 0.0)
-    return part + 2.0 * j * complete
+    if np.ndim(m) == 0:
+        return part + (2.0 / 3.0) * float(elliprd(0.0, 1.0 - m, 1.0)) * j
+    return part + (2.0 / 3.0) * elliprd(0.0, 1.0 - m, 1.0) * j
 
 
 def sd2_integral(u, m) -> np.ndarray:

@@ -27,6 +27,7 @@ systematic residuals far above that level and is reported as ``success=False``.
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -38,7 +39,7 @@ from .._validate import as_float, as_int, as_points
 from ..errors import CurveError, require
 from ._resample import equilateral
 from .exact import ElasticaParams, _as_params, _positions, _positions_and_jacobian, case_of
-from .guess import _initial_guess
+from .guess import _data_curvature, _initial_guess
 
 __all__ = ["PARAM_NAMES", "FitResult", "fit"]
 
@@ -129,6 +130,11 @@ def _spacing_check(p: np.ndarray, tol: float) -> None:
         )
 
 
+@functools.lru_cache(maxsize=4)
+def _savgol(window: int, order: int) -> np.ndarray:
+    return savgol_coeffs(window, order)
+
+
 def _noise_level(p: np.ndarray) -> float:
     """Rms distance of the data from a sliding cubic fit (window 7), de-biased.
 
@@ -138,7 +144,7 @@ def _noise_level(p: np.ndarray) -> float:
     """
     n = p.shape[0]
     window, order = (7, 3) if n >= 7 else (5, 2)
-    coeffs = savgol_coeffs(window, order)
+    coeffs = _savgol(window, order)
     resid = np.stack(
         [
             p[window // 2 : n - window // 2, j] - np.convolve(p[:, j], coeffs, mode="valid")
@@ -341,7 +347,7 @@ def fit(
         first = _initial_guess(data)
     else:
         first = _as_params(start)
-        _initial_guess(data)  # the same input checks (collinear data) as without a start
+        _data_curvature(data)  # the same input checks (collinear data) as without a start
     first = ElasticaParams(*[pinned.get(i, v) for i, v in enumerate(first)])
     noise = _noise_level(data)
     extent = float(np.ptp(data, axis=0).max())

@@ -104,10 +104,9 @@ def initial_guess(points) -> ElasticaParams:
     return _initial_guess(p)
 
 
-def _initial_guess(p: np.ndarray) -> ElasticaParams:
-    n_pts = p.shape[0]
-    edges = np.diff(p, axis=0)
-    h = float(np.hypot(*edges.T).mean())
+def _data_curvature(p: np.ndarray) -> tuple[float, np.ndarray]:
+    """Mean edge length and discrete curvature (4.33) of data; refuses collinear data."""
+    h = float(np.hypot(*np.diff(p, axis=0).T).mean())
     kappa = _curvature(p, h)  # kappa_1 .. kappa_{N-2}, eq. (4.33)
     extent = float(np.ptp(p, axis=0).max())
     if not np.all(np.isfinite(kappa)) or np.max(np.abs(kappa)) * extent < 1e-9:
@@ -115,6 +114,12 @@ def _initial_guess(p: np.ndarray) -> ElasticaParams:
             "points are collinear (no curvature to fit): "
             f"max |kappa| = {np.max(np.abs(kappa)):.3g} over an extent of {extent:.6g}"
         )
+    return h, kappa
+
+
+def _initial_guess(p: np.ndarray) -> ElasticaParams:
+    n_pts = p.shape[0]
+    h, kappa = _data_curvature(p)
     mirrored = float(np.sum(kappa)) < 0.0
     q_pts = p * np.array([1.0, -1.0]) if mirrored else p
     est = _pseudo_code(q_pts, h, -kappa if mirrored else kappa)
