@@ -147,6 +147,15 @@ def test_parabola_length_is_stable_for_nearly_straight_corners(bend, skew):
 def test_parabola_length_degenerate_collinear():
     assert derham.parabola_length([[0, 0], [1, 0], [3, 0]]) == pytest.approx(1.5, rel=1e-15)
     assert derham.parabola_length([[0, 0], [2, 0], [4, 0]]) == pytest.approx(2.0, rel=1e-15)
+    # a cusp: r(t) = -1 + 3t changes sign at t = 1/3, length 1/6 + 2/3
+    assert derham.parabola_length([[1, 0], [0, 0], [2, 0]]) == pytest.approx(5 / 6, rel=1e-15)
+    near_cusp = [[1.0, 0.0], [0.0, 1e-158], [2.0, 0.0]]
+    assert derham.parabola_length(near_cusp) == pytest.approx(5 / 6, rel=1e-15)
+    # 5/6 + 6.3523179717107556e-11 by mpmath.quad at 40 digits (split at t = 1/3);
+    # scipy's quad is off by 2.4e-11 here
+    near_cusp = [[1.0, 0.0], [0.0, 1e-5], [2.0, 0.0]]
+    expected = 5 / 6 + 6.3523179717107556e-11
+    assert derham.parabola_length(near_cusp) == pytest.approx(expected, rel=1e-15, abs=0)
 
 
 def test_gamma_2_converges_with_ratio_one_quarter():
@@ -350,6 +359,20 @@ def test_default_method_certified_to_1e12(gamma, target):
         derham.control_polygon(A, UA, C, UC, res.x), gamma=gamma, levels=10
     )
     assert lo <= res.upper and res.lower <= up
+
+
+@pytest.mark.parametrize("gamma", [1.2, 3.0, 12.0])
+@pytest.mark.parametrize("frac", [1e-4, 0.9999])
+def test_default_method_at_the_ends_of_the_admissible_interval(gamma, frac):
+    # near |AC| (x -> 0) or |AB| + |BC| (x -> 1) a side of S_0..S_3 is tiny, the length
+    # sequences are pre-asymptotic at the model level and the certificate's defect
+    # correction has to repair the model
+    lo, hi = math.sqrt(10), (5 + math.sqrt(13)) / 2
+    target = lo + frac * (hi - lo)
+    res = derham.interpolate(A, UA, C, UC, length=target, gamma=gamma, tol=1e-9)
+    assert res.success and res.certified, res.message
+    assert target - 1e-9 <= res.lower <= res.upper <= target + 1e-9
+    assert res.evaluations <= 8
 
 
 def test_default_uses_far_fewer_evaluations_than_secant():

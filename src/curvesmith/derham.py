@@ -406,11 +406,13 @@ def _parabola_arcs(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Length of ``t -> |a + t (b - a)|`` integrated over [0, 1], per row; a, b are (K, 2).
 
     Corrected closed form of section 2, written without cancellation: with
-    ``d = b - a``, ``sigma_0 = a.d/|d|``, ``sigma_1 = b.d/|d|`` and
-    ``h = |det(a, d)| / |d|``,
+    ``d = b - a``, ``sigma_0 = a.d/|d|``, ``sigma_1 = b.d/|d|``,
+    ``h = |det(a, d)| / |d|`` (after reversing the arc if ``sigma_0 + sigma_1 < 0``),
     ``length = (|a| + sigma_1 (sigma_0 + sigma_1) / (|a| + |b|)) / 2
-    + h² c log1p(z) / (2 z)``, ``c = (1 + (sigma_0 + sigma_1)/(|a| + |b|)) / (sigma_0 + |a|)``,
-    ``z = |d| c`` (after reversing the arc if ``sigma_0 + sigma_1 < 0``).
+    + h² log1p(z) / (2 |d|)``, ``z = |d| (1 + (sigma_0 + sigma_1) / (|a| + |b|)) /
+    (sigma_0 + |a|)``, which is ``[sigma |r| + h² ln(sigma + |r|)] / (2 |d|)``
+    between ``sigma_0`` and ``sigma_1`` rearranged. Exact for straight corners
+    and for cusps (``b`` antiparallel to ``a``).
     """
     flip = ((a + b) * (b - a)).sum(axis=1) < 0.0
     a, b = np.where(flip[:, None], -b, a), np.where(flip[:, None], -a, b)
@@ -418,22 +420,29 @@ def _parabola_arcs(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     nd = np.hypot(d[:, 0], d[:, 1])
     na = np.hypot(a[:, 0], a[:, 1])
     nb = np.hypot(b[:, 0], b[:, 1])
-    straight = nd <= 1e-14 * np.maximum(na, nb)
-    nds = np.where(straight, 1.0, nd)
-    s0 = (a * d).sum(axis=1) / nds
-    s1 = (b * d).sum(axis=1) / nds
-    h = np.abs(a[:, 0] * d[:, 1] - a[:, 1] * d[:, 0]) / nds
+    out = 0.5 * (na + nb)  # straight corners (|d| negligible): the arc is the segment
+    bent = nd > 1e-14 * np.maximum(na, nb)
+    a, b, d, nd, na, nb = a[bent], b[bent], d[bent], nd[bent], na[bent], nb[bent]
+    s0 = (a * d).sum(axis=1) / nd
+    s1 = (b * d).sum(axis=1) / nd
+    h = np.abs(a[:, 0] * d[:, 1] - a[:, 1] * d[:, 0]) / nd
     ssum = s0 + s1
     term1 = 0.5 * (na + s1 * ssum / (na + nb))
     # sigma_0 + |a|, stably: h² / (|a| - sigma_0) when sigma_0 < 0.
-    base = np.where(s0 >= 0.0, s0 + na, h * h / np.where(s0 >= 0.0, 1.0, na - s0))
+    neg = s0 < 0.0
+    base = np.where(neg, h * h / np.where(neg, na - s0, 1.0), s0 + na)
+    # log term h² ln((sigma_1 + |b|) / (sigma_0 + |a|)) / (2 |d|) = h² log1p(z) / (2 |d|),
+    # z = |d| num / base with num = 1 + (sigma_0 + sigma_1)/(|a| + |b|) in [1, 2]; base = 0
+    # only at an exact cusp, where h = 0. Near a cusp z is huge: use log z.
     ok = base > 0.0
-    c = (1.0 + ssum / (na + nb)) / np.where(ok, base, 1.0)
-    z = nd * c
-    zs = np.where(z > 0.0, z, 1.0)
-    ratio = np.where(z > 1e-300, np.log1p(zs) / zs, 1.0)
-    term2 = np.where(ok, 0.5 * h * h * c * ratio, 0.0)
-    return np.where(straight, 0.5 * (na + nb), term1 + term2)
+    num = 1.0 + ssum / (na + nb)
+    logz = np.log(nd) + np.log(num) - np.log(np.where(ok, base, 1.0))
+    big = logz > 30.0
+    z = nd * num / np.where(ok & ~big, base, 1.0)
+    log1pz = np.where(big, logz + np.log1p(np.exp(-np.maximum(logz, 30.0))), np.log1p(z))
+    term2 = np.where(ok, 0.5 * h * h * log1pz / nd, 0.0)
+    out[bent] = term1 + term2
+    return out
 
 
 def parabola_length(points) -> float:
@@ -1039,8 +1048,9 @@ _TAYLOR = 12  # order of the local Taylor model of f used by the default method
 def _taylor_step(c: np.ndarray, target: float, lo: float, hi: float, x: float):
     """Solve ``sum_k c_k h^k = target`` for h by Newton's method on the polynomial.
 
-    Returns ``(h, tail)`` with ``tail`` an estimate of the truncation error
-    ``4 |c_K h^K|``, or ``(None, inf)`` if Newton fails or leaves ``(lo, hi)``.
+    Returns ``(h, tail)`` with ``tail = 4 max_{k >= K-2} |c_k h^k|``, an estimate of
+    the truncation error (large when ``|h|`` exceeds the radius of convergence),
+    or ``(None, inf)`` if Newton fails or leaves ``(lo, hi)``.
     """
     g, d1, d2 = c[0] - target, c[1], 2.0 * c[2]
     den = 2.0 * d1 * d1 - g * d2
@@ -1054,36 +1064,36 @@ def _taylor_step(c: np.ndarray, target: float, lo: float, hi: float, x: float):
             return None, math.inf
         if abs(step) <= 4.0 * _EPS * max(abs(h), 1e-300) or step == 0.0:
             break
-    return h, 4.0 * abs(c[-1]) * abs(h) ** (len(c) - 1)
+    k = len(c) - 1
+    tail = 4.0 * max(abs(c[j]) * abs(h) ** j for j in range(k - 2, k + 1))
+    return h, tail
 
 
 def _accelerated(prob: _Problem, target: float, tol: float, cap: int):
     """Local Taylor inversion of an accurate length model, then a certificate.
 
     Model: the Taylor polynomial of order 12 of ``f`` at the current x -- for
-    ``gamma = 2`` the closed form plus Gauss-Legendre coefficients, otherwise
-    Wynn's epsilon extrapolation of the Taylor coefficients of
-    ``L^0(x) .. L^m(x)``, ``m = 8, 10, 12`` by tolerance (each ``|side|`` is the square root of a
-    quadratic in x, whose coefficients follow from a recurrence). The model's
-    constant term is accurate to about 1e-13 relative on the paper's data
-    (measured against level 20). From the level-0 starting guess
-    (:func:`_initial_guess`), the polynomial is solved for the step; the
-    iteration keeps a bracket ``[x_lo, x_hi]`` with ``f(x_lo) < length < f(x_hi)``
-    (``f`` increases, Proposition 3) and bisects when the step fails or leaves it.
-    When the truncation estimate of the step is below ``tol / 10`` the step is
-    taken without another model evaluation and the result goes to the
-    certificate: the exact length (``gamma = 2``) or
-    ``l^n(x) <= f(x) <= L^{n+1}(x)`` at the level ``n`` predicted from the
-    observed contraction of ``L^k - l^k``. If that certificate is narrow enough
-    but off-centre, x is corrected by a Newton step on its midpoint and
-    certified again. Typically two length evaluations in all.
+    ``gamma = 2`` the closed form plus Gauss-Legendre coefficients; otherwise
+    Wynn's epsilon extrapolation of ``L^0(x) .. L^m(x)`` and ``L^k'(x)`` with
+    the higher coefficients of ``L^m`` (``m = 8, 10, 12`` by tolerance; each
+    ``|side|`` is the square root of a quadratic in x, whose Taylor
+    coefficients follow from a recurrence). From the level-0 starting guess
+    (:func:`_initial_guess`) the polynomial is solved for the step; a bracket
+    ``[x_lo, x_hi]`` with ``f(x_lo) < length < f(x_hi)`` is kept (``f``
+    increases, Proposition 3) and bisected when a step fails or leaves it. When
+    the truncation estimate of a step is below ``tol / 10`` the step is taken
+    without another model evaluation and x goes to the certificate: the exact
+    length (``gamma = 2``) or ``l^n(x) <= f(x) <= L^{n+1}(x)`` at the level
+    ``n`` predicted from the observed contraction of ``L^k - l^k`` (deepened
+    while too wide). A narrow but off-centre certificate sends x back to the
+    model. Typically two length evaluations in all.
     """
     exact = prob.gamma == 2.0
-    # model level: Wynn's estimate at level 8 / 10 / 12 is good to about 1e-11 / 1e-13 / 1e-14
     m = 8 if tol >= 1e-7 else (10 if tol >= 1e-10 else 12)
     order = _TAYLOR
     beta = prob.beta
     m_round = 32.0 * _EPS * prob.f1
+    margin = _margin(_MAX_LEVEL, beta, prob.f1, 3 * 2.0**_MAX_LEVEL)
     last: dict[str, np.ndarray] = {}
 
     def model(x: float) -> np.ndarray:
@@ -1091,75 +1101,117 @@ def _accelerated(prob: _Problem, target: float, tol: float, cap: int):
             return prob.exact(x, order)
         s = prob.sums(x, m, order=order)
         last["s"] = s
-        return np.array([wynn_epsilon(s[:, order + 1 + k]) for k in range(order + 1)])
+        low, up = s[m, : order + 1], s[m, order + 1 :]
+        up_next = (1.0 - 2.0 * beta) * up + 2.0 * beta * low  # L^{m+1} and its coefficients
+        w_up, w_low = wynn_epsilon(s[:, order + 1]), wynn_epsilon(s[:, 0])
+        # Trust the extrapolation only inside the level-m bracket and when the two
+        # sequences agree; before the asymptotic regime (a tiny side of S_0..S_3) the
+        # smooth midpoint of the bracket is a safer model (the certificate corrects it).
+        if low[0] <= w_up <= up_next[0] and abs(w_up - w_low) <= 1e-3 * (up_next[0] - low[0]):
+            c = up.copy()
+            c[0] = w_up
+            c[1] = wynn_epsilon(s[:, order + 2])
+        else:
+            c = 0.5 * (low + up_next)
+        c[0] += bias[0]
+        return c
 
+    bias = [0.0]  # defect of the model measured by the last certificate
+    cert_lo, cert_hi = 0.0, 1.0  # bracket of the root proven by certificates
     x_lo, x_hi = 0.0, 1.0
     x = _initial_guess(prob, target)
     its = 0
     c = model(x)
-    while True:
-        g = float(c[0]) - target
-        if g < 0.0:
-            x_lo = x
-        else:
-            x_hi = x
-        if abs(g) + m_round <= (tol if exact else 0.1 * tol):
-            break  # x itself is the answer (the last evaluation certifies it for gamma = 2)
-        if its >= cap or x_hi - x_lo <= 4.0 * _EPS:
+    xc = x  # centre of the Taylor model c
+    lo = hi = float("nan")
+    n, ok = m, False
+    est = float(c[0])
+    corrected = False
+    for _ in range(8):
+        # model phase: Taylor steps until the truncation estimate is below tol / 10
+        while not corrected:
+            g = float(c[0]) - target if x == xc else math.nan
+            if x == xc:
+                if g < 0.0:
+                    x_lo = max(x_lo, x)
+                else:
+                    x_hi = min(x_hi, x)
+                if abs(g) + m_round <= (tol if exact else 0.1 * tol):
+                    break
+            if its >= cap or x_hi - x_lo <= 4.0 * _EPS:
+                break
+            h, tail = _taylor_step(c, target, x_lo, x_hi, xc)
+            its += 1
+            if h is None:
+                x = xc = 0.5 * (x_lo + x_hi)
+                c = model(x)
+                continue
+            x = xc + h
+            if exact or tail > 0.1 * tol:
+                xc = x
+                c = model(x)
+                continue
+            break  # gamma != 2: certify x without another model evaluation
+        if exact:
+            est = float(c[0])
+            lo, hi = est - m_round, est + m_round
+            ok = target - tol <= lo and hi <= target + tol
             break
-        h, tail = _taylor_step(c, target, x_lo, x_hi, x)
-        x = 0.5 * (x_lo + x_hi) if h is None else x + h
-        its += 1
-        final = tail <= 0.1 * tol
-        if exact or not final:
-            c = model(x)
-            continue
-        break  # gamma != 2: go to the certificate at x without another model evaluation
-    if exact:
-        f = float(c[0])
-        g = f - target
-        lo, hi = f - m_round, f + m_round
+        s = last["s"]
+        if tol <= 2.0 * margin:
+            lo, hi = _certified(s, m, beta, prob.f1, 3)
+            est = float(np.clip(c[0], lo, hi))
+            break
+        width = (1.0 - 2.0 * beta) * (s[:, order + 1] - s[:, 0])
+        n = min(max(_predict_level(width, m, 0.8 * tol, 2.0 * margin), m, n), 24)
+        while True:
+            sc = prob.sums(x, n)
+            lo, hi = _certified(sc, n, beta, prob.f1, 3)
+            if hi - lo <= tol or n >= 24:
+                break
+            n += 1
+        # the certificate's own sequence L^0(x) .. L^n(x), extrapolated
+        est = float(np.clip(wynn_epsilon(sc[:, 1]), lo, hi))
         ok = target - tol <= lo and hi <= target + tol
+        if ok or hi - lo > tol or its >= cap:
+            break
+        # Narrow but off-centre: the model is biased here (e.g. pre-asymptotic
+        # levels when a side of S_0..S_3 is tiny). Shift its constant term by the
+        # certified defect at x and step again from its centre (defect correction).
+        if hi < target:
+            cert_lo = max(cert_lo, x)
+        elif lo > target:
+            cert_hi = min(cert_hi, x)
+        x_lo, x_hi = cert_lo, cert_hi  # model-based bracket updates may have been biased
+        defect = est - float(np.polynomial.Polynomial(c)(x - xc))
+        bias[0] += defect
+        c = c.copy()
+        c[0] += defect
+        h, _ = _taylor_step(c, target, x_lo, x_hi, xc)
+        its += 1
+        corrected = h is not None  # certify the corrected x directly
+        if h is None:
+            x = xc = 0.5 * (x_lo + x_hi)
+            c = model(x)
+        else:
+            x = xc + h
+    if exact:
+        g = est - target
         message = (
             f"certified |f(x) - length| <= {abs(g) + m_round:.3g} (exact length, gamma = 2) "
             f"after {its} steps"
             if ok
             else f"no certified solution after {its} steps: |f(x) - length| = {abs(g):.3g}"
         )
-        return x, f, lo, hi, its, 0, ok, message
-    d1 = float(c[1])
-    f = float(c[0])
-    # Certificate for gamma != 2, at the level predicted from the last model evaluation.
-    s = last["s"]
-    width = (1.0 - 2.0 * beta) * (s[:, order + 1] - s[:, 0])
-    margin = _margin(_MAX_LEVEL, beta, prob.f1, 3 * 2.0**_MAX_LEVEL)
-    if tol <= 2.0 * margin:
-        lo, hi = _certified(s, m, beta, prob.f1, 3)
+        return x, est, lo, hi, its, 0, ok, message
+    if ok:
+        message = f"certified: length in [{lo:.15g}, {hi:.15g}] (level {n}) after {its} steps"
+    elif tol <= 2.0 * margin:
+        n = m
         message = (
             f"not certified: tol = {tol:g} is below the rounding floor {2.0 * margin:.3g} "
             "of a certificate in double precision"
         )
-        return x, float(np.clip(f, lo, hi)), lo, hi, its, m, False, message
-    n = _predict_level(width, m, 0.8 * tol, 2.0 * margin)
-    n = min(max(n, m), 24)
-    lo = hi = float("nan")
-    ok = False
-    for _ in range(4):
-        sc = prob.sums(x, n)
-        lo, hi = _certified(sc, n, beta, prob.f1, 3)
-        ok = target - tol <= lo and hi <= target + tol
-        if ok:
-            break
-        if hi - lo <= tol:  # narrow but off-centre: Newton correction with f'(x)
-            x = min(max(x - (0.5 * (lo + hi) - target) / d1, 0.0), 1.0)
-        elif n < 24:
-            n += 1
-        else:
-            break
-    # the certificate's own sequence L^0(x) .. L^n(x) at the final x, extrapolated
-    est = float(np.clip(wynn_epsilon(sc[:, 1]), lo, hi))
-    if ok:
-        message = f"certified: length in [{lo:.15g}, {hi:.15g}] (level {n}) after {its} steps"
     else:
         message = (
             f"not certified: bracket [{lo:.15g}, {hi:.15g}] at level {n} does not fit "
