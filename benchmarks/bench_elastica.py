@@ -66,7 +66,11 @@ def fd_least_squares(data: np.ndarray):
 
 
 def ipopt_unscaled(data: np.ndarray):
-    """IPOPT as set up in the paper: objective (4.8), gradient (4.9), L-BFGS Hessian, raw params."""
+    """IPOPT as set up in the paper: objective (4.8), gradient (4.9), L-BFGS Hessian, raw params.
+
+    tol 1e-6, looser than fit's 1e-8 (in IPOPT's favour: unscaled it stalls at 1e-8 until
+    max_iter).
+    """
     import cyipopt
 
     n = data.shape[0]
