@@ -48,8 +48,16 @@ def _register() -> None:
     from .affine import affine_command
     from .basic import demo_command, measure_command, smooth_command
     from .derham import derham_command
+    from .keyline import keyline_command
 
-    commands = (measure_command, smooth_command, derham_command, affine_command, demo_command)
+    commands = (
+        measure_command,
+        smooth_command,
+        derham_command,
+        affine_command,
+        keyline_command,
+        demo_command,
+    )
     for command in commands:
         main.add_command(command)
 
