@@ -3,9 +3,28 @@
 Modules
 -------
 geometry
-    Shared primitives: signed area, lengths, angles, intersections.
+    Shared primitives: signed area, lengths, angles, intersections, curvature.
 subdivision
-    Linear corner cutting: Chaikin, de Rham, Lane–Riesenfeld.
+    Linear corner cutting: Chaikin, de Rham, Lane–Riesenfeld (any dimension).
+cca
+    Area-preserving smoothing by corner cutting and augmentation (Gordon).
+derham
+    Certified de Rham curve lengths; G1 curves of a prescribed length (Merrien).
+affine
+    Affine arc length polylines, affine curvature, G2 quadratic B-splines (Käferböck).
+elastica
+    Discrete Euler elastica: exact solutions, initial guess and fit
+    (Graiff Zurita, Kajiwara, Suzuki).
+keyline
+    The scan-to-keyline pipeline of the elastica paper (plane fit, resampling,
+    inflection estimate, two-sided fit).
+io
+    CSV, GeoJSON and SVG readers and writers.
+plot
+    Matplotlib figures: overlays, curvature combs, convergence plots.
+geo, batch
+    Shapely/GeoPandas geometries, coverages and files (extra ``geo``) and Dask
+    batch processing (extra ``dask``); imported on first use.
 
 The most used functions are re-exported here:
 
@@ -16,9 +35,10 @@ The most used functions are re-exported here:
 
 from __future__ import annotations
 
+import importlib
 from importlib.metadata import PackageNotFoundError, version
 
-from . import errors, geometry, subdivision
+from . import affine, cca, derham, elastica, errors, geometry, io, keyline, plot, subdivision
 from .errors import CurveError
 from .geometry import curve_length, signed_area
 
@@ -27,12 +47,30 @@ try:
 except PackageNotFoundError:  # pragma: no cover - running from a source tree
     __version__ = "0.0.0"
 
+_LAZY = ("geo", "batch")
+
 __all__ = [
     "CurveError",
     "__version__",
+    "affine",
+    "batch",
+    "cca",
     "curve_length",
+    "derham",
+    "elastica",
     "errors",
+    "geo",
     "geometry",
+    "io",
+    "keyline",
+    "plot",
     "signed_area",
     "subdivision",
 ]
+
+
+def __getattr__(name: str):
+    # geo and batch need optional dependencies: import them only when asked for.
+    if name in _LAZY:
+        return importlib.import_module(f"{__name__}.{name}")
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
