@@ -408,6 +408,15 @@ def test_result_is_frozen_and_documented_fields():
         res.x = 0.5
 
 
+def test_secant_stops_at_x1_when_the_length_is_the_polygon():
+    # |f(1) - length| <= tol / 2 at x_1 = 1 (f(1) = |AB| + |BC| exactly)
+    top = (5 + math.sqrt(13)) / 2
+    res = derham.interpolate(A, UA, C, UC, length=top - 1e-7, tol=1e-6, method="secant")
+    assert res.x == 1.0 and res.iterations == 1 and res.evaluations == 0
+    assert res.lower <= top <= res.upper and res.upper - res.lower < 1e-12
+    assert res.certified
+
+
 def test_paper_methods_report_non_convergence():
     res = derham.interpolate(
         A, UA, C, UC, length=3.2, tol=1e-9, method="regula_falsi", max_iterations=3

@@ -959,7 +959,7 @@ def _paper_method(prob: _Problem, target: float, tol: float, n: int, method: str
     if method == "secant":
         xs.append(1.0)
         gs.append(g1)
-        lows.append(prob.f0)  # l^n(1) is not needed; x_1 = 1 never satisfies the rule
+        lows.append(prob.f1)  # x = 1: S_1 = S_2 = B, the curve is the polygon A B C
     p = len(xs) - 1
     done = abs(gs[p]) <= tol / 2.0
     while not done and p < cap:
