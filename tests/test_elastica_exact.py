@@ -243,3 +243,23 @@ def test_tangent_angles_turn_by_the_curvature_angles():
     np.testing.assert_allclose(2 / p[2] * np.tan(turn / 2), curvature(pts), rtol=1e-10)
     assert theta[-1] - theta[0] > 2 * np.pi
     np.testing.assert_allclose(theta[0], np.arctan2(*(pts[1] - pts[0])[::-1]))
+
+
+@pytest.mark.parametrize("p", PARAMS)
+def test_projection_step_4_18_and_corollary_4_2(p):
+    """(u_{n+1} - u_n)/h = cos Psi_n (printed (4.17)/(4.18) have -sin(Psi_n - phi), which is
+    off unless phi = 0), and sin Psi_n = (mu/2Lambda) u_{n+1} u_n + A (u_{n+1} + u_n)/2 + B
+    with one constant B (eq. 4.21)."""
+    pts = sample(p, 60)
+    phi, h = p[3], p[2]
+    u = pts @ np.array([np.sin(phi), -np.cos(phi)])
+    psi = np.pi / 2 + tangent_angles(pts) - phi
+    np.testing.assert_allclose((u[1:] - u[:-1]) / h, np.cos(psi), atol=1e-12)
+    if phi != 0.0:
+        assert np.max(np.abs((u[1:] - u[:-1]) / h + np.sin(psi - phi))) > 0.1
+    inv = invariants(p)
+    slope = inv.mu / inv.Lambda
+    kap = curvature(pts)
+    A = np.mean(kap - slope * u[1:-1])
+    B = np.sin(psi) - slope / 2 * u[1:] * u[:-1] - A * (u[1:] + u[:-1]) / 2
+    assert np.ptp(B) < 1e-10 * max(1.0, np.abs(u).max() ** 2 * slope)

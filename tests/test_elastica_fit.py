@@ -2,6 +2,8 @@
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from curvesmith.elastica import PARAM_NAMES, fit, initial_guess, sample
 from curvesmith.elastica.fit import _noise_level
@@ -256,3 +258,27 @@ def test_ipopt_backend_missing_dependency_error(monkeypatch):
     pts = sample((0.0, 0.0, 0.05, 0.3, 0.06, 0.4, 0.7), 30)
     with pytest.raises(MissingDependencyError, match=r"curvesmith\[ipopt\]"):
         fit(pts, method="ipopt")
+
+
+@given(
+    angle=st.floats(-np.pi, np.pi),
+    shift=st.tuples(st.floats(-50, 50), st.floats(-50, 50)),
+    mirror=st.booleans(),
+)
+@settings(max_examples=25)
+def test_property_fit_is_equivariant_under_rigid_motions(angle, shift, mirror):
+    """The fitted elastica of moved (or mirrored) data is the moved fit of the data."""
+    rng = np.random.default_rng(2)
+    clean = sample((0.0, 0.0, 0.1, 0.3, 0.05, 0.2, 0.7), 80)
+    data = clean + rng.normal(scale=2e-3, size=clean.shape)
+    base = fit(data)
+    c, s = np.cos(angle), np.sin(angle)
+    rot = np.array([[c, -s], [s, c]])
+    if mirror:
+        rot = rot @ np.diag([1.0, -1.0])
+    moved = data @ rot.T + np.array(shift)
+    res = fit(moved)
+    assert res.success
+    np.testing.assert_allclose(res.points, base.points @ rot.T + np.array(shift), atol=1e-7)
+    assert abs(res.rms - base.rms) < 1e-9
+    assert abs(res.params.h - base.params.h) < 1e-9 and abs(res.params.k - base.params.k) < 1e-7

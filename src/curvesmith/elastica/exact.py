@@ -31,6 +31,15 @@ Verified discrepancies with the printed formulas (scratch checks, and the tests)
   argument ``s_n = z n + q`` (``q = s_0`` as in eq. (4.54)) and its discrete
   curvature is ``kappa_n = (2 k sn(z)/(h dn(z))) cn(z n + q)``, eq. (3.20)
   shifted by ``q``.
+* eqs. (4.17)/(4.18) print ``sin(Psi_n - phi)``; with ``Psi_n = pi/2 + Theta_n - phi``
+  the projection step is ``(u_{n+1} - u_n)/h = -sin(Theta_n - phi) = cos(Psi_n)``
+  (consistent with eq. (4.22)); the printed form is off by O(1) unless ``phi = 0``.
+  Prop. 4.1 and Cor. 4.2 themselves hold to 1e-13 (tests).
+* The proof of Prop. 3.6 prints ``dn v = (1+eps)/(1-eps)`` and ``cn v = (1+eps)(1-eps)``;
+  the statements (3.43)/(3.44), ``(1-eps)/(1+eps)``, are right: with them
+  ``Lambda = (1+eps) dn(z)`` and ``mu = 4 eps/h^2`` reproduce the slope ``mu/Lambda``
+  of Prop. 4.1 on sampled curves to 1e-13 (:func:`invariants`).
+* eq. (3.27) repeats (3.26) with the cases swapped (a duplicated line).
 """
 
 from __future__ import annotations
