@@ -604,3 +604,16 @@ def test_tolerance_below_the_floor_is_reported():
     assert not res.success and res.evaluations < 20
     with pytest.raises(CurveError, match="needs level n = 30 > 26"):
         derham.interpolate(A, UA, C, UC, length=3.7, tol=1e-17, method="secant")
+
+
+def test_registered_in_the_main_cli(tmp_path):
+    from click.testing import CliRunner
+
+    from curvesmith.cli import main
+
+    out = tmp_path / "curve.csv"
+    res = CliRunner().invoke(main, ["derham", *CLI_ARGS, "--level", "2", "-o", str(out)])
+    assert res.exit_code == 0, res.output
+    assert "x = 0.61358173" in res.stdout
+    res = CliRunner().invoke(main, ["derham", *CLI_ARGS[:-1], "2.0", "-o", str(out)])
+    assert res.exit_code == 1 and "length must lie in the open interval" in res.stderr
