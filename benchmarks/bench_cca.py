@@ -5,8 +5,10 @@ iterations (capped so the output stays below ~30 M vertices). Two families:
 ``wavy`` (a smooth closed curve, few restriction decreases) and ``jagged``
 (radius noise, many inflections and local alpha decreases). For each case the
 median wall time over the repeats, output vertices per second for CCA and
-Chaikin, the time ratio per output vertex (CCA / Chaikin), and the peak traced
-memory of one CCA run as a multiple of the output array (tracemalloc).
+Chaikin, the time ratio per output vertex (CCA / Chaikin) in wall time and in
+CPU time (``process_time``, steadier on a shared machine), the number of local
+alpha decreases, and the peak traced memory of one CCA run as a multiple of the
+output array (tracemalloc; skipped above 3 M output vertices).
 
 Run: ``python benchmarks/bench_cca.py [--quick] [--repeats R]``.
 """
@@ -34,14 +36,16 @@ def polygon(kind: str, n: int, rng: np.random.Generator) -> np.ndarray:
     return np.column_stack([r * np.cos(t), r * np.sin(t)])
 
 
-def timed(fn, repeats: int) -> tuple[float, np.ndarray]:
-    times = []
+def timed(fn, repeats: int) -> tuple[float, float, np.ndarray]:
+    """Median wall time (perf_counter) and median CPU time (process_time) over the repeats."""
+    walls, cpus = [], []
     out = None
     for _ in range(repeats):
-        t0 = time.perf_counter()
+        c0, t0 = time.process_time(), time.perf_counter()
         out = fn()
-        times.append(time.perf_counter() - t0)
-    return statistics.median(times), out
+        walls.append(time.perf_counter() - t0)
+        cpus.append(time.process_time() - c0)
+    return statistics.median(walls), statistics.median(cpus), out
 
 
 def peak_ratio(fn, out_bytes: int) -> float:
@@ -64,7 +68,7 @@ def main() -> None:
     cca.smooth(polygon("wavy", 100, rng), closed=True)  # warm-up (scipy import, PCHIP)
     header = (
         f"{'shape':>6} {'N':>8} {'it':>2} {'out':>10} {'cca s':>8} {'cca Mv/s':>9} "
-        f"{'chaikin Mv/s':>12} {'ratio':>6} {'reduced':>8} {'peak/out':>8}"
+        f"{'chaikin Mv/s':>12} {'ratio':>6} {'cpu ratio':>9} {'reduced':>8} {'peak/out':>8}"
     )
     print(header)
     print("-" * len(header))
@@ -74,15 +78,15 @@ def main() -> None:
             for it in range(1, 6):
                 if n * 3**it > MAX_OUTPUT:
                     break
-                t_cca, out = timed(
-                    lambda p=p, it=it: cca.smooth(p, closed=True, iterations=it), repeats
-                )
-                t_ch, ch = timed(
+                run = lambda p=p, it=it: cca.smooth(p, closed=True, iterations=it)  # noqa: E731
+                t_cca, c_cca, out = timed(run, repeats)
+                t_ch, c_ch, ch = timed(
                     lambda p=p, it=it: subdivision.chaikin(p, closed=True, iterations=it), repeats
                 )
                 info = cca.smooth_with_info(p, closed=True, iterations=it) if n <= 10**5 else None
                 v_cca = out.shape[0] / t_cca / 1e6
                 v_ch = ch.shape[0] / t_ch / 1e6
+                cpu_ratio = (c_cca / out.shape[0]) / max(c_ch / ch.shape[0], 1e-30)
                 mem = (
                     float("nan")
                     if args.no_memory or n * 3**it > 3_000_000
@@ -93,7 +97,7 @@ def main() -> None:
                 red = "-" if info is None else str(info.reductions)
                 print(
                     f"{kind:>6} {n:>8} {it:>2} {out.shape[0]:>10} {t_cca:>8.3f} {v_cca:>9.2f} "
-                    f"{v_ch:>12.2f} {v_cca and v_ch / v_cca:>6.2f} {red:>8} {mem:>8.2f}"
+                    f"{v_ch:>12.2f} {v_ch / v_cca:>6.2f} {cpu_ratio:>9.2f} {red:>8} {mem:>8.2f}"
                 )
 
 
