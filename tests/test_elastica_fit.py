@@ -282,3 +282,25 @@ def test_property_fit_is_equivariant_under_rigid_motions(angle, shift, mirror):
     np.testing.assert_allclose(res.points, base.points @ rot.T + np.array(shift), atol=1e-7)
     assert abs(res.rms - base.rms) < 1e-9
     assert abs(res.params.h - base.params.h) < 1e-9 and abs(res.params.k - base.params.k) < 1e-7
+
+
+@pytest.mark.parametrize(
+    ("k", "q", "span"),
+    [
+        (0.6, -0.3, 0.6),  # crosses the maximum of kappa (s = 0): m = 2, floor(L) = 0
+        (0.6, 2.0, 0.8),  # crosses the minimum near s = 2K(0.6) = 3.5
+        (0.6, 0.2, 3.0),  # within one monotone segment: m = 1
+        (2.0, -0.2, 0.5),  # case (i), crosses an extremum of dn
+    ],
+)
+def test_guess_counts_monotone_segments_with_the_right_parity(k, q, span):
+    """(4.38) as printed gives m = floor(L) (+1 if the ends move alike): 0 or 1 for a short
+    arc across one extremum, where m = 2. The guess must still find z (sign and size)."""
+    n = 60
+    z = span / (n - 1)
+    p = (0.0, 0.0, 0.2, 0.4, z, q, k)
+    pts = sample(p, n)
+    g = initial_guess(pts)
+    np.testing.assert_allclose(abs(g.z), z, rtol=0.1)
+    res = fit(pts, start=g, continuation=False)
+    assert res.success and res.max_distance < 1e-9
