@@ -587,6 +587,7 @@ def _alpha_function(alpha) -> Callable[[np.ndarray], np.ndarray]:
     def const(theta: np.ndarray) -> np.ndarray:
         return np.full(theta.shape, value)
 
+    const.constant = value  # type: ignore[attr-defined]
     return const
 
 
@@ -748,7 +749,7 @@ def _step(cols, fixed, closed, alpha_fn, restrict, c, C, tilt_n, balance_tol, li
     nred = 0
     nunsat = 0
     if restrict:
-        alpha, nred, nunsat = _restrict(
+        alpha, nred, nunsat, _, _ = _restrict(
             alpha, half_a2, cr, scross, dot, short, length, fixed, edge_on, c, C, limits
         )
 
@@ -870,24 +871,27 @@ def _step2(x, y, fixed, closed, alpha_fn, restrict, c, C, tilt_n, balance_tol, l
     dot = upx * ux + upy * uy
     scross = np.abs(cr)
     any_fixed = bool(fixed.any())
-    theta = np.arctan2(scross, -dot)  # interior angle in [0, pi]
-    if any_fixed:
+    constant = getattr(alpha_fn, "constant", None)
+    if constant is not None:  # constant alpha: no angles needed
+        alpha = np.full(n, constant)
+        alpha[fixed] = 0.0
+    elif any_fixed:
         alpha = np.zeros(n)
         free = ~fixed
-        alpha[free] = alpha_fn(theta[free])
+        alpha[free] = alpha_fn(np.arctan2(scross[free], -dot[free]))
     else:
-        alpha = alpha_fn(theta)
-    del theta
+        alpha = alpha_fn(np.arctan2(scross, -dot))  # interior angle in [0, pi]
     short = np.minimum(length, _roll_p1(length))
     half_a2 = 0.5 * short * short
     nred = nunsat = 0
     if restrict:
         on = np.ones(n, dtype=bool) if edge_on is None else edge_on
-        alpha, nred, nunsat = _restrict(
+        alpha, nred, nunsat, a, (K,) = _restrict(
             alpha, half_a2, [cr], scross, dot, short, length, fixed, on, c, C, limits
         )
-    a = alpha * short
-    K = alpha * alpha * half_a2 * cr  # signed cut areas
+    else:
+        a = alpha * short
+        K = alpha * alpha * half_a2 * cr  # signed cut areas
     del half_a2, short
     Kn = _roll_m1(K)
     A = 0.5 * (K + Kn)  # signed augmentation per edge
@@ -988,8 +992,9 @@ def _restrict(alpha, half_a2, cr, scross, dot, short, length, fixed, edge_on, c,
     ``w^2 >= c T |A|`` (``tan(gamma) >= c tan(beta)``), inflection edges
     ``|K_1 + K_2| <= 2 w^2 tan(C |tau_m| / 2)``. The first pass checks every
     edge, later passes only the edges next to vertices just decreased. Returns
-    the decreased alphas, the number of vertices decreased and the number of
-    edges still violating after ``max_passes`` passes.
+    the decreased alphas, the number of vertices decreased, the number of
+    edges still violating after ``max_passes`` passes, and the matching cut
+    lengths ``a`` and cut areas ``K`` (so the caller need not recompute them).
     """
     max_passes, min_factor = limits
     n = alpha.shape[0]
@@ -1101,4 +1106,4 @@ def _restrict(alpha, half_a2, cr, scross, dot, short, length, fixed, edge_on, c,
         touched[v - 1] = True  # edge v - 1 ends at v (index -1 wraps to n - 1)
         edges = np.flatnonzero(touched)
     nred = int(np.count_nonzero(alpha < alpha0))
-    return alpha, nred, nunsat
+    return alpha, nred, nunsat, a, K
