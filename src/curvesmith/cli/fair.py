@@ -27,12 +27,6 @@ def _prepare(curve, index: int) -> np.ndarray:
     return curve.points
 
 
-def _needs_resampling(points: np.ndarray, tol: float = 0.5) -> bool:
-    lengths = np.hypot(*np.diff(points, axis=0).T)
-    mean = lengths.mean()
-    return bool(mean > 0 and np.max(np.abs(lengths - mean)) / mean > tol)
-
-
 def _report_row(index: int, res, resampled: bool) -> dict:
     return {
         "index": index,
@@ -115,7 +109,7 @@ def fair_command(
     --no-resample). Exits with status 1 if any fit fails; the report and plot
     are still written.
     """
-    from ..elastica import fit
+    from ..elastica import SPACING_TOL, fit, spacing_spread
 
     if step is not None and not (np.isfinite(step) and step > 0):
         raise click.BadParameter(f"must be > 0, got {step}", param_hint="--step")
@@ -127,7 +121,7 @@ def fair_command(
         pts = _prepare(curve, index)
         do_resample = bool(resample) or step is not None
         if resample is None and step is None:
-            do_resample = _needs_resampling(pts)
+            do_resample = spacing_spread(pts) > SPACING_TOL
         option = (step if step is not None else True) if do_resample else False
         try:
             res = fit(pts, resample=option)

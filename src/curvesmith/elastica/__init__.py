@@ -33,11 +33,12 @@ from .exact import (
     segment_length,
     tangent_angles,
 )
-from .fit import PARAM_NAMES, FitResult, fit
+from .fit import PARAM_NAMES, SPACING_TOL, FitResult, fit, spacing_spread
 from .guess import initial_guess
 
 __all__ = [
     "PARAM_NAMES",
+    "SPACING_TOL",
     "ElasticaParams",
     "FitResult",
     "Invariants",
@@ -49,5 +50,6 @@ __all__ = [
     "invariants",
     "sample",
     "segment_length",
+    "spacing_spread",
     "tangent_angles",
 ]
