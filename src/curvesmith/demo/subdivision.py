@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
+from matplotlib.transforms import offset_copy
 
 from .. import data, geometry, plot, subdivision
 
@@ -44,6 +45,15 @@ def run(ctx) -> None:
         title="Open polyline (GPS-like track)",
         ax=axes[1],
     )
+    # The track panel is short (equal aspect): anchor its legend a fixed distance below the
+    # axes so that it clears the tick labels and the x label.
+    axes[1].legend(
+        loc="upper center",
+        bbox_to_anchor=(0.5, 0.0),
+        bbox_transform=offset_copy(axes[1].transAxes, fig=fig, y=-38, units="points"),
+        fontsize=8,
+        frameon=False,
+    )
     ctx.figure(
         fig,
         "subdivision_overview",
@@ -77,7 +87,7 @@ def run(ctx) -> None:
     ax.set_ylabel("area change (%)")
     ax.set_title("Linear corner cutting loses area (cca keeps it exactly)")
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=8)
+    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0.0)
     ctx.figure(
         fig,
         "subdivision_area_loss",
