@@ -760,3 +760,12 @@ def test_3d_vector_area_random(pts, iterations):
     va0, va1 = vector_area(p), vector_area(out)
     scale = np.abs(p - p.mean(axis=0)).max() ** 2 * len(p)
     np.testing.assert_allclose(va1, va0, rtol=0, atol=1e-13 * scale)
+
+
+def test_anchor_on_repeated_closing_vertex():
+    ring = np.vstack([regular(6), regular(6)[:1]])
+    a = cca.smooth(ring, closed=True, iterations=2, anchors=[6])
+    b = cca.smooth(regular(6), closed=True, iterations=2, anchors=[0])
+    np.testing.assert_array_equal(a, b)
+    with pytest.raises(CurveError, match=r"anchors must be vertex indices in \[0, 6\), got 6"):
+        cca.smooth(regular(6), closed=True, anchors=[6])

@@ -500,7 +500,10 @@ def smooth_with_info(
     n_in = raw.shape[0]
     fixed = np.zeros(n_in, dtype=bool)
     if anchors is not None:
-        fixed[_anchor_indices(anchors, n_in)] = True
+        # a closed ring given with its closing vertex repeated may name that last index
+        repeated = closed and np.shape(points)[0] == n_in + 1
+        idx = _anchor_indices(anchors, n_in + 1 if repeated else n_in)
+        fixed[idx % n_in] = True
     if not closed:
         fixed[0] = fixed[-1] = True
     p, fixed = _dedupe(raw, fixed, closed)
