@@ -36,6 +36,12 @@ __all__ = ["amplitude_dm", "ellipj", "ellipj_am", "sd2_integral"]
 _AGM_BAND = 1e-9
 
 
+def sech(x):
+    """``1 / cosh(x)`` without overflow for large ``|x|``."""
+    e = np.exp(-np.abs(x))
+    return 2.0 * e / (1.0 + e * e)
+
+
 def _agm_ellipj(u: np.ndarray, m: np.ndarray):
     """Jacobi functions by the arithmetic-geometric mean (Abramowitz & Stegun 16.4), 0 < m < 1."""
     a = np.ones_like(m)
@@ -70,7 +76,7 @@ def _ellipj_unit(u: np.ndarray, m: np.ndarray):
     if np.any(one):
         u1 = np.broadcast_to(u, sn.shape)[one]
         sn[one] = np.tanh(u1)
-        cn[one] = dn[one] = 1.0 / np.cosh(u1)
+        cn[one] = dn[one] = sech(u1)
         ph[one] = 2.0 * np.arctan(np.tanh(0.5 * u1))  # Gudermannian
     return sn, cn, dn, ph
 

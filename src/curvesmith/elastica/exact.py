@@ -52,7 +52,7 @@ from scipy.special import ellipj as _scipy_ellipj
 
 from .._validate import as_int, as_points
 from ..errors import CurveError
-from ._elliptic import _AGM_BAND, _sd2_integral, ellipj, ellipj_am
+from ._elliptic import _AGM_BAND, _sd2_integral, ellipj, ellipj_am, sech
 
 __all__ = [
     "ElasticaParams",
@@ -149,7 +149,7 @@ def _half_angles(s: np.ndarray, k: float):
     """``S = sin a``, ``C = cos a``, ``a = (theta - phi)/2`` at arguments `s` (eq. 4.3)."""
     m = k * k
     if k == 1.0:
-        return np.tanh(s), 1.0 / np.cosh(s)
+        return np.tanh(s), sech(s)
     if k < 1.0:
         sn, _, dn, _ = _ellipj_scalar_m(s, m)
         return k * sn, dn
