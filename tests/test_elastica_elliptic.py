@@ -86,3 +86,11 @@ def test_amplitude_derivative_in_m(m, u):
 def test_sd2_integral_at_zero_parameter_is_sin_squared():
     u = np.linspace(-7, 7, 29)
     np.testing.assert_allclose(sd2_integral(u, 0.0), u / 2 - np.sin(2 * u) / 4, atol=1e-14)
+
+
+def test_separatrix_large_arguments_do_not_overflow():
+    """m = 1: sn = tanh, cn = dn = sech, evaluated without overflow (RuntimeWarning is an error)."""
+    sn, cn, dn = ellipj(np.array([800.0, -900.0, 0.5]), 1.0)
+    np.testing.assert_allclose(sn, [1.0, -1.0, np.tanh(0.5)], rtol=1e-15)
+    np.testing.assert_allclose(cn, [0.0, 0.0, 1 / np.cosh(0.5)], rtol=1e-15, atol=1e-300)
+    np.testing.assert_array_equal(cn, dn)

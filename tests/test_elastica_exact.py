@@ -263,3 +263,10 @@ def test_projection_step_4_18_and_corollary_4_2(p):
     A = np.mean(kap - slope * u[1:-1])
     B = np.sin(psi) - slope / 2 * u[1:] * u[:-1] - A * (u[1:] + u[:-1]) / 2
     assert np.ptp(B) < 1e-10 * max(1.0, np.abs(u).max() ** 2 * slope)
+
+
+def test_separatrix_curve_with_far_arguments():
+    """k = 1 exactly: one loop, then straight on (tanh saturates); no overflow at s = 2000."""
+    pts = sample((0.0, 0.0, 1.0, 0.0, 10.0, 0.0, 1.0), 200)
+    np.testing.assert_allclose(np.hypot(*np.diff(pts, axis=0).T), 1.0, rtol=1e-13)
+    np.testing.assert_allclose(np.diff(pts[5:], axis=0), [[-1.0, 0.0]] * 194, atol=1e-12)

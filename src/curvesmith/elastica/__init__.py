@@ -3,12 +3,15 @@
 Implements Graiff Zurita, Kajiwara & Suzuki, "Fairing of discrete planar curves
 by integrable discrete analogue of Euler's elasticae", sections 3-4:
 
-* :func:`curvature` - discrete curvature of a curve with equal segments (eq. 4.33);
-* :func:`sample` - vertices of the discrete elastica ``p = (x0, y0, h, phi, z, q, k)``
-  (eqs. 4.2-4.5, one family in the continued modulus ``k``: ``k < 1`` has
-  inflections, ``k > 1`` is case (i) with modulus ``1/k``);
+* :func:`tangent_angles`, :func:`curvature`, :func:`segment_length` - discrete
+  curves of section 3.1 (eqs. 3.1, 3.4, 4.32, 4.33);
+* :func:`sample`, :func:`exact_curvature`, :func:`invariants` - the discrete
+  elastica ``p = (x0, y0, h, phi, z, q, k)`` (eqs. 4.2-4.5, one family in the
+  continued modulus ``k``: ``k < 1`` has inflections, ``k > 1`` is case (i) with
+  modulus ``1/k``), its curvature (3.20) and constants ``alpha``, ``C`` (3.9, 3.18);
 * :func:`initial_guess` - the pseudo code of section 4.3;
-* :func:`fit` - the closest discrete elastica to data (section 4.2).
+* :func:`fit` - the closest discrete elastica to data (section 4.2), with
+  :func:`spacing_spread` telling whether data need resampling first.
 
 Examples
 --------
