@@ -330,19 +330,29 @@ def test_csv_generated_ids_without_id_properties():
     assert [c.properties["id"] for c in back] == [0, 1]
 
 
+def test_csv_shared_and_missing_ids_are_made_distinct():
+    # Regression: a polygon with a hole whose feature has an id property (GeoJSON), or an SVG
+    # path with two subpaths, could not be written to CSV ("id properties must be present and
+    # distinct"); neither could a mix of curves with and without ids.
+    outer = Curve(
+        [[0, 0], [4, 0], [4, 4], [0, 4]], closed=True, kind="Polygon", properties={"id": "lake"}
+    )
+    hole = outer.replace([[1, 1], [1, 2], [2, 2]], ring=1)
+    other = Curve([[5, 5], [6, 6]], closed=False, feature=1)
+    taken = Curve([[7, 7], [8, 8]], closed=False, feature=2, properties={"id": "lake#0"})
+    back, out = roundtrip(write_csv, read_csv, [outer, hole, other, taken])
+    assert out.splitlines()[0] == "x,y,id,closed"
+    assert [c.properties["id"] for c in back] == ["lake#1", "lake#2", 2, "lake#0"]
+    assert [len(c.points) for c in back] == [4, 3, 2, 2]
+    assert [c.closed for c in back] == [True, True, False, False]
+
+
 @pytest.mark.parametrize(
     ("curves", "message"),
     [
         (
             [Curve([[0, 0], [1, 1]], closed=False), Curve([[0, 0, 0], [1, 1, 1]], closed=False)],
             "cannot write 2D and 3D curves to one CSV file",
-        ),
-        (
-            [
-                Curve([[0, 0], [1, 1]], closed=False, properties={"id": 1}),
-                Curve([[0, 0], [1, 1]], closed=False, properties={"id": 1}),
-            ],
-            "id properties must be present and distinct",
         ),
         (
             [Curve([[0, 0], [1, 1]], closed=False, properties={"X": 1})],

@@ -693,6 +693,34 @@ def _is_number(text: str) -> bool:
     return True
 
 
+def _distinct_ids(ids: list) -> list[str]:
+    """CSV id cells, one per curve and all distinct (the id column is what separates curves).
+
+    A curve's cell is its id property; a curve without one gets its index. Curves that share a
+    cell (the rings and parts of one GeoJSON feature with an ``id`` property, the subpaths of
+    one SVG element, two ``<use>`` of one symbol) get ``#0``, ``#1``, ... appended in file
+    order, skipping texts that are taken.
+    """
+    base = [str(i) if v is None else _cell(v) for i, v in enumerate(ids)]
+    counts: dict[str, int] = {}
+    for b in base:
+        counts[b] = counts.get(b, 0) + 1
+    taken = set(base)
+    cells = []
+    next_k: dict[str, int] = {}
+    for b in base:
+        if counts[b] == 1:
+            cells.append(b)
+            continue
+        k = next_k.get(b, 0)
+        while f"{b}#{k}" in taken:
+            k += 1
+        next_k[b] = k + 1
+        taken.add(f"{b}#{k}")
+        cells.append(f"{b}#{k}")
+    return cells
+
+
 def write_csv(curves: Iterable[Curve], dest: Source) -> None:
     """Write curves to a CSV file that :func:`read_csv` reads back bit-exactly.
 
@@ -706,18 +734,20 @@ def write_csv(curves: Iterable[Curve], dest: Source) -> None:
     Raises
     ------
     CurveFormatError
-        If 2D and 3D curves are mixed, ids are not distinct, or a property
-        name clashes with a column name (x, y, z, id, closed).
+        If 2D and 3D curves are mixed, or a property name clashes with a
+        column name (x, y, z, id, closed).
 
     Notes
     -----
     Columns: ``x,y[,z]``, then ``id`` when there is more than one curve or a
-    curve has ``properties["id"]`` (the id property if every curve has a
-    distinct one, else the curve's index), ``closed`` when a curve is closed
-    or an open curve ends where it starts, then the other properties (union
-    of their names, empty cells where a curve lacks one; booleans as
-    ``true``/``false``, lists and mappings as JSON text, which reads back as
-    text). Closed rings repeat their first point. Floats are written with
+    curve has ``properties["id"]`` (the id property, or the curve's index for
+    a curve without one; ids shared by several curves, such as the rings of
+    one polygon or the subpaths of one SVG element, get ``#0``, ``#1``, ...
+    appended, since the id column is what tells curves apart), ``closed``
+    when a curve is closed or an open curve ends where it starts, then the
+    other properties (union of their names, empty cells where a curve lacks
+    one; booleans as ``true``/``false``, lists and mappings as JSON text,
+    which reads back as text). Closed rings repeat their first point. Floats are written with
     ``repr``.
 
     Examples
@@ -740,17 +770,7 @@ def write_csv(curves: Iterable[Curve], dest: Source) -> None:
             "the 2D ones); write them to separate files"
         )
     ids = [c.properties.get("id") for c in curves]
-    if all(i is not None for i in ids) and len({_cell(i) for i in ids}) == len(ids):
-        id_cells = [_cell(i) for i in ids]
-    elif len(curves) == 1:
-        id_cells = None
-    elif any(i is not None for i in ids):
-        raise CurveFormatError(
-            "the curves' id properties must be present and distinct to be written as the CSV "
-            f"id column, got {ids}"
-        )
-    else:
-        id_cells = [str(i) for i in range(len(curves))]
+    id_cells = None if len(curves) == 1 and ids[0] is None else _distinct_ids(ids)
     need_closed = any(c.closed or bool(np.array_equal(c.points[0], c.points[-1])) for c in curves)
     keys: list[str] = []
     for i, c in enumerate(curves):
