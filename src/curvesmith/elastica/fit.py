@@ -10,7 +10,9 @@ tests). Backends:
   reflective, bounds ``h, k > 0``) on the residual vector with that Jacobian.
 * ``method="ipopt"``: the paper's backend, IPOPT through cyipopt (extra
   ``ipopt``) on the scalar objective (4.8) with gradient (4.9) and the
-  limited-memory quasi-Newton Hessian, as in the paper.
+  limited-memory quasi-Newton Hessian, as in the paper, with the variables
+  scaled by the Jacobian's column norms at the start (unscaled, as in the
+  paper, L-BFGS diverged on a 1000-point curve in ``benchmarks/bench_elastica.py``).
 
 Long curves with many loops: a single start from the guess of section 4.3 can
 land in a wrong basin (the phase error of ``z`` grows along the curve). With
@@ -23,6 +25,8 @@ be within ``basin_factor`` times the data's local noise level (rms residual of
 a sliding cubic Savitzky-Golay fit, which follows any smooth curve) plus
 ``1e-9`` of the data extent. A local minimum in the wrong basin leaves
 systematic residuals far above that level and is reported as ``success=False``.
+For data that are only approximately an elastica (model error well above the
+noise) raise ``basin_factor``.
 """
 
 from __future__ import annotations
