@@ -105,23 +105,9 @@ def _smooth_arc_chunk(
     arcs: list[np.ndarray], loops: np.ndarray, frozen: np.ndarray, options: dict[str, Any]
 ) -> tuple[list[np.ndarray], list[tuple[int, str]]]:
     """Full-strength smoothing of a chunk of coverage arcs; failing arcs stay unchanged."""
-    from .geo._engine import Level
-    from .geo._smooth import make_smoother
+    from .geo._coverage import smooth_arc_blocks
 
-    smoother = make_smoother(options["method"], options["alpha"])
-    level = Level(options["iterations"])
-    out: list[np.ndarray] = []
-    errors: list[tuple[int, str]] = []
-    for k, (xy, loop, fz) in enumerate(zip(arcs, loops, frozen, strict=True)):
-        if fz:
-            out.append(xy)
-            continue
-        try:
-            out.append(smoother(xy, bool(loop), level))
-        except Exception as exc:
-            out.append(xy)
-            errors.append((k, f"{type(exc).__name__}: {exc}"))
-    return out, errors
+    return smooth_arc_blocks(arcs, loops, frozen, **options)
 
 
 # ---------------------------------------------------------------------------- cluster
@@ -381,13 +367,16 @@ def _coverage_on_dask(
     def map_arcs(topo) -> list[np.ndarray]:
         nonlocal n_tasks
         seen["topo"] = topo
+        from .geo._coverage import ARC_BLOCK
+
         options = {"method": method, "iterations": iterations, "alpha": alpha}
-        starts = list(range(0, len(topo.arcs), chunk))
+        step = -(-chunk // ARC_BLOCK) * ARC_BLOCK  # whole blocks: same result as 1 process
+        starts = list(range(0, len(topo.arcs), step))
         args = [
             (
-                list(topo.arcs[s : s + chunk]),
-                topo.loops[s : s + chunk],
-                topo.frozen[s : s + chunk],
+                list(topo.arcs[s : s + step]),
+                topo.loops[s : s + step],
+                topo.frozen[s : s + step],
                 options,
             )
             for s in starts

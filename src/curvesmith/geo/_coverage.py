@@ -13,6 +13,11 @@ from ..errors import CurveError
 from ._engine import levels_for, resolve_arcs
 from ._smooth import _shapely, as_geometry_array, check_method, make_smoother, prepare
 
+#: Arcs are smoothed in fixed blocks of this many consecutive arcs (one chained CCA call
+#: per block, see :func:`curvesmith.geo._smooth.smooth_open_many`), the same blocks in one
+#: process and on Dask, so that both give bit-identical results.
+ARC_BLOCK = 512
+
 __all__ = [
     "CoverageReduction",
     "CoverageResult",
@@ -438,12 +443,56 @@ def smooth_coverage(
     )
 
 
+def smooth_arc_blocks(
+    arcs, loops, frozen, *, method: str, iterations: int, alpha: Any
+) -> tuple[list[np.ndarray], list[tuple[int, str]]]:
+    """Full-strength smoothing of consecutive arcs, block by block (:data:`ARC_BLOCK`).
+
+    Open arcs of a block are smoothed in one chained CCA call, loops one by one, frozen
+    arcs kept. An arc whose smoothing fails is kept unchanged and returned in the errors
+    list as ``(position in arcs, reason)``. ``arcs`` must start at a block boundary of the
+    topology for the results to be reproducible.
+    """
+    from ._engine import Level
+    from ._smooth import smooth_open_many
+
+    smoother = make_smoother(method, alpha)
+    level = Level(iterations)
+    out: list[np.ndarray] = list(arcs)
+    errors: list[tuple[int, str]] = []
+    for b0 in range(0, len(arcs), ARC_BLOCK):
+        block = range(b0, min(b0 + ARC_BLOCK, len(arcs)))
+        open_idx = [k for k in block if not loops[k] and not frozen[k]]
+        loop_idx = [k for k in block if loops[k] and not frozen[k]]
+        if method == "cca" and open_idx:
+            try:
+                res = smooth_open_many([arcs[k] for k in open_idx], alpha=alpha, level=level)
+                for k, xy in zip(open_idx, res, strict=True):
+                    out[k] = xy
+                open_idx = []
+            except Exception:  # retried one by one below, to isolate the failing arc
+                pass
+        for k in open_idx + loop_idx:
+            try:
+                out[k] = smoother(arcs[k], bool(loops[k]), level)
+            except Exception as exc:  # the arc stays unchanged and is reported
+                errors.append((k, f"{type(exc).__name__}: {exc}"))
+    return out, errors
+
+
 def smooth_arcs(topo: Topology, *, method, iterations, alpha, initial=None):
     """Smooth the arcs of a topology with conflict resolution; returns (arcs, reductions)."""
     smoother = make_smoother(method, alpha)
     levels = levels_for(iterations, scalable=(method == "cca"))
     if iterations == 0:
         return list(topo.arcs), []
+    if initial is None:
+        initial, errors = smooth_arc_blocks(
+            topo.arcs, topo.loops, topo.frozen, method=method, iterations=iterations, alpha=alpha
+        )
+        if errors:
+            k, reason = errors[0]
+            raise CurveError(f"arc {k} (features {topo.arc_polygons[k]}) failed: {reason}")
     return resolve_arcs(
         topo.arcs,
         loops=topo.loops,

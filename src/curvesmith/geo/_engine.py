@@ -196,9 +196,11 @@ def resolve_arcs(
             break
         changed = []
         new_pieces: list[_Piece] = []
+        kept_from: list[int] = []  # for every new piece, its old index (-1: new geometry)
         for k, p in enumerate(pieces):
             if k not in bad:
                 new_pieces.append(p)
+                kept_from.append(k)
                 continue
             n_vert = (p.stop - p.start) + (0 if p.loop else 1)
             if n_vert > MIN_PIECE_VERTICES:
@@ -209,11 +211,16 @@ def resolve_arcs(
                 for a, b in itertools.pairwise(cuts):
                     new_pieces.append(_Piece(p.arc, int(a), int(b), False, p.level))
                     changed.append(len(new_pieces) - 1)
+                    kept_from.append(-1)
             else:
                 new_pieces.append(_Piece(p.arc, p.start, p.stop, p.loop, p.level + 1))
                 changed.append(len(new_pieces) - 1)
-        pieces = new_pieces
-        geoms = geoms_of(pieces)
+                kept_from.append(-1)
+        src = np.asarray(kept_from)
+        new_geoms = np.empty(len(new_pieces), dtype=object)
+        new_geoms[src >= 0] = geoms[src[src >= 0]]
+        new_geoms[changed] = geoms_of([new_pieces[k] for k in changed])
+        pieces, geoms = new_pieces, new_geoms
         to_check = np.asarray(changed, dtype=int)
     else:  # pragma: no cover - each round strictly refines, MAX_ROUNDS is a guard
         raise RuntimeError("conflict resolution did not terminate")

@@ -100,6 +100,69 @@ def make_smoother(method: str, alpha: Any) -> Callable[[np.ndarray, bool, Level]
     return g
 
 
+def smooth_open_many(arcs: list[np.ndarray], *, alpha: Any, level: Level) -> list[np.ndarray]:
+    """CCA of many open polylines (fixed ends) in one call, chained with anchors.
+
+    The polylines are concatenated (a shared end vertex once) and every end vertex is an
+    anchor, so that each one is smoothed as its own polyline (Gordon 2010, section 5,
+    anchor points); an edge joining two consecutive polylines lies between two anchors and
+    is dropped again. This replaces thousands of small calls by one vectorized call. The
+    output of each polyline is located by its end anchors (returned exactly); should that
+    ever be ambiguous, the call falls back to one call per polyline.
+
+    ``cca.smooth`` classifies balanced inflection edges (Fig. 11) relative to the mean cut
+    area of its whole input, so a polyline's rare Fig. 11 edges can depend on which
+    polylines it is chained with; callers therefore always chain the same groups
+    (:data:`curvesmith.geo._coverage.ARC_BLOCK` arcs) to get reproducible results.
+    """
+    from scipy.spatial import cKDTree
+
+    from .. import cca
+
+    if not arcs:
+        return []
+    a = scale_alpha(alpha, level.alpha_scale)
+    return _open_chunk(arcs, a, level.iterations, cca, cKDTree)
+
+
+def _open_chunk(arcs, alpha, iterations, cca, kdtree) -> list[np.ndarray]:
+    parts, first, last = [], [], []
+    n = 0
+    prev_end = None
+    for xy in arcs:
+        if prev_end is not None and np.array_equal(xy[0], prev_end):
+            first.append(n - 1)
+            parts.append(xy[1:])
+        else:
+            first.append(n)
+            parts.append(xy)
+        n += len(parts[-1])
+        last.append(n - 1)
+        prev_end = xy[-1]
+    pts = np.concatenate(parts)
+    anchors = np.unique(np.concatenate([first, last]))
+    res = cca.smooth(pts, closed=False, iterations=iterations, alpha=alpha, anchors=anchors)
+    # locate the anchors (fixed points) in the output, in order
+    anc = pts[anchors]
+    tol = 64 * np.finfo(float).eps * (np.abs(anc).max(axis=1) + np.abs(pts[0]).max())
+    d, k = kdtree(anc).query(res, distance_upper_bound=float(tol.max()))
+    hit = np.isfinite(d)
+    hit[hit] = d[hit] <= tol[k[hit]]
+    pos = np.nonzero(hit)[0]
+    # the same node can be an anchor twice (an arc from a node back to it): compare points
+    if len(pos) != len(anchors) or np.any(np.abs(res[pos] - anc).max(axis=1) > tol):
+        return [
+            _pin_ends(cca.smooth(xy, closed=False, iterations=iterations, alpha=alpha), xy)
+            for xy in arcs
+        ]
+    where = np.empty(n, dtype=np.int64)
+    where[anchors] = pos
+    return [
+        _pin_ends(res[where[f] : where[e] + 1].copy(), xy)
+        for f, e, xy in zip(first, last, arcs, strict=True)
+    ]
+
+
 def _pin_ends(out: np.ndarray, pts: np.ndarray) -> np.ndarray:
     """Put the fixed end vertices back bit for bit (smoothers may round them by an ulp).
 
