@@ -78,3 +78,23 @@ def test_fair_errors_exit_nonzero(tmp_path):
     result = CliRunner().invoke(cli(), ["fair", str(src), "-o", str(out)])
     assert result.exit_code == 1
     assert "Error: curve 0: points are collinear" in result.output
+
+
+def test_fair_basin_factor_decides_success(tmp_path):
+    """A curve that is not an elastica (a sine wave of growing amplitude) fits with an rms far
+    above its noise: a failure by default, accepted with a large --basin-factor."""
+    t = np.linspace(0, 4 * np.pi, 200)
+    wave = np.column_stack((t, 0.2 * t * np.sin(t)))
+    from curvesmith.elastica._resample import equilateral
+
+    src, out, rep = tmp_path / "w.csv", tmp_path / "o.csv", tmp_path / "r.json"
+    write_csv(src, equilateral(wave, 0.1))
+    strict = CliRunner().invoke(cli(), ["fair", str(src), "-o", str(out), "--report", str(rep)])
+    assert strict.exit_code == 1 and "wrong basin" in strict.output
+    row = json.loads(rep.read_text())["curves"][0]
+    assert not row["success"] and row["rms"] > 20 * 1e-6
+    loose = CliRunner().invoke(
+        cli(), ["fair", str(src), "-o", str(out), "--basin-factor", "1e9", "--report", str(rep)]
+    )
+    assert loose.exit_code == 0, loose.output
+    assert json.loads(rep.read_text())["curves"][0]["success"]

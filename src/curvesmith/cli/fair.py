@@ -90,6 +90,14 @@ def _plot(path: str, fits: list[tuple[int, object]]) -> None:
     default=None,
     help="Chord length for resampling (implies --resample; default: mean edge length).",
 )
+@click.option(
+    "--basin-factor",
+    type=float,
+    default=20.0,
+    show_default=True,
+    help="A fit fails if its rms exceeds this many times the data's local noise level; "
+    "raise it for curves that are only roughly elasticae.",
+)
 @FORMAT_OPTION
 def fair_command(
     source: str,
@@ -98,6 +106,7 @@ def fair_command(
     plot: str | None,
     resample: bool | None,
     step: float | None,
+    basin_factor: float,
     fmt: str | None,
 ) -> None:
     """Replace every open curve of IN by its closest discrete elastica.
@@ -113,6 +122,8 @@ def fair_command(
 
     if step is not None and not (np.isfinite(step) and step > 0):
         raise click.BadParameter(f"must be > 0, got {step}", param_hint="--step")
+    if not (np.isfinite(basin_factor) and basin_factor > 0):
+        raise click.BadParameter(f"must be > 0, got {basin_factor}", param_hint="--basin-factor")
     if step is not None and resample is False:
         raise click.UsageError("--step needs resampling; drop --no-resample")
     curves = read_curves(source, fmt)
@@ -124,7 +135,7 @@ def fair_command(
             do_resample = spacing_spread(pts) > SPACING_TOL
         option = (step if step is not None else True) if do_resample else False
         try:
-            res = fit(pts, resample=option)
+            res = fit(pts, resample=option, basin_factor=basin_factor)
         except CurveError as exc:
             raise CurveError(f"curve {index}: {exc}") from None
         out.append(curve.replace(points=res.points))

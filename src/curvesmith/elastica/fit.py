@@ -414,12 +414,14 @@ def fit(
     success = bool(ok and rms <= allowed)
     if ok and not success:
         msg = (
-            f"converged to a local minimum in a wrong basin: rms {rms:.3g} exceeds "
-            f"{basin_factor:g} x the data's local noise level {noise:.3g} (+1e-9 x extent); "
+            f"fit rejected by the basin check: rms {rms:.3g} exceeds {basin_factor:g} x the "
+            f"data's local noise level {noise:.3g} (+1e-9 x extent), i.e. a local minimum in a "
+            "wrong basin, or data that are no discrete elastica within their noise; "
             + (
-                "growing-prefix continuation did not help either; try another start"
+                "growing-prefix continuation did not help either; try another start or a "
+                "larger basin_factor"
                 if tried_continuation
-                else "try another start or continuation=True"
+                else "try another start, continuation=True or a larger basin_factor"
             )
         )
     elif not ok:
