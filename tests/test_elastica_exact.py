@@ -270,3 +270,31 @@ def test_separatrix_curve_with_far_arguments():
     pts = sample((0.0, 0.0, 1.0, 0.0, 10.0, 0.0, 1.0), 200)
     np.testing.assert_allclose(np.hypot(*np.diff(pts, axis=0).T), 1.0, rtol=1e-13)
     np.testing.assert_allclose(np.diff(pts[5:], axis=0), [[-1.0, 0.0]] * 194, atol=1e-12)
+
+
+def _closing_modulus(vertices_per_period):
+    """k at which a case (ii) elastica closes after one period (the figure eight of Fig. 4)."""
+    from scipy.optimize import brentq
+    from scipy.special import ellipk
+
+    def drift(k):
+        z = 4 * ellipk(k * k) / vertices_per_period
+        pts = sample((0.0, 0.0, 1.0, 0.0, z, 0.0, k), vertices_per_period + 1)
+        return pts[-1, 0] - pts[0, 0]
+
+    return brentq(drift, 0.85, 0.999, xtol=1e-14)
+
+
+def test_figure_4_figure_eight_moduli():
+    """Fig. 4 (right): the smooth figure eight has k = 0.9089... (2E(k) = K(k)), the discrete
+    one k = 0.919...; 15 vertices per period give 0.9189, and k -> 0.9089 like 1/M^2."""
+    from scipy.optimize import brentq
+    from scipy.special import ellipe, ellipk
+
+    smooth = brentq(lambda k: 2 * ellipe(k * k) - ellipk(k * k), 0.5, 0.99, xtol=1e-15)
+    assert f"{smooth:.4f}" == "0.9089"
+    assert f"{_closing_modulus(15):.3f}" == "0.919"
+    e200 = _closing_modulus(200) - smooth
+    e2000 = _closing_modulus(2000) - smooth
+    assert 0 < e2000 < e200 < 1e-4
+    assert 80 < e200 / e2000 < 120  # second order in the step
