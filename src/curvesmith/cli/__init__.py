@@ -48,6 +48,7 @@ def _register() -> None:
     from .affine import affine_command
     from .basic import demo_command, measure_command, smooth_command
     from .derham import derham_command
+    from .fair import fair_command
     from .keyline import keyline_command
 
     commands = (
@@ -55,6 +56,7 @@ def _register() -> None:
         smooth_command,
         derham_command,
         affine_command,
+        fair_command,
         keyline_command,
         demo_command,
     )

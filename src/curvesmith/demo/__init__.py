@@ -19,7 +19,7 @@ from typing import Any
 __all__ = ["SECTIONS", "DemoContext", "run_demo"]
 
 #: Section modules of this package, in the order they appear in the summary.
-SECTIONS: list[str] = ["subdivision", "cca", "derham", "affine", "keyline"]
+SECTIONS: list[str] = ["subdivision", "cca", "derham", "affine", "elastica", "keyline"]
 
 
 @dataclass
