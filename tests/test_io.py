@@ -652,9 +652,10 @@ def features(draw):
             pts = draw(st.lists(coord, min_size=3 if closed else 2, max_size=7))
             if closed and (pts[0] == pts[-1] or len({tuple(p) for p in pts}) < 3):
                 pts = [[float(i), float(i * i)] + [0.5] * (dim - 2) for i in range(3)]
-            if not closed and len(pts) >= 4 and pts[0] == pts[-1]:
+            while not closed and len(pts) >= 4 and pts[0] == pts[-1]:
                 # An open GeoJSON LineString that ends where it starts is a ring by the file
-                # convention (tested in test_geojson_open_line_ending_at_start_warns).
+                # convention (tested in test_geojson_open_line_ending_at_start_warns); a loop,
+                # since dropping one end can leave another repeat (all points equal).
                 pts = pts[:-1]
             out.append({"points": pts, "closed": closed, "part": part, "ring": ring, "kind": kind})
     props = draw(
@@ -1085,3 +1086,80 @@ def test_geojson_open_line_ending_at_start_warns():
         write_geojson([c], buf)
     (back,) = read_geojson(io.StringIO(buf.getvalue()))
     assert back.closed and back.points.shape == (3, 2)
+
+
+# The plain-file fast path of the CSV reader must give exactly what the general path gives
+# (which a comment line forces); regression for 1e6-vertex files taking ~10 s to read.
+
+
+def _with_comment(text: str) -> str:
+    head, _, rest = text.partition("\n")
+    return f"{head}\n# forces the general path\n{rest}"
+
+
+@given(
+    st.lists(
+        st.tuples(
+            st.sampled_from(["a", "b", " c ", "7", "ü"]),
+            st.floats(allow_nan=False, allow_infinity=False, width=64),
+            st.floats(allow_nan=False, allow_infinity=False, width=64),
+            st.sampled_from(["red", " red", "1.5", ""]),
+        ),
+        min_size=1,
+        max_size=12,
+    ),
+    st.sampled_from([",", ";", "\t"]),
+    st.sampled_from(["\n", "\r\n"]),
+)
+def test_csv_fast_path_equals_general_path(rows, sep, eol):
+    lines = [sep.join(["id", "x", "y", "colour"])]
+    lines += [sep.join([i, repr(x), f" {y!r} ", c]) for i, x, y, c in rows]
+    text = eol.join(lines) + eol + eol
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # a varying colour column is dropped with a warning
+        try:
+            general = read_csv(io.StringIO(_with_comment(text)))
+        except CurveFormatError as exc:
+            with pytest.raises(CurveFormatError, match="points"):
+                read_csv(io.StringIO(text))
+            assert "points" in str(exc)
+            return
+        fast = read_csv(io.StringIO(text))
+    assert len(fast) == len(general)
+    for a, b in zip(fast, general, strict=True):
+        assert bits_equal(a.points, b.points)
+        assert (a.closed, a.properties, a.feature) == (b.closed, b.properties, b.feature)
+
+
+@pytest.mark.parametrize(
+    ("text", "message"),
+    [
+        ("x,y\n0,0\n1,oops\n2,2\n", "line 3: y value 'oops' is not a number"),
+        ("x,y\n0,0\n1,nan\n2,2\n", "line 3: y value 'nan' is not finite"),
+        ("x,y\n0,0\n1,1,1\n2,2\n", "line 3: expected 2 fields"),
+        ("x,y\n0,0\n\n2,2\n", None),
+        ("id;x;y\na;0;0\nb;1;1\nb;2;2\n", "curve 'a' \\(lines 2-2\\): points must have"),
+    ],
+)
+def test_csv_plain_files_report_the_right_line(text, message):
+    if message is None:
+        assert [c.points.tolist() for c in read_csv(io.StringIO(text))] == [[[0, 0], [2, 2]]]
+        return
+    with pytest.raises(CurveFormatError, match=message):
+        read_csv(io.StringIO(text))
+    shifted = message.replace("line 3", "line 4").replace("lines 2-2", "lines 3-3")
+    with pytest.raises(CurveFormatError, match=shifted):
+        read_csv(io.StringIO(_with_comment(text)))
+
+
+def test_csv_write_quotes_properties_like_the_csv_module():
+    # write_csv formats only the first row of a curve with the csv module and reuses its tail
+    props = {"name": 'Lake "Ünter", north', "note": "", "n": 3}
+    c = Curve([[0.1, 0.2], [1e-300, -3.0], [5.0, 1e17]], closed=False, properties=props)
+    buf = io.StringIO()
+    write_csv([c], buf)
+    lines = buf.getvalue().splitlines()
+    assert lines[1] == '0.1,0.2,"Lake ""Ünter"", north",,3'
+    assert lines[3] == '5.0,1e+17,"Lake ""Ünter"", north",,3'
+    (back,) = read_csv(io.StringIO(buf.getvalue()))
+    assert bits_equal(back.points, c.points) and back.properties == {"name": props["name"], "n": 3}
