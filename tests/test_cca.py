@@ -724,8 +724,12 @@ def test_random_anchors_keep_every_piece(p, data):
     )
     out = cca.smooth(p, closed=True, iterations=2, anchors=anchors)
     assert_area_kept(p, out)
-    pos = [int(np.flatnonzero(np.all(out == p[a], axis=1))[0]) for a in anchors]
-    assert pos == sorted(pos)
+    # Anchors stay in place and in order; find each after the previous one (two anchors may
+    # share coordinates, e.g. a repeated vertex).
+    pos = []
+    for a in anchors:
+        start = pos[-1] + 1 if pos else 0
+        pos.append(start + int(np.flatnonzero(np.all(out[start:] == p[a], axis=1))[0]))
     for k, a in enumerate(anchors):  # each piece against its own chord
         b = anchors[(k + 1) % len(anchors)]
         piece = p[a : b + 1] if b > a else np.vstack([p[a:], p[: b + 1]])
