@@ -440,3 +440,19 @@ def test_property_convex_curves_give_g2_affine_arc_length_polylines(seed, vertic
     left, right = affine.joint_curvatures(res.points)
     np.testing.assert_allclose(left, right, rtol=1e-7)
     assert res.objective >= 0 and abs(res.end_gap) < 1.0
+
+
+def test_coarse_polyline_recovers_when_the_curve_ends_first():
+    # Regression: with 6 vertices on 120 samples of this convex Bezier curve, A = (S/n)^3
+    # built only 4 of 5 edges before the curve ended; the edges are now shortened until
+    # all fit, and the result is still an affine arc length polyline.
+    rng = np.random.default_rng(1)
+    ang = np.sort(rng.uniform(0, 1.7 * np.pi, 7))
+    m = rng.normal(size=(2, 2)) + 2 * np.eye(2)
+    control = np.c_[np.cos(ang), np.sin(ang)] @ m.T
+    p = affine.bezier_curve(control, np.linspace(0, 1, 120))
+    res = affine.approximate(p, vertices=6)
+    assert res.success, res.message
+    assert res.points.shape == (6, 2)
+    assert affine.is_affine_arc_length(res.points, rtol=1e-9)
+    assert abs(res.end_gap) < 0.5

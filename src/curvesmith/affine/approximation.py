@@ -743,22 +743,35 @@ def approximate(
 
 
 def _fit_piece(piece: _Piece, area: float, search, xtol, iterations, target_t, tol_steps, refits):
-    """Optimise t1 for `area`; refit A until x_m is within `tol_steps` edges of `target_t`."""
+    """Optimise t1 for `area`; refit A until x_m is within `tol_steps` edges of `target_t`.
+
+    If the curve ends before all ``m`` edges are built (``A = (S/n)^3`` slightly too
+    large, typical for few vertices on coarse samples), the edges are shortened by
+    3 % and the construction repeated, up to 8 times, before giving up.
+    """
     cv = piece.cv
     best = None
     s_target = cv.s_of_t(target_t)
-    for _ in range(refits + 1):
+    refits_used = recoveries = 0
+    while True:
         t1 = piece.search(area, search, xtol, iterations)
         xs, ys, ts, done = _construct(cv, piece.t0, t1, area, piece.m, piece.t_end)
         step = abs(area) ** (1.0 / 3.0)
         gap = (s_target - cv.s_of_t(ts[-1])) * piece.sign / step if done == piece.m else math.inf
         cand = (abs(gap), area, t1, xs, ys, ts, done, gap)
-        if best is None or cand[0] < best[0]:
+        if best is None or cand[0] < best[0] or (cand[0] == best[0] and done > best[6]):
             best = cand
         if done == piece.m and abs(gap) <= tol_steps:
             break
         if done < piece.m:
+            if recoveries >= 8:
+                break
+            recoveries += 1
+            area *= 0.97**3  # the curve ended first: shorter edges
+            continue
+        if refits_used >= refits:
             break
+        refits_used += 1
         covered = abs(cv.s_of_t(ts[-1]) - cv.s_of_t(piece.t0))
         area *= ((covered + gap * step) / covered) ** 3  # scale the edges to reach the target
     return best[1:]
@@ -838,9 +851,10 @@ def _approximate_open(
             f"end gap {gap_last:+.3g} edge(s)"
         )
         if abs(gap_last) > 0.5:
+            where = "short of" if gap_last > 0 else "beyond"
             msg.append(
-                "the polyline does not reach the end of the curve (A = (S/n)^3 misjudged: "
-                "non-uniform samples?); use match_end=True to fit A"
+                f"the polyline ends {abs(gap_last):.3g} edge(s) {where} the end of the curve "
+                "(A = (S/n)^3 misjudged: non-uniform samples?); use match_end=True to fit A"
             )
     return Approximation(
         points=pts,
