@@ -6,7 +6,7 @@ from hypothesis.extra.numpy import arrays
 from scipy.interpolate import BSpline
 from scipy.spatial import ConvexHull, cKDTree
 
-from curvesmith import CurveError, geometry, signed_area
+from curvesmith import CurveError, geometry, signed_area, subdivision
 from curvesmith.subdivision import chaikin, de_rham, lane_riesenfeld
 
 
@@ -202,3 +202,62 @@ def test_duplicate_points_are_tolerated_by_linear_schemes():
     out = chaikin(p, closed=False)
     np.testing.assert_array_equal(out, naive_de_rham(p, 2.0, closed=False))
     np.testing.assert_array_equal(out[2:4], [[1, 0], [1, 0]])
+
+
+@pytest.mark.parametrize(
+    "call",
+    [
+        lambda: subdivision.chaikin([[0, 0], [1, 1], [2, 0]], closed=False, iterations=40),
+        lambda: subdivision.de_rham(
+            [[0, 0], [1, 0], [0, 1]], gamma=3.0, closed=True, iterations=30
+        ),
+        lambda: subdivision.lane_riesenfeld(
+            [[0, 0], [1, 1], [2, 0], [3, 1]], degree=3, iterations=27
+        ),
+    ],
+)
+def test_runaway_iterations_raise_instead_of_exhausting_memory(call):
+    # Regression: `curvesmith smooth --iterations 40` allocated until the machine ran out of
+    # memory (3 * 2**40 vertices).
+    with pytest.raises(CurveError, match=r"iterations must be small enough .* got (40|30|27)"):
+        call()
+
+
+def test_vertex_limit_is_exact(monkeypatch):
+    monkeypatch.setattr(subdivision, "MAX_VERTICES", 24)
+    tri = [[0, 0], [1, 0], [0, 1]]
+    assert chaikin(tri, closed=True, iterations=3).shape == (24, 2)
+    with pytest.raises(CurveError, match="at most 24 output vertices, got 4 .step 4 alone"):
+        chaikin(tri, closed=True, iterations=4)
+    # open, ends kept: 3 -> 6 -> 12 -> 24; Lane-Riesenfeld degree 3 open: 4 -> 5 -> 7 -> 11 -> 19
+    assert chaikin(tri, closed=False, iterations=3, preserve_endpoints=True).shape == (24, 2)
+    quad = [[0, 0], [1, 1], [2, 0], [3, 1]]
+    assert lane_riesenfeld(quad, degree=3, iterations=3).shape == (11, 2)
+    with pytest.raises(CurveError, match="got 5 .step 5 alone would give 35"):
+        lane_riesenfeld(quad, degree=3, iterations=5)
+    # a 2-point open line does not grow, so many steps are fine
+    assert chaikin([[0, 0], [1, 1]], closed=False, iterations=100).shape == (2, 2)
+
+
+@pytest.mark.parametrize(
+    ("n", "degree", "iterations", "shape", "message"),
+    [
+        (2, 2, 5, (2, 2), None),
+        (3, 3, 4, (3, 2), None),
+        (3, 4, 1, (2, 2), None),
+        (2, 3, 1, None, "at least 3 points for an open Lane-Riesenfeld step of degree 3, got 2"),
+        (3, 5, 1, None, "at least 4 points .* degree 5, got 3"),
+        (3, 4, 2, None, "iterations must be at most 1 for an open polyline of 3 points"),
+    ],
+)
+def test_open_lane_riesenfeld_never_returns_fewer_than_two_points(
+    n, degree, iterations, shape, message
+):
+    # Regression: an open step leaves 2 n - degree vertices (the docstring said 2 n + 2 -
+    # degree), so 2 points of degree 3 gave 1 point and further steps an empty array.
+    pts = [[float(i), float(i * i)] for i in range(n)]
+    if message is None:
+        assert lane_riesenfeld(pts, degree=degree, iterations=iterations).shape == shape
+    else:
+        with pytest.raises(CurveError, match=message):
+            lane_riesenfeld(pts, degree=degree, iterations=iterations)

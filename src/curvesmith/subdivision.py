@@ -28,8 +28,28 @@ from __future__ import annotations
 import numpy as np
 
 from ._validate import as_float, as_int, as_points
+from .errors import CurveError
 
-__all__ = ["chaikin", "de_rham", "lane_riesenfeld"]
+__all__ = ["MAX_VERTICES", "chaikin", "de_rham", "lane_riesenfeld"]
+
+MAX_VERTICES = 2**27
+"""Largest number of output vertices a subdivision call may create (about 134 million;
+2 GB for 2D float64 points). Every step doubles the vertex count, so a mistyped
+``iterations=40`` would otherwise exhaust the memory instead of failing."""
+
+
+def _check_growth(n: int, iterations: int, step) -> None:
+    """Raise if `iterations` steps of ``n -> step(n)`` exceed :data:`MAX_VERTICES`."""
+    for k in range(iterations):
+        grown = step(n)
+        if grown <= n:
+            return  # the count no longer grows (a 2-point open line stays 2 points)
+        n = grown
+        if n > MAX_VERTICES:
+            raise CurveError(
+                f"iterations must be small enough for at most {MAX_VERTICES} output vertices, "
+                f"got {iterations} (step {k + 1} alone would give {n} vertices)"
+            )
 
 
 def chaikin(
@@ -114,6 +134,8 @@ def de_rham(
     gamma = as_float(gamma, name="gamma", low=1.0)
     iterations = as_int(iterations, name="iterations", minimum=0)
     p = as_points(points, closed=closed, min_points=3 if closed else 2, dim=None)
+    extra = 0 if closed else (0 if preserve_endpoints else -2)
+    _check_growth(p.shape[0], iterations, lambda n: 2 * n + extra)
     beta = 1.0 / (gamma + 2.0)
     alpha = 1.0 - beta
     for _ in range(iterations):
@@ -176,8 +198,9 @@ def lane_riesenfeld(
     Returns
     -------
     ndarray
-        Closed: ``2N`` vertices per step. Open: ``2N + 2 - degree`` per step,
-        so an open step needs ``2N + 2 > degree``.
+        Closed: ``2N`` vertices per step. Open: ``2N - degree`` per step (two
+        more with `preserve_endpoints`), so an open step needs
+        ``2N - degree >= 2``, and steps shrink the polyline when ``N < degree``.
 
     Notes
     -----
@@ -194,13 +217,28 @@ def lane_riesenfeld(
     degree = as_int(degree, name="degree", minimum=1)
     iterations = as_int(iterations, name="iterations", minimum=0)
     p = as_points(points, closed=closed, min_points=3 if closed else 2, dim=None)
-    if not closed and 2 * p.shape[0] + 2 - degree < 2:
-        from .errors import CurveError
-
-        raise CurveError(
-            f"points must have at least {degree // 2} points for an open Lane-Riesenfeld step "
-            f"of degree {degree}, got {p.shape[0]}"
-        )
+    if not closed:
+        # an open step keeps 2 n - degree averaged vertices (+ 2 kept ends), which must be a
+        # polyline; for n < degree the count shrinks from step to step
+        n = p.shape[0]
+        for k in range(iterations):
+            if 2 * n - degree < 2:
+                if k == 0:
+                    raise CurveError(
+                        f"points must have at least {(degree + 3) // 2} points for an open "
+                        f"Lane-Riesenfeld step of degree {degree}, got {p.shape[0]}"
+                    )
+                raise CurveError(
+                    f"iterations must be at most {k} for an open polyline of {p.shape[0]} points "
+                    f"and degree {degree} (a step turns n vertices into 2 n - {degree}), "
+                    f"got {iterations}"
+                )
+            grown = 2 * n - degree + (2 if preserve_endpoints else 0)
+            if grown == n or grown > MAX_VERTICES:
+                break  # stable from here on, or too large (reported below)
+            n = grown
+    extra = 0 if closed else (2 if preserve_endpoints else 0) - degree
+    _check_growth(p.shape[0], iterations, lambda n: 2 * n + extra)
     for _ in range(iterations):
         p = _lane_riesenfeld_step(p, degree, closed, preserve_endpoints)
     return p
