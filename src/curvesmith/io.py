@@ -329,10 +329,20 @@ def _read_text(source: Source) -> tuple[str, str]:
 
 def _write_text(dest: Source, text: str) -> None:
     if isinstance(dest, str | os.PathLike):
+        path = Path(dest)
         try:
-            Path(dest).write_text(text, encoding="utf-8", newline="\n")
+            path.write_text(text, encoding="utf-8", newline="\n")
+        except FileNotFoundError:
+            raise CurveFormatError(
+                f"{os.fspath(dest)}: cannot write the file: the directory "
+                f"{os.fspath(path.parent)!r} does not exist"
+            ) from None
+        except IsADirectoryError:
+            raise CurveFormatError(f"{os.fspath(dest)}: is a directory, not a file") from None
         except OSError as exc:
-            raise CurveFormatError(f"{os.fspath(dest)}: cannot write the file: {exc}") from None
+            raise CurveFormatError(
+                f"{os.fspath(dest)}: cannot write the file: {exc.strerror or exc}"
+            ) from None
     elif hasattr(dest, "write"):
         dest.write(text)
     else:

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import click
 
-from ..errors import CurveError
+from ..errors import CurveError, CurveFormatError
 from ..io import Curve, detect_format
 from ..io import read_curves as _read
 from ..io import write_curves as _write
@@ -32,7 +32,7 @@ def read_curves(source: str, fmt: str | None = None) -> list[Curve]:
         text = sys.stdin.read()
         curves = _read(_stdio.StringIO(text), format=fmt)
     else:
-        curves = _read(Path(source), format=fmt)
+        curves = _read(Path(source), format=_format_of(source, fmt))
     if not curves:
         raise CurveError(f"{source} contains no curves")
     return curves
@@ -47,7 +47,18 @@ def write_curves(curves: list[Curve], dest: str, fmt: str | None = None) -> None
         _write(curves, buf, format=fmt)
         click.echo(buf.getvalue(), nl=False)
     else:
-        _write(curves, Path(dest), format=fmt if fmt is not None else detect_format(dest))
+        _write(curves, Path(dest), format=_format_of(dest, fmt))
+
+
+def _format_of(path: str, fmt: str | None) -> str:
+    """The format of `path`, from --format or the suffix, with the CLI's wording in errors."""
+    if fmt is not None:
+        return fmt
+    try:
+        return detect_format(path)
+    except CurveFormatError as exc:
+        text = str(exc).replace("or pass format= one of", "or give --format with one of")
+        raise CurveFormatError(text) from None
 
 
 def parse_floats(text: str, *, name: str, count: int) -> tuple[float, ...]:

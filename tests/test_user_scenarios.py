@@ -1,0 +1,214 @@
+"""Acceptance scenarios: a new user runs the CLI on real-world and broken files.
+
+Every broken input must give exactly one line ``Error: ...`` naming the file and the
+problem, exit status 1 and no traceback; usage errors exit 2.
+"""
+
+import json
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+from curvesmith import io as cio
+from curvesmith.cli import main
+
+GEOJSON = {
+    "type": "FeatureCollection",
+    "name": "parcels",
+    "features": [
+        {
+            "type": "Feature",
+            "id": 17,
+            "properties": {"id": "lake", "name": "Lake Ünter", "tags": ["water"]},
+            "geometry": {
+                "type": "Polygon",
+                "coordinates": [
+                    [[0, 0], [10, 0], [10, 10], [0, 10], [0, 0]],
+                    [[2, 2], [2, 4], [4, 4], [4, 2], [2, 2]],
+                ],
+            },
+        },
+        {
+            "type": "Feature",
+            "properties": {"name": "islands"},
+            "geometry": {
+                "type": "MultiPolygon",
+                "coordinates": [
+                    [[[20, 0], [22, 0], [21, 2], [20, 0]]],
+                    [[[30, 0], [34, 0], [34, 4], [30, 4], [30, 0]]],
+                ],
+            },
+        },
+    ],
+}
+
+SVG = """<?xml version="1.0" encoding="UTF-8"?>
+<svg xmlns="http://www.w3.org/2000/svg" xmlns:xlink="http://www.w3.org/1999/xlink"
+     width="210mm" height="297mm" viewBox="0 0 210 297">
+  <defs><path id="star" d="m 0,-10 3,7 7,0 -5,5 2,8 -7,-5 -7,5 2,-8 -5,-5 7,0 z"/></defs>
+  <g transform="translate(10,20)">
+    <path id="donut" d="M 10 50 L 60 50 L 60 80 Z M 20 60 L 50 60 L 50 70 L 20 70 Z"/>
+    <path id="arc" d="M 100 50 a 20 10 30 1 1 40 0 l 10 10 h 20 v -15 q 10 -10 20 0 t 20 0"/>
+    <use xlink:href="#star" x="150" y="200"/>
+    <use xlink:href="#star" x="50" y="200"/>
+  </g>
+</svg>
+"""
+
+
+@pytest.fixture
+def runner():
+    return CliRunner()
+
+
+def one_line_error(res, *fragments):
+    assert res.exit_code == 1, res.output
+    assert res.exception is None or isinstance(res.exception, SystemExit)
+    lines = [line for line in res.output.splitlines() if line.strip()]
+    assert len(lines) == 1 and lines[0].startswith("Error: "), res.output
+    for fragment in fragments:
+        assert fragment in lines[0], lines[0]
+
+
+def test_geojson_with_holes_and_id_property_converts_to_csv(runner, tmp_path):
+    # Regression: 'id properties must be present and distinct' for a polygon with a hole
+    src = tmp_path / "parcels.geojson"
+    src.write_text(json.dumps(GEOJSON))
+    out = tmp_path / "out.csv"
+    res = runner.invoke(main, ["smooth", str(src), "-o", str(out), "--method", "chaikin"])
+    assert res.exit_code == 0, res.output
+    curves = cio.read_csv(out)
+    assert [c.properties["id"] for c in curves] == ["lake#0", "lake#1", 2, 3]
+    assert [c.properties.get("name") for c in curves] == ["Lake Ünter"] * 2 + ["islands"] * 2
+    assert all(c.closed for c in curves)
+
+
+def test_geojson_smoothing_keeps_structure_orientation_and_properties(runner, tmp_path):
+    src = tmp_path / "parcels.geojson"
+    src.write_text(json.dumps(GEOJSON))
+    for method in ("chaikin", "derham"):
+        out = tmp_path / f"{method}.geojson"
+        res = runner.invoke(main, ["smooth", str(src), "-o", str(out), "--method", method])
+        assert res.exit_code == 0, res.output
+        doc = json.loads(out.read_text())
+        lake, islands = doc["features"]
+        assert lake["id"] == 17 and lake["properties"] == GEOJSON["features"][0]["properties"]
+        rings = [np.array(r) for r in lake["geometry"]["coordinates"]]
+        assert [r[0].tolist() == r[-1].tolist() for r in rings] == [True, True]
+        areas = [cio._area_sign(r[:-1]) for r in rings]
+        assert areas == [1, -1]  # RFC 7946: exterior CCW, hole CW
+        assert islands["geometry"]["type"] == "MultiPolygon"
+        assert len(islands["geometry"]["coordinates"]) == 2
+
+
+def test_inkscape_like_svg_to_csv_and_back(runner, tmp_path):
+    # Regression: a compound path (two subpaths) or two <use> of one symbol share an id
+    src = tmp_path / "drawing.svg"
+    src.write_text(SVG)
+    out = tmp_path / "out.csv"
+    res = runner.invoke(main, ["smooth", str(src), "-o", str(out), "--method", "chaikin"])
+    assert res.exit_code == 0, res.output
+    ids = [c.properties["id"] for c in cio.read_csv(out)]
+    assert ids == ["donut#0", "donut#1", "arc", "star#0", "star#1"]
+    stars = [c for c in cio.read_svg(src) if c.properties.get("id") == "star"]
+    # the two uses are the same star shifted by (100, 0)
+    assert np.allclose(stars[0].points - stars[1].points, [100.0, 0.0])
+
+
+def test_messy_csv_bom_crlf_semicolons_trailing_blank_lines(runner, tmp_path):
+    src = tmp_path / "messy.csv"
+    src.write_bytes(
+        b"\xef\xbb\xbfID;X;Y;name\r\na;0;0;one\r\na;1;0;one\r\na;1;1;one\r\n"
+        b"b;5;5;two\r\nb;6.5;5;two\r\n\r\n\r\n"
+    )
+    res = runner.invoke(main, ["measure", str(src), "--json"])
+    assert res.exit_code == 0, res.output
+    rows = json.loads(res.output)["curves"]
+    assert [r["points"] for r in rows] == [3, 2]
+    assert [r["length"] for r in rows] == [2.0, 1.5]
+
+
+@pytest.mark.parametrize(
+    ("name", "content", "fragments"),
+    [
+        ("empty.csv", b"", ["empty.csv", "empty"]),
+        ("header.csv", b"x,y\n", ["header.csv", "no data rows"]),
+        ("garbage.csv", bytes(range(128, 256)), ["garbage.csv", "not UTF-8"]),
+        ("trunc.geojson", b'{"type": "FeatureCollection", "features": [{"type":', ["line 1"]),
+        ("notgeo.json", b'{"hello": [1, 2]}', ["notgeo.json", "'type'"]),
+        (
+            "point.geojson",
+            b'{"type": "Point", "coordinates": [1, 2]}',
+            ["point.geojson", "Point is not a curve"],
+        ),
+        (
+            "nodraw.svg",
+            b'<svg xmlns="http://www.w3.org/2000/svg"><text>hi</text></svg>',
+            ["nodraw.svg", "no drawable"],
+        ),
+        ("notxml.svg", b"this is not xml <<", ["notxml.svg", "malformed XML"]),
+        ("nonnum.csv", b"x,y\n0,0\n1,abc\n", ["nonnum.csv", "line 3", "'abc'"]),
+        ("nan.csv", b"x,y\n0,0\n1,NaN\n2,2\n", ["nan.csv", "line 3", "not finite"]),
+        ("single.csv", b"x,y\n0,0\n", ["single.csv", "at least 2 points"]),
+        ("curve.dat", b"x,y\n0,0\n1,1\n", ["curve.dat", "'.dat'", "--format"]),
+    ],
+)
+def test_bad_input_files(runner, tmp_path, name, content, fragments):
+    path = tmp_path / name
+    path.write_bytes(content)
+    for args in (["measure", str(path)], ["smooth", str(path), "-o", str(tmp_path / "o.csv")]):
+        one_line_error(runner.invoke(main, args), *fragments)
+
+
+def test_bad_output_paths(runner, tmp_path):
+    src = tmp_path / "ok.csv"
+    src.write_text("x,y\n0,0\n1,1\n2,0\n")
+    missing = tmp_path / "no" / "such" / "dir" / "out.csv"
+    res = runner.invoke(main, ["smooth", str(src), "-o", str(missing), "--method", "chaikin"])
+    one_line_error(res, str(missing), "does not exist")
+    (tmp_path / "d.csv").mkdir()
+    res = runner.invoke(main, ["smooth", str(src), "-o", str(tmp_path / "d.csv")])
+    one_line_error(res, "d.csv", "is a directory")
+    res = runner.invoke(main, ["smooth", str(src), "-o", str(tmp_path / "out.xyz")])
+    one_line_error(res, "out.xyz", "--format")
+    res = runner.invoke(main, ["measure", str(tmp_path / "missing.csv")])
+    one_line_error(res, "missing.csv", "no such file")
+
+
+def test_runaway_iterations_are_an_error_not_an_out_of_memory(runner, tmp_path):
+    src = tmp_path / "ok.csv"
+    src.write_text("x,y\n0,0\n1,1\n2,0\n")
+    res = runner.invoke(
+        main, ["smooth", str(src), "-o", str(tmp_path / "o.csv"), "--method", "chaikin",
+               "--iterations", "40"]
+    )  # fmt: skip
+    one_line_error(res, "iterations", "40")
+
+
+def test_duplicated_points_are_kept_not_dropped(runner, tmp_path):
+    src = tmp_path / "dups.csv"
+    src.write_text("x,y\n0,0\n0,0\n1,1\n1,1\n2,0\n")
+    res = runner.invoke(main, ["measure", str(src), "--json"])
+    assert res.exit_code == 0
+    (row,) = json.loads(res.output)["curves"]
+    assert row["points"] == 5 and row["zero_length_edges"] == 2
+    out = tmp_path / "o.csv"
+    res = runner.invoke(main, ["smooth", str(src), "-o", str(out), "--method", "chaikin"])
+    assert res.exit_code == 0
+    assert np.isfinite(cio.read_csv(out)[0].points).all()
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["smooth"],
+        ["smooth", "x.csv"],
+        ["smooth", "x.csv", "-o", "y.csv", "--method", "bezier"],
+        ["smooth", "x.csv", "-o", "y.csv", "--iterations", "three"],
+        ["nosuchcommand"],
+    ],
+)
+def test_usage_errors_exit_2(runner, args):
+    res = runner.invoke(main, args)
+    assert res.exit_code == 2
