@@ -124,3 +124,18 @@ def test_bad_options(tmp_path):
         batch.smooth_file(tmp_path / "x.gpkg", tmp_path / "y.gpkg", partition_size=0)
     with pytest.raises(CurveError, match="workers must be an integer >= 1, got 0"):
         batch.smooth_partitioned([shapely.box(0, 0, 1, 1)], workers=0)
+
+
+def test_partitioned_linear_rings_and_none(cluster):
+    t = np.linspace(0, 2 * np.pi, 12, endpoint=False)
+    ring = shapely.LinearRing(np.column_stack([np.cos(t), 0.5 * np.sin(t)]))
+    geoms = [ring, None, shapely.box(0, 0, 1, 1), ring]
+    with distributed.Client(cluster.scheduler_address) as client:
+        out, errors, n_tasks, _ = batch.smooth_partitioned(geoms, client=client, partition_size=2)
+    assert errors == () and n_tasks == 2
+    assert isinstance(out[0], shapely.LinearRing) and out[1] is None
+    ref = geo.smooth(geoms)
+    assert all(
+        (a is None and b is None) or shapely.equals_exact(a, b, 0.0)
+        for a, b in zip(out, ref, strict=True)
+    )

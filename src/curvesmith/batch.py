@@ -78,15 +78,24 @@ class BatchReport:
 
 
 def _smooth_partition(
-    geoms: np.ndarray, start: int, options: dict[str, Any]
+    data: np.ndarray, start: int, options: dict[str, Any], as_wkb: bool = True
 ) -> tuple[np.ndarray, list[tuple[int, str]], int]:
-    """Smooth one partition; a failing feature is kept unchanged and reported."""
+    """Smooth one partition; a failing feature is kept unchanged and reported.
+
+    Geometries travel as WKB (``as_wkb``: one vectorized encode/decode per partition
+    instead of one pickle per geometry; WKB keeps float64 coordinates exactly), or as
+    shapely objects when the input has LinearRings, which WKB cannot represent.
+    """
+    import shapely
+
     from . import geo
 
+    geoms = shapely.from_wkb(data) if as_wkb else data
+    encode = shapely.to_wkb if as_wkb else (lambda x: x)
     try:
         res = geo.smooth(geoms, full_output=True, **options)
-        return res.geometry, [], len(res.reductions)
-    except Exception:
+        return encode(res.geometry), [], len(res.reductions)
+    except Exception:  # retried feature by feature below, to isolate the failing ones
         pass
     out = np.array(geoms, dtype=object, copy=True)
     errors: list[tuple[int, str]] = []
@@ -96,9 +105,9 @@ def _smooth_partition(
             res = geo.smooth(np.array([g], dtype=object), full_output=True, **options)
             out[k] = res.geometry[0]
             n_red += len(res.reductions)
-        except Exception as exc:
+        except Exception as exc:  # the feature is written unchanged and reported
             errors.append((start + k, f"{type(exc).__name__}: {exc}"))
-    return out, errors, n_red
+    return encode(out), errors, n_red
 
 
 def _smooth_arc_chunk(
@@ -207,7 +216,13 @@ def smooth_partitioned(
     geoms, wrap = as_geometry_array(geometry)
     options = {"method": method, "iterations": iterations, "alpha": alpha, "make_valid": make_valid}
     starts = list(range(0, len(geoms), partition_size))
-    args = [(geoms[s : s + partition_size], s, options) for s in starts]
+    import shapely
+
+    # WKB has no LinearRing type: send those partitions' geometries as objects
+    present = np.array([g is not None for g in geoms], dtype=bool)
+    rings = bool(np.any(shapely.get_type_id(geoms[present]) == shapely.GeometryType.LINEARRING))
+    data = geoms if rings else shapely.to_wkb(geoms)
+    args = [(data[s : s + partition_size], s, options, not rings) for s in starts]
     own = None
     if client is None:
         own = _Cluster(workers, scheduler)
@@ -221,7 +236,7 @@ def smooth_partitioned(
     errors: list[FeatureError] = []
     n_red = 0
     for s, (part, errs, nr) in zip(starts, results, strict=True):
-        out[s : s + len(part)] = part
+        out[s : s + len(part)] = part if rings else shapely.from_wkb(part)
         errors += [FeatureError(i, r) for i, r in errs]
         n_red += nr
     return wrap(out), tuple(errors), len(args), n_red
