@@ -261,3 +261,43 @@ def test_open_lane_riesenfeld_never_returns_fewer_than_two_points(
     else:
         with pytest.raises(CurveError, match=message):
             lane_riesenfeld(pts, degree=degree, iterations=iterations)
+
+
+@pytest.mark.parametrize(
+    ("call", "message"),
+    [
+        (lambda p: chaikin(p.T, closed=False), r"got \(2, 5\): 5 points with 2 coordinates"),
+        (lambda p: de_rham(p.T, gamma=3.0, closed=True), r"look transposed \(pass points.T\)"),
+        (lambda p: lane_riesenfeld(p.T, degree=3), r"got \(2, 5\)"),
+        (lambda p: chaikin(p, closed=None), "closed must be True or False, got None"),
+        (lambda p: chaikin(p, closed="yes"), "closed must be True or False, got 'yes'"),
+        (
+            lambda p: chaikin(p, closed=False, preserve_endpoints="no"),
+            "preserve_endpoints must be True or False, got 'no'",
+        ),
+        (
+            lambda p: lane_riesenfeld(p, degree=2, preserve_endpoints=0),
+            "preserve_endpoints must be True or False, got 0",
+        ),
+    ],
+)
+def test_api_misuse_is_refused_with_the_argument_and_value(call, message):
+    # Regression: a (2, N) array was smoothed as 2 points in N dimensions, closed=None was
+    # taken as open, and preserve_endpoints="no" kept the end points (a truthy string).
+    p = np.array([[0, 0], [1, 2], [2, 0], [3, 1], [4, 0]], dtype=float)
+    with pytest.raises(CurveError, match=message):
+        call(p)
+
+
+def test_accepted_input_forms_agree():
+    # lists of tuples, integer arrays, numpy bools and a repeated closing vertex
+    ref = chaikin(np.array([[0.0, 0.0], [4.0, 0.0], [4.0, 4.0]]), closed=True, iterations=2)
+    for pts, closed in [
+        ([(0, 0), (4, 0), (4, 4)], True),
+        (np.array([[0, 0], [4, 0], [4, 4]], dtype=np.int32), np.bool_(True)),
+        ([[0, 0], [4, 0], [4, 4], [0, 0]], True),
+    ]:
+        assert np.array_equal(chaikin(pts, closed=closed, iterations=2), ref)
+    # 2 points in 3D and 4 points in 5D are genuine rows, not transposed arrays
+    assert chaikin([[0, 0, 0], [1, 1, 1]], closed=False).shape == (2, 3)
+    assert lane_riesenfeld(np.eye(5)[:4], degree=2).shape == (6, 5)

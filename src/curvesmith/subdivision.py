@@ -21,6 +21,10 @@ are vectorized: each refinement step is a handful of array operations.
 
 Open polylines may keep their end points (``preserve_endpoints=True``), the
 behaviour of PostGIS ``ST_ChaikinSmoothing(..., preserveEndPoints => true)``.
+Points are rows in any dimension, except that an array of 2 or 3 rows with more
+than 3 columns is refused as transposed (``(2, N)`` coordinates instead of
+``(N, 2)`` points, the usual mix-up); ``closed`` and ``preserve_endpoints`` must
+be booleans.
 """
 
 from __future__ import annotations
@@ -36,6 +40,30 @@ MAX_VERTICES = 2**27
 """Largest number of output vertices a subdivision call may create (about 134 million;
 2 GB for 2D float64 points). Every step doubles the vertex count, so a mistyped
 ``iterations=40`` would otherwise exhaust the memory instead of failing."""
+
+
+def _as_flag(value, name: str) -> bool:
+    """A bool argument; refuses ``None`` and strings (``preserve_endpoints="no"`` is truthy)."""
+    if not isinstance(value, bool | np.bool_):
+        raise CurveError(f"{name} must be True or False, got {value!r}")
+    return bool(value)
+
+
+def _input_points(points, closed) -> tuple[np.ndarray, bool]:
+    """Validate the common arguments; (N, d) rows in any dimension, but not a transposed array."""
+    closed = _as_flag(closed, "closed")
+    try:
+        shape = np.shape(points)
+    except ValueError:  # ragged: as_points says what is wrong
+        shape = ()
+    if len(shape) == 2 and shape[0] in (2, 3) and shape[1] > 3:
+        raise CurveError(
+            f"points must have shape (N, d) with one point per row, got {shape}: "
+            f"{shape[1]} points with {shape[0]} coordinates each look transposed "
+            "(pass points.T)"
+        )
+    p = as_points(points, closed=closed, min_points=3 if closed else 2, dim=None)
+    return p, closed
 
 
 def _check_growth(n: int, iterations: int, step) -> None:
@@ -133,7 +161,8 @@ def de_rham(
     """
     gamma = as_float(gamma, name="gamma", low=1.0)
     iterations = as_int(iterations, name="iterations", minimum=0)
-    p = as_points(points, closed=closed, min_points=3 if closed else 2, dim=None)
+    p, closed = _input_points(points, closed)
+    preserve_endpoints = _as_flag(preserve_endpoints, "preserve_endpoints")
     extra = 0 if closed else (0 if preserve_endpoints else -2)
     _check_growth(p.shape[0], iterations, lambda n: 2 * n + extra)
     beta = 1.0 / (gamma + 2.0)
@@ -216,7 +245,8 @@ def lane_riesenfeld(
     """
     degree = as_int(degree, name="degree", minimum=1)
     iterations = as_int(iterations, name="iterations", minimum=0)
-    p = as_points(points, closed=closed, min_points=3 if closed else 2, dim=None)
+    p, closed = _input_points(points, closed)
+    preserve_endpoints = _as_flag(preserve_endpoints, "preserve_endpoints")
     if not closed:
         # an open step keeps 2 n - degree averaged vertices (+ 2 kept ends), which must be a
         # polyline; for n < degree the count shrinks from step to step
