@@ -212,3 +212,17 @@ def test_duplicated_points_are_kept_not_dropped(runner, tmp_path):
 def test_usage_errors_exit_2(runner, args):
     res = runner.invoke(main, args)
     assert res.exit_code == 2
+
+
+def test_affine_errors_name_the_file_and_the_curve(runner, tmp_path):
+    # Regression: "Error: samples must have at least 2 * vertices = 8 points ..." did not say
+    # which file or curve
+    src = tmp_path / "shapes.csv"
+    t = np.linspace(0.0, np.pi, 200)
+    rows = [f"a,{x!r},{y!r}" for x, y in zip(np.cos(t).tolist(), np.sin(t).tolist(), strict=True)]
+    rows += ["b,0,0", "b,1,0", "b,1,1", "b,0,1"]
+    src.write_text("id,x,y\n" + "\n".join(rows) + "\n")
+    res = runner.invoke(
+        main, ["affine", str(src), "-o", str(tmp_path / "o.csv"), "--vertices", "4"]
+    )
+    one_line_error(res, "shapes.csv: curve 1:", "at least 2 * vertices = 8 points")

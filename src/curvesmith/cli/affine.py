@@ -77,14 +77,17 @@ def affine_command(
     for i, curve in enumerate(curves):
         if curve.points.shape[1] != 2:
             raise CurveError(
-                f"curve {i} must be planar (x, y), got {curve.points.shape[1]} columns"
+                f"{source}: curve {i} must be planar (x, y), got {curve.points.shape[1]} columns"
             )
         is_closed = curve.closed if closed is None else closed
-        res = affine.approximate(
-            curve.points, vertices=vertices, closed=is_closed, match_end=match_end
-        )
+        try:
+            res = affine.approximate(
+                curve.points, vertices=vertices, closed=is_closed, match_end=match_end
+            )
+        except CurveError as exc:
+            raise CurveError(f"{source}: curve {i}: {exc}") from None
         if not res.success:
-            raise CurveError(f"curve {i}: {res.message}")
+            raise CurveError(f"{source}: curve {i}: {res.message}")
         props = dict(curve.properties)
         props.update(
             affine_area=res.area,
