@@ -225,4 +225,8 @@ def test_affine_errors_name_the_file_and_the_curve(runner, tmp_path):
     res = runner.invoke(
         main, ["affine", str(src), "-o", str(tmp_path / "o.csv"), "--vertices", "4"]
     )
-    one_line_error(res, "shapes.csv: curve 1:", "at least 2 * vertices = 8 points")
+    assert res.exit_code == 1
+    *progress, last = res.output.splitlines()
+    assert progress == [line for line in progress if line.startswith("curve 0: constructed")]
+    assert last.startswith("Error: ") and "shapes.csv: curve 1:" in last
+    assert "at least 2 * vertices = 8 points" in last
