@@ -546,7 +546,7 @@ def test_cli_keyline_processes_good_files_and_reports_bad_ones(tmp_path):
         ("b.csv", "right"),
         ("missing.csv", ""),
     ]
-    assert "2 or 3 numbers on every line, got row widths [2, 3]" in rows[2]["error"]
+    assert "bad.txt: line 2: expected 3 numbers (x y [z]) like every row, got 2" in rows[2]["error"]
     assert rows[2]["success"] is False and rows[5]["success"] is False
     for r in (rows[0], rows[1], rows[3], rows[4]):
         assert r["success"] is True and r["error"] == ""
@@ -693,3 +693,33 @@ def test_cli_keyline_non_converged_side_is_reported_and_exits_1(tmp_path, monkey
     ]
     assert table["summary"]["left"]["count"] == 2 and table["summary"]["right"]["count"] == 0
     assert (out / "a_fit.csv").is_file() and (out / "b_fit.csv").is_file()
+
+
+@pytest.mark.parametrize(
+    ("content", "message"),
+    [
+        (bytes(range(128, 256)), "garbage.xyz: not a text table of numbers"),
+        (b"", "garbage.xyz: the file is empty"),
+        (b"# comment only\n\n", "garbage.xyz: the file is empty"),
+        (b"1 2 3\n4 5 6\n7 8 x\n", "garbage.xyz: line 3: 'x' is not a number"),
+        (b"1 2 3 4\n", "garbage.xyz: line 1: expected 2 or 3 numbers"),
+    ],
+)
+def test_read_scan_errors_name_file_and_line(tmp_path, content, message):
+    # Regression: a binary .xyz file crashed the keyline command with a UnicodeDecodeError
+    # traceback; an empty one said "got row widths []".
+    from curvesmith.cli.keyline import read_scan
+
+    path = tmp_path / "garbage.xyz"
+    path.write_bytes(content)
+    with pytest.raises(CurveError, match=message):
+        read_scan(path)
+
+
+def test_read_scan_skips_a_header_row(tmp_path):
+    from curvesmith.cli.keyline import read_scan
+
+    path = tmp_path / "scan.xyz"
+    path.write_bytes(b"\xef\xbb\xbf//X //Y //Z\r\n1 2 3\r\n4 5 6\r\n")
+    ((name, pts),) = read_scan(path)
+    assert name == "scan" and pts.tolist() == [[1, 2, 3], [4, 5, 6]]

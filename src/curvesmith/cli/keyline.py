@@ -47,7 +47,8 @@ def read_scan(path: str | Path) -> list[tuple[str, np.ndarray]]:
     """Read the keylines of one scan file as ``(name, points)`` pairs.
 
     ``.xyz``, ``.txt`` and ``.dat`` files are plain tables of numbers (2 or 3
-    columns, whitespace or comma separated, ``#`` comments), one keyline per
+    columns, whitespace or comma separated, ``#`` comments, an optional first
+    row without numbers such as ``x y z`` taken as a header), one keyline per
     file; other suffixes (CSV ``x,y,z`` with an optional ``id`` column for
     several keylines, GeoJSON, SVG) go through ``curvesmith.cli._common.read_curves``.
 
@@ -70,20 +71,32 @@ def read_scan(path: str | Path) -> list[tuple[str, np.ndarray]]:
     path = Path(path)
     if path.suffix.lower() in PLAIN_SUFFIXES:
         try:
-            text = path.read_text(encoding="utf-8")
+            text = path.read_bytes().decode("utf-8-sig")
         except OSError as exc:
             raise CurveError(f"cannot read {path}: {exc.strerror or exc}") from None
-        rows = [ln.split("#", 1)[0].strip() for ln in text.splitlines()]
-        rows = [r.replace(",", " ").split() for r in rows if r]
-        widths = sorted({len(r) for r in rows})
-        if not rows or len(widths) != 1 or widths[0] not in (2, 3):
+        except UnicodeDecodeError as exc:
             raise CurveError(
-                f"{path} must have 2 or 3 numbers on every line, got row widths {widths}"
-            )
+                f"{path}: not a text table of numbers ({exc.reason} at byte {exc.start})"
+            ) from None
+        numbered = [(n, ln.split("#", 1)[0].strip()) for n, ln in enumerate(text.splitlines(), 1)]
+        numbered = [(n, r.replace(",", " ").split()) for n, r in numbered if r]
+        if numbered and not any(_is_float(v) for v in numbered[0][1]):
+            numbered = numbered[1:]  # a header row such as "x y z" or "//X //Y //Z"
+        if not numbered:
+            raise CurveError(f"{path}: the file is empty (no rows of numbers)")
+        width = len(numbered[0][1])
+        for n, r in numbered:
+            if len(r) not in (2, 3) or len(r) != width:
+                raise CurveError(
+                    f"{path}: line {n}: expected {width if width in (2, 3) else '2 or 3'} "
+                    f"numbers (x y [z]) like every row, got {len(r)}"
+                )
+        rows = [r for _, r in numbered]
         try:
             pts = np.array([[float(v) for v in r] for r in rows], dtype=float)
-        except ValueError as exc:
-            raise CurveError(f"{path} must hold numbers only: {exc}") from None
+        except ValueError:
+            n, bad = next((n, v) for n, r in numbered for v in r if not _is_float(v))
+            raise CurveError(f"{path}: line {n}: {bad!r} is not a number") from None
         return [(path.stem, pts)]
     from ._common import read_curves
 
@@ -98,6 +111,14 @@ def read_scan(path: str | Path) -> list[tuple[str, np.ndarray]]:
         tag = c.properties.get("id", i)
         out.append((f"{path.stem}_{tag}", np.asarray(c.points, dtype=float)))
     return out
+
+
+def _is_float(text: str) -> bool:
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
 
 
 def _rows_for(file: str, name: str, res, out_name: str) -> list[dict]:
