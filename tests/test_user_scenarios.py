@@ -230,3 +230,22 @@ def test_affine_errors_name_the_file_and_the_curve(runner, tmp_path):
     assert progress == [line for line in progress if line.startswith("curve 0: constructed")]
     assert last.startswith("Error: ") and "shapes.csv: curve 1:" in last
     assert "at least 2 * vertices = 8 points" in last
+
+
+def test_stdin_that_is_not_utf8_is_reported_as_such(runner):
+    # Regression: the message showed surrogate escapes ('\udc85...') and a bogus field count
+    res = runner.invoke(main, ["measure", "-", "--format", "csv"], input=bytes(range(128, 256)))
+    one_line_error(res, "<stdin>", "not UTF-8")
+    res = runner.invoke(main, ["measure", "-", "--format", "csv"], input="x,y\n0,0\n1,oops\n")
+    one_line_error(res, "<stdin>: line 3", "'oops'")
+
+
+def test_measure_refuses_to_print_overflowed_numbers(runner, tmp_path, recwarn):
+    # Regression: measure printed length inf and turning angles nan, with RuntimeWarnings
+    src = tmp_path / "huge.svg"
+    src.write_text(
+        '<svg xmlns="http://www.w3.org/2000/svg"><path d="M0 0 L 1e308 1e308 L -1e308 0"/></svg>'
+    )
+    res = runner.invoke(main, ["measure", str(src)])
+    one_line_error(res, "curve 0 of", "huge.svg", "overflow", "scale them down")
+    assert not [w for w in recwarn if issubclass(w.category, RuntimeWarning)]

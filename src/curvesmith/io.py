@@ -1527,7 +1527,10 @@ def _default_tolerance(items) -> float:
     arr = np.concatenate(boxes)
     if len(arr) == 0:
         return 1.0
-    diagonal = float(np.hypot(*(arr.max(axis=0) - arr.min(axis=0))))
+    with np.errstate(over="ignore"):
+        diagonal = float(np.hypot(*(arr.max(axis=0) - arr.min(axis=0))))
+    if not math.isfinite(diagonal):  # coordinates near the float range: the span overflows
+        diagonal = float(np.finfo(np.float64).max)
     return _DEFAULT_RELATIVE_TOLERANCE * diagonal if diagonal > 0 else 1.0
 
 

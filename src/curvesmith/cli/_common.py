@@ -29,8 +29,12 @@ def read_curves(source: str, fmt: str | None = None) -> list[Curve]:
     if source == "-":
         if fmt is None:
             raise CurveError("--format is required when reading from standard input (-)")
-        text = sys.stdin.read()
-        curves = _read(_stdio.StringIO(text), format=fmt)
+        raw = getattr(sys.stdin, "buffer", None)
+        # bytes, so that the reader reports a non-UTF-8 input instead of surrogate escapes
+        data = raw.read() if raw is not None else sys.stdin.read()
+        stream = _stdio.BytesIO(data) if isinstance(data, bytes) else _stdio.StringIO(data)
+        stream.name = "<stdin>"
+        curves = _read(stream, format=fmt)
     else:
         curves = _read(Path(source), format=_format_of(source, fmt))
     if not curves:

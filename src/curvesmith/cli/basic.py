@@ -54,7 +54,17 @@ def measure_command(source: str, fmt: str | None, as_json: bool) -> None:
     signed (left turns positive); the table shows degrees, --json radians.
     """
     curves = read_curves(source, fmt)
-    rows = [dict(index=i, **_measure(c)) for i, c in enumerate(curves)]
+    rows = []
+    for i, c in enumerate(curves):
+        with np.errstate(over="ignore", invalid="ignore"):
+            row = _measure(c)
+        bad = [k for k, v in row.items() if isinstance(v, float) and not math.isfinite(v)]
+        if bad:
+            raise CurveError(
+                f"curve {i} of {source}: {', '.join(bad)} overflow ({row[bad[0]]}) in floating "
+                "point: the coordinates are too large; scale them down"
+            )
+        rows.append(dict(index=i, **row))
     if as_json:
         click.echo(json.dumps({"source": source, "curves": rows}, indent=2))
         return
