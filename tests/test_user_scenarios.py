@@ -248,4 +248,8 @@ def test_measure_refuses_to_print_overflowed_numbers(runner, tmp_path, recwarn):
     )
     res = runner.invoke(main, ["measure", str(src)])
     one_line_error(res, "curve 0 of", "huge.svg", "overflow", "scale them down")
+    for method in ("chaikin", "derham", "cca"):
+        out = str(tmp_path / "o.svg")
+        res = runner.invoke(main, ["smooth", str(src), "-o", out, "--method", method])
+        one_line_error(res, "curve 0 of", "huge.svg", "overflow", "scale them down")
     assert not [w for w in recwarn if issubclass(w.category, RuntimeWarning)]

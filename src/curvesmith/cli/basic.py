@@ -179,7 +179,14 @@ def smooth_command(
     out = []
     for i, c in enumerate(curves):
         try:
-            out.append(c.replace(points=run(c)))
+            with np.errstate(over="ignore", invalid="ignore"):
+                smooth = run(c)
+            if not np.isfinite(smooth).all():
+                raise CurveError(
+                    "the smoothed coordinates overflow (inf/nan in floating point): the "
+                    "coordinates are too large; scale them down"
+                )
+            out.append(c.replace(points=smooth))
         except CurveError as exc:
             raise CurveError(f"curve {i} of {source}: {exc}") from None
     write_curves(out, dest, fmt)
