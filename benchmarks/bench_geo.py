@@ -82,7 +82,7 @@ def bench_batch(sizes: list[int], repeats: int) -> None:
     print("\n== batch throughput: geo.smooth (cca, 1 iteration) on random polygons ==")
     print(
         f"{'polygons':>9} {'vertices':>10} {'1 proc /s':>11} {'dask 1w /s':>11} "
-        f"{'dask 2w /s':>11} {'2w / 1w':>8} {'2w / proc':>9}"
+        f"{'dask 2w /s':>11} {'2w / 1w':>8} {'2w / proc':>9} {'2w cores used':>13}"
     )
     clusters = {}
     try:
@@ -101,18 +101,24 @@ def bench_batch(sizes: list[int], repeats: int) -> None:
             rep = repeats if n <= 10_000 else 1
             t1, _ = median_time(lambda p=polys: geo.smooth(p), rep)
             psize = max(100, n // 16)
-            td = {}
+            td, used = {}, {}
             for w, client in clients.items():
                 client.run(lambda: None)  # workers up
+                cpu0 = client.run(time.process_time)
+                w0 = time.perf_counter()
                 td[w], _ = median_time(
                     lambda p=polys, c=client, k=psize: batch.smooth_partitioned(
                         p, client=c, partition_size=k
                     ),
                     rep,
                 )
+                wall = time.perf_counter() - w0
+                cpu1 = client.run(time.process_time)
+                # worker CPU seconds per wall second: 2.0 = both workers had a core each
+                used[w] = sum(cpu1[k] - cpu0[k] for k in cpu1) / wall
             print(
                 f"{n:>9} {nv:>10} {n / t1:>11.0f} {n / td[1]:>11.0f} {n / td[2]:>11.0f} "
-                f"{td[1] / td[2]:>8.2f} {t1 / td[2]:>9.2f}"
+                f"{td[1] / td[2]:>8.2f} {t1 / td[2]:>9.2f} {used[2]:>13.2f}"
             )
         for c in clients.values():
             c.close()
