@@ -8,6 +8,7 @@ a plain reference implementation on top of subdivision.de_rham.
 import dataclasses
 import itertools
 import math
+import warnings
 
 import numpy as np
 import pytest
@@ -617,3 +618,33 @@ def test_registered_in_the_main_cli(tmp_path):
     assert "x = 0.61358173" in res.stdout
     res = CliRunner().invoke(main, ["derham", *CLI_ARGS[:-1], "2.0", "-o", str(out)])
     assert res.exit_code == 1 and "length must lie in the open interval" in res.stderr
+
+
+@pytest.mark.parametrize("scale", [2.0**-700, 1e-200, 1e150, 1e200, 1e300])
+def test_interpolate_extreme_magnitudes_are_scaled_exactly(scale):
+    # Regression: coordinates near 1e200 gave NaN lengths ("|f(x) - length| = nan") with
+    # RuntimeWarnings, near 1e-200 a ZeroDivisionError. The data are scaled by a power of two.
+    ref = derham.interpolate([0, 0], [1, 1], [2, 0], [1, -1], length=2.5, tol=1e-12)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        res = derham.interpolate(
+            [0, 0], [1, 1], [2 * scale, 0], [1, -1], length=2.5 * scale, tol=1e-12 * scale
+        )
+    assert res.success and res.certified
+    assert res.x == pytest.approx(ref.x, rel=1e-9)
+    assert res.length / scale == pytest.approx(2.5, rel=1e-11)
+    assert res.lower <= 2.5 * scale * (1 + 1e-15) and res.upper >= 2.5 * scale * (1 - 1e-15)
+    np.testing.assert_allclose(res.points / scale, ref.points, rtol=0, atol=1e-9)
+    if scale != 1e150:
+        assert "scaled by 2**" in res.message
+
+
+def test_interpolate_extreme_tangent_magnitudes():
+    ref = derham.interpolate([0, 0], [1, 1], [2, 0], [1, -1], length=2.5)
+    res = derham.interpolate([0, 0], [1e-300, 1e-300], [2, 0], [1e300, -1e300], length=2.5)
+    assert res.success and res.x == ref.x
+
+
+def test_interpolate_out_of_range_length_message_is_in_the_callers_units():
+    with pytest.raises(CurveError, match=r"\(2e\+200, 2.828427125e\+200\) .* got 3e\+200"):
+        derham.interpolate([0, 0], [1, 1], [2e200, 0], [1, -1], length=3e200)

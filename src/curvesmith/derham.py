@@ -628,6 +628,40 @@ def _certified(s: np.ndarray, n: int, beta: float, upper0: float, sides: int):
 # --------------------------------------------------------------------------- interpolation
 
 
+_SCALE_LIMIT = 2.0**100
+
+
+def _rescaled(start, start_tangent, end, end_tangent):
+    """Validate the data and bring extreme magnitudes near 1 by an exact power-of-two scaling.
+
+    Returns ``(start, start_tangent, end, end_tangent, shift)``: the end points are multiplied
+    by ``2**shift`` (``shift = 0`` unless coordinates exceed ``2**100`` or the chord is below
+    ``2**-100``), tangents with an extreme magnitude are rescaled likewise (their direction is
+    all that matters). Scaling by a power of two is exact, so the curve of the scaled data,
+    scaled back, is the curve of the data, without the overflow (huge coordinates) or
+    underflow (tiny ones) that made the length evaluation return NaN or divide by zero.
+    """
+    a = as_points([start], name="start", min_points=1)[0]
+    c = as_points([end], name="end", min_points=1)[0]
+    ua = as_points([start_tangent], name="start_tangent", min_points=1)[0]
+    uc = as_points([end_tangent], name="end_tangent", min_points=1)[0]
+    top = float(max(np.abs(a).max(), np.abs(c).max()))
+    with np.errstate(over="ignore"):
+        chord = float(np.abs(c - a).max())
+    shift = 0
+    if top > _SCALE_LIMIT:
+        shift = -math.frexp(top)[1]
+    elif 0.0 < chord < 1.0 / _SCALE_LIMIT:
+        shift = -math.frexp(chord)[1]
+    tangents = []
+    for t in (ua, uc):
+        size = float(np.abs(t).max())
+        if size > _SCALE_LIMIT or 0.0 < size < 1.0 / _SCALE_LIMIT:
+            t = np.ldexp(t, -math.frexp(size)[1])
+        tangents.append(t)
+    return np.ldexp(a, shift), tangents[0], np.ldexp(c, shift), tangents[1], shift
+
+
 def _triangle(start, start_tangent, end, end_tangent) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     a = as_points([start], name="start", min_points=1)[0]
     c = as_points([end], name="end", min_points=1)[0]
@@ -888,19 +922,22 @@ def interpolate(
     >>> r.success, round(r.x, 10), abs(r.length - 4.0) < 1e-12
     (True, 0.8252055686, True)
     """
-    a, b, c = _triangle(start, start_tangent, end, end_tangent)
+    *data, shift = _rescaled(start, start_tangent, end, end_tangent)
+    a, b, c = _triangle(*data)
     gamma = as_float(gamma, name="gamma", low=1.0)
-    tol = as_float(tol, name="tol", low=0.0)
+    tol = math.ldexp(as_float(tol, name="tol", low=0.0), shift)
     level = as_int(level, name="level", minimum=0, maximum=16)
     max_iterations = as_int(max_iterations, name="max_iterations", minimum=1)
     if method not in METHODS:
         raise CurveError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
     prob = _Problem(a, b, c, gamma)
-    target = as_float(length, name="length")
+    length = as_float(length, name="length")
+    target = math.ldexp(length, shift)
     if not prob.f0 < target < prob.f1:
         raise CurveError(
             f"length must lie in the open interval (|AC|, |AB| + |BC|) = "
-            f"({prob.f0:.10g}, {prob.f1:.10g}) for these end points and tangents, got {target:g}"
+            f"({math.ldexp(prob.f0, -shift):.10g}, {math.ldexp(prob.f1, -shift):.10g}) for "
+            f"these end points and tangents, got {length:g}"
         )
     if method == "accelerated":
         out = _accelerated(prob, target, tol, max_iterations)
@@ -916,14 +953,16 @@ def interpolate(
             n = as_int(length_level, name="length_level", minimum=0, maximum=_MAX_LEVEL)
         out = _paper_method(prob, target, tol, n, method, max_iterations)
     x, est, lo, hi, its, n, success, message = out
+    if shift:
+        message += f" (lengths above in units of 2**{-shift}: the data were scaled by 2**{shift})"
     certified = target - tol <= lo and hi <= target + tol
     x = float(x)
     return InterpolationResult(
         x=x,
-        points=_curve_points(a, c, _polygon(a, b, c, x), gamma, level),
-        length=float(est),
-        lower=float(lo),
-        upper=float(hi),
+        points=np.ldexp(_curve_points(a, c, _polygon(a, b, c, x), gamma, level), -shift),
+        length=math.ldexp(float(est), -shift),
+        lower=math.ldexp(float(lo), -shift),
+        upper=math.ldexp(float(hi), -shift),
         iterations=its,
         evaluations=prob.evaluations,
         level=n,
