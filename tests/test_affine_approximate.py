@@ -456,3 +456,20 @@ def test_coarse_polyline_recovers_when_the_curve_ends_first():
     assert res.points.shape == (6, 2)
     assert affine.is_affine_arc_length(res.points, rtol=1e-9)
     assert abs(res.end_gap) < 0.5
+
+
+@pytest.mark.parametrize("closed", [True, False])
+def test_georeferenced_coordinates_give_the_translated_result(closed):
+    # Regression: with UTM-like offsets the equal-area determinants cancelled (closed ellipse:
+    # psi 2e-3 instead of 1e-25 at 5e6, "polygon did not close" at 1e8). The samples are on a
+    # 2**-20 grid so that the offset copy is exact and the results must agree.
+    th = np.linspace(0.0, 2.0 * np.pi if closed else np.pi, 800, endpoint=not closed)
+    base = np.round(np.c_[3.0 * np.cos(th), 2.0 * np.sin(th)] * 2.0**20) / 2.0**20
+    offset = np.array([2.0**27, 3.0 * 2.0**25])
+    ref = affine.approximate(base, vertices=40, closed=closed)
+    far = affine.approximate(base + offset, vertices=40, closed=closed)
+    assert ref.success and far.success
+    np.testing.assert_allclose(far.points - offset, ref.points, rtol=0, atol=1e-7)
+    assert far.area == pytest.approx(ref.area, rel=1e-12)
+    assert far.objective == pytest.approx(ref.objective, rel=1e-6, abs=1e-20)
+    assert np.array_equal(far.points[0], (base + offset)[0]) or closed

@@ -40,6 +40,7 @@ Notes on the paper
 from __future__ import annotations
 
 import bisect
+import dataclasses
 import math
 from dataclasses import dataclass, field
 
@@ -723,6 +724,23 @@ def approximate(
             f"for vertices={vertices}, "
             f"got {p.shape[0]} (about 20 per vertex are recommended)"
         )
+    # Affine arc length is translation invariant, but the equal-area construction is not
+    # numerically: with georeferenced coordinates (UTM, ~5e6) the determinants cancel
+    # catastrophically (psi grew from 1e-25 to 2e-3, closed curves failed to close at 1e8).
+    # Work relative to the first sample, which comes back exactly.
+    origin = p[0].copy()
+    p = p - origin
+    result = _approximate_centred(
+        p, closed, vertices, search, xtol, max_iterations, skip, close_tol, match_end
+    )
+    if not origin.any():
+        return result
+    return dataclasses.replace(result, points=result.points + origin)
+
+
+def _approximate_centred(
+    p, closed, vertices, search, xtol, max_iterations, skip, close_tol, match_end
+) -> Approximation:
     rc = _replacement(p, closed)
     diag = float(np.hypot(*(p.max(axis=0) - p.min(axis=0))))
     total_abs = float(np.sum(np.abs(rc.lengths)))
