@@ -253,3 +253,26 @@ def test_measure_refuses_to_print_overflowed_numbers(runner, tmp_path, recwarn):
         res = runner.invoke(main, ["smooth", str(src), "-o", out, "--method", method])
         one_line_error(res, "curve 0 of", "huge.svg", "overflow", "scale them down")
     assert not [w for w in recwarn if issubclass(w.category, RuntimeWarning)]
+
+
+def test_measure_says_which_feature_part_and_hole_a_row_is(runner, tmp_path):
+    # A GIS user could not tell the rows of holes and parts apart
+    src = tmp_path / "parcels.geojson"
+    src.write_text(json.dumps(GEOJSON))
+    res = runner.invoke(main, ["measure", str(src)])
+    assert res.exit_code == 0, res.output
+    wheres = [line.split("  ")[-1] for line in res.output.splitlines()[1:]]
+    assert wheres == [
+        "feature 0 (lake)",
+        "feature 0 (lake) hole 1",
+        "feature 1 part 0",
+        "feature 1 part 1",
+    ]
+    rows = json.loads(runner.invoke(main, ["measure", str(src), "--json"]).output)["curves"]
+    assert [(r["feature"], r["kind"], r["part"], r["ring"], r["id"]) for r in rows] == [
+        (0, "Polygon", 0, 0, "lake"),
+        (0, "Polygon", 0, 1, "lake"),
+        (1, "MultiPolygon", 0, 0, None),
+        (1, "MultiPolygon", 1, 0, None),
+    ]
+    assert [r["signed_area"] for r in rows] == [100.0, -4.0, 2.0, 16.0]

@@ -22,7 +22,13 @@ def _measure(curve) -> dict:
     q = p[keep]
     if curve.closed and len(q) > 1 and np.array_equal(q[0], q[-1]):
         q = q[:-1]
+    ident = curve.properties.get("id", curve.feature_id)
     row = {
+        "feature": curve.feature,
+        "kind": curve.kind,
+        "part": curve.part,
+        "ring": curve.ring,
+        "id": ident if isinstance(ident, str | int | float) else None,
         "points": len(p),
         "closed": bool(curve.closed),
         "dimension": int(p.shape[1]),
@@ -49,6 +55,9 @@ def _measure(curve) -> dict:
 def measure_command(source: str, fmt: str | None, as_json: bool) -> None:
     """Print length, signed area and turning angles of every curve in IN.
 
+    Each row says where the curve comes from: its feature (with its id),
+    the part of a MultiLineString/MultiPolygon and the hole number of a ring.
+
     Signed area is positive for counter-clockwise rings; for an open polyline
     it is the area between the polyline and its chord. Turning angles are
     signed (left turns positive); the table shows degrees, --json radians.
@@ -73,15 +82,27 @@ def measure_command(source: str, fmt: str | None, as_json: bool) -> None:
         return "-" if v is None else f"{math.degrees(v):.3f}"
 
     head = f"{'#':>4} {'points':>8} {'closed':>6} {'length':>16} {'signed area':>18} "
-    head += f"{'min turn°':>10} {'max turn°':>10}"
+    head += f"{'min turn°':>10} {'max turn°':>10}  where"
     click.echo(head)
     for r in rows:
         area = "-" if r["signed_area"] is None else f"{r['signed_area']:.10g}"
         click.echo(
             f"{r['index']:>4} {r['points']:>8} {('yes' if r['closed'] else 'no'):>6} "
             f"{r['length']:>16.10g} {area:>18} {deg(r['min_turning_angle']):>10} "
-            f"{deg(r['max_turning_angle']):>10}"
+            f"{deg(r['max_turning_angle']):>10}  {_where(r)}"
         )
+
+
+def _where(row: dict) -> str:
+    """Where a curve comes from: feature (and id), part of a Multi* geometry, hole."""
+    text = f"feature {row['feature']}"
+    if row["id"] is not None:
+        text += f" ({row['id']})"
+    if row["kind"].startswith("Multi"):
+        text += f" part {row['part']}"
+    if row["ring"]:
+        text += f" hole {row['ring']}"
+    return text
 
 
 def _alpha_value(text: str):
