@@ -276,3 +276,16 @@ def test_measure_says_which_feature_part_and_hole_a_row_is(runner, tmp_path):
         (1, "MultiPolygon", 1, 0, None),
     ]
     assert [r["signed_area"] for r in rows] == [100.0, -4.0, 2.0, 16.0]
+
+
+def test_write_errors_name_the_output_file(runner, tmp_path):
+    # Regression: "Error: SVG is planar: curve 2 has 3D points" did not say which file
+    src = tmp_path / "river.geojson"
+    src.write_text(
+        '{"type": "LineString", "coordinates": [[0, 0, 400], [1, 1, 398.5], [2, 0, 397]]}'
+    )
+    out = tmp_path / "river.svg"
+    res = runner.invoke(main, ["smooth", str(src), "-o", str(out), "--method", "chaikin"])
+    one_line_error(res, f"{out}: SVG is planar: curve 0 has 3D points")
+    res = runner.invoke(main, ["smooth", str(src), "-o", str(tmp_path / "nodir" / "r.csv")])
+    one_line_error(res, "nodir", "does not exist")

@@ -51,7 +51,13 @@ def write_curves(curves: list[Curve], dest: str, fmt: str | None = None) -> None
         _write(curves, buf, format=fmt)
         click.echo(buf.getvalue(), nl=False)
     else:
-        _write(curves, Path(dest), format=_format_of(dest, fmt))
+        try:
+            _write(curves, Path(dest), format=_format_of(dest, fmt))
+        except CurveError as exc:
+            text = str(exc)
+            if not text.startswith(dest):  # the writers name the file only for OS errors
+                text = f"{dest}: {text}"
+            raise CurveFormatError(text) from None
 
 
 def _format_of(path: str, fmt: str | None) -> str:
