@@ -1163,3 +1163,44 @@ def test_csv_write_quotes_properties_like_the_csv_module():
     assert lines[3] == '5.0,1e+17,"Lake ""Ünter"", north",,3'
     (back,) = read_csv(io.StringIO(buf.getvalue()))
     assert bits_equal(back.points, c.points) and back.properties == {"name": props["name"], "n": 3}
+
+
+def _svg_doc(d: str, transform: str = "") -> str:
+    return (
+        '<svg xmlns="http://www.w3.org/2000/svg" viewBox="-5 -5 400 400">'
+        f'<g transform="{transform}"><path id="p" d="{d}"/>'
+        '<circle cx="1" cy="2" r="3"/></g></svg>'
+    )
+
+
+@pytest.mark.parametrize(
+    "d",
+    [
+        "M 0,0 L " + " ".join(f"{k},{(k * k) % 7}" for k in range(1, 700)) + " Z",
+        "M0 0 " + " ".join(f"{k} {k % 3}" for k in range(1, 700)) + " M 5,5 L 9,9 9,9 Z M 1 1",
+        "M 0,0 L " + " ".join(f"{k}.5,{-k}e-1" for k in range(1, 700)) + " Z M 3 3 L 4 4 Z",
+        "M 0,0 L 1,1 Z L " + " ".join(f"{k},{k % 5}" for k in range(2, 700)),  # L after Z
+        "m 0,0 l " + " ".join(f"{k % 3},1" for k in range(1, 700)),  # relative: general path
+    ],
+)
+@pytest.mark.parametrize("transform", ["", "rotate(30) translate(5 7) scale(2)"])
+def test_svg_long_polyline_fast_path_equals_svgelements(monkeypatch, d, transform):
+    # Regression: a 10^6-vertex SVG path took minutes (one svgelements object per segment);
+    # long absolute M/L/Z data are now parsed directly and must give the same curves.
+    import curvesmith.io as cio
+
+    text = _svg_doc(d, transform)
+    fast = read_svg(io.StringIO(text))
+    monkeypatch.setattr(cio, "_FAST_D_MIN", 10**9)
+    general = read_svg(io.StringIO(text))
+    assert len(fast) == len(general)
+    for a, b in zip(fast, general, strict=True):
+        assert bits_equal(a.points, b.points)
+        assert (a.closed, a.kind, a.feature, a.part, a.member, a.properties) == (
+            b.closed,
+            b.kind,
+            b.feature,
+            b.part,
+            b.member,
+            b.properties,
+        )

@@ -1377,9 +1377,13 @@ def _flatten(segments, tol: float) -> list[tuple[np.ndarray, bool]]:
         else:  # pragma: no cover - svgelements has no other segment types
             raise CurveFormatError(f"unsupported SVG path segment {type(seg).__name__}")
     finish(False)
+    return _clean_subpaths([(np.concatenate(chunks), closed) for chunks, closed in subpaths], tol)
+
+
+def _clean_subpaths(subpaths, tol: float) -> list[tuple[np.ndarray, bool]]:
+    """Drop repeated vertices, a closing vertex equal to the start and empty subpaths."""
     out = []
-    for chunks, closed in subpaths:
-        pts = np.concatenate(chunks)
+    for pts, closed in subpaths:
         keep = np.ones(len(pts), dtype=bool)
         keep[1:] = np.any(pts[1:] != pts[:-1], axis=1)
         pts = pts[keep]
@@ -1391,6 +1395,58 @@ def _flatten(segments, tol: float) -> list[tuple[np.ndarray, bool]]:
             closed = False
         out.append((pts, closed))
     return out
+
+
+_ABSOLUTE_POLYLINE_D = re.compile(
+    rf"\s*M\s*{_PAIR}(?:{_SEP}{_PAIR})*(?:\s*(?:[ML]\s*{_PAIR}(?:{_SEP}{_PAIR})*|Z))*\s*"
+)
+_D_ATTRIBUTE = re.compile(r'(\sd\s*=\s*)"([^"]*)"')
+_FAST_D_MIN = 2000
+
+
+def _polyline_subpaths(d: str) -> list[tuple[np.ndarray, bool]] | None:
+    """Subpaths of path data made of absolute M, L and Z only (what :func:`write_svg` writes).
+
+    Parsed with one split instead of one svgelements object per segment (a 10^6-vertex path
+    took minutes). None when the data need the general parser: relative commands, or a Z
+    that is not the end of its subpath.
+    """
+    if not _ABSOLUTE_POLYLINE_D.fullmatch(d):
+        return None
+    out = []
+    for chunk in d.split("M")[1:]:
+        body = chunk.rstrip()
+        closed = body.endswith("Z")
+        if closed:
+            body = body[:-1]
+        if "Z" in body:
+            return None  # segments after a closepath start at the subpath's first point
+        values = np.array(body.replace("L", " ").replace(",", " ").split(), dtype=np.float64)
+        out.append((values.reshape(-1, 2), closed))
+    return out
+
+
+def _stash_polylines(text: str) -> tuple[str, dict[str, list]]:
+    """Replace long plain polyline path data by short placeholders before svgelements parses.
+
+    Returns the new text and a map from placeholder to the parsed subpaths.
+    """
+    stash: dict[str, list] = {}
+
+    def replace(match):
+        d = match.group(2)
+        if len(d) < _FAST_D_MIN:
+            return match.group(0)
+        subpaths = _polyline_subpaths(d)
+        if subpaths is None:
+            return match.group(0)
+        key = f"M 0,0 L 0,{len(stash)}.5e-300"
+        stash[key] = subpaths
+        return f'{match.group(1)}"{key}"'
+
+    if len(text) < _FAST_D_MIN:
+        return text, stash
+    return _D_ATTRIBUTE.sub(replace, text), stash
 
 
 def _own_transform(element, viewport: str):
@@ -1456,6 +1512,7 @@ def read_svg(source: Source, *, tolerance: float | None = None) -> list[Curve]:
     text, name = _read_text(source)
     if tolerance is not None:
         tolerance = as_float(tolerance, name="tolerance", low=0.0)
+    text, stash = _stash_polylines(text)
     try:
         doc = se.SVG.parse(_stdio.StringIO(text), reify=False)
     except ET.ParseError as exc:
@@ -1474,6 +1531,11 @@ def read_svg(source: Source, *, tolerance: float | None = None) -> list[Curve]:
             continue
         k = len(items)
         d = element.values.get("d") if isinstance(element, se.Path) else None
+        if d in stash:
+            matrix = _own_transform(element, viewport)
+            linear = np.array([[matrix.a, matrix.c], [matrix.b, matrix.d]], dtype=np.float64)
+            items.append((element, stash[d], matrix, linear))
+            continue
         if d and not _POLYLINE_D.fullmatch(d):
             try:
                 se.Path(d)  # strict: svgelements' document parser drops bad path data silently
@@ -1493,7 +1555,10 @@ def read_svg(source: Source, *, tolerance: float | None = None) -> list[Curve]:
         scale = float(np.linalg.norm(linear, 2))
         if not segments or scale == 0.0 or not math.isfinite(scale):
             continue
-        subpaths = _flatten(segments, tolerance / scale)
+        if segments and isinstance(segments[0], tuple):  # parsed polyline data
+            subpaths = _clean_subpaths(segments, tolerance / scale)
+        else:
+            subpaths = _flatten(segments, tolerance / scale)
         if not subpaths:
             continue
         if not (matrix.is_identity()):
@@ -1510,6 +1575,8 @@ def _default_tolerance(items) -> float:
     boxes = []
     for _, segments, matrix, linear in items:
         pts = []
+        if segments and isinstance(segments[0], tuple):  # parsed polyline data
+            segments, pts = (), np.concatenate([sub for sub, _ in segments])
         for seg in segments:
             for attr in ("start", "end", "control", "control1", "control2"):
                 p = getattr(seg, attr, None)
@@ -1519,7 +1586,7 @@ def _default_tolerance(items) -> float:
                 r = max(abs(float(seg.rx)), abs(float(seg.ry)))
                 cx, cy = _xy(seg.center)
                 pts += [[cx - r, cy - r], [cx + r, cy + r]]
-        if pts:
+        if len(pts):
             arr = np.asarray(pts) @ linear.T + [matrix.e, matrix.f]
             boxes.append(arr[np.all(np.isfinite(arr), axis=1)])
     if not boxes:
