@@ -83,7 +83,7 @@ def run(ctx) -> None:
     res, syn, truth = fits[0], scans[0], truths[0]
     xy = res.points
     est = res.inflection
-    fig, axes = plt.subplots(2, 1, figsize=(12.0, 5.2), layout="constrained")
+    fig, axes = plt.subplots(2, 1, figsize=(12.0, 3.8), layout="constrained")
     ax = axes[0]
     ax.plot(
         xy[:, 0], xy[:, 1], ".-", color="0.6", ms=2, lw=0.6, label="equilateral keyline (r = 1)"
