@@ -170,3 +170,26 @@ def test_demo_subdivision_section(runner, tmp_path):
     assert "Linear subdivision" in (tmp_path / "d" / "summary.md").read_text()
     res = runner.invoke(main, ["demo", str(tmp_path / "e"), "--section", "nope"])
     assert res.exit_code == 1 and "sections must be among" in res.output
+
+
+def test_demo_section_of_a_missing_extra_is_reported_not_fatal(tmp_path, monkeypatch):
+    import sys
+    import types
+
+    from curvesmith import demo
+    from curvesmith.errors import MissingDependencyError
+
+    fake = types.ModuleType("curvesmith.demo.fake_extra")
+    fake.TITLE = "needs an extra"
+
+    def run(ctx):
+        raise MissingDependencyError("install it with: pip install 'curvesmith[geo]'")
+
+    fake.run = run
+    monkeypatch.setitem(sys.modules, "curvesmith.demo.fake_extra", fake)
+    monkeypatch.setattr(demo, "SECTIONS", ["subdivision", "fake_extra"])
+    summary = demo.run_demo(tmp_path, sections=["fake_extra", "subdivision"])
+    assert [s["name"] for s in summary["sections"]] == ["fake_extra", "subdivision"]
+    assert "Not run" in summary["sections"][0]["text"][0]
+    assert "curvesmith[geo]" in (tmp_path / "summary.md").read_text()
+    assert (tmp_path / "subdivision_overview.png").exists()

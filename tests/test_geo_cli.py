@@ -48,3 +48,44 @@ def test_smooth_geofile_bad_method_and_alpha(tmp_path):
         smooth_geofile(str(src), str(tmp_path / "o.gpkg"), method="derham")
     with pytest.raises(CurveError, match="--alpha must be 'regular' or a number, got 'big'"):
         smooth_geofile(str(src), str(tmp_path / "o.gpkg"), alpha="big")
+
+
+def test_curvesmith_smooth_routes_gis_files_through_geo(tmp_path):
+    from click.testing import CliRunner
+
+    from curvesmith.cli import main
+
+    df = geo.us_counties(states=["44"])
+    src = tmp_path / "ri.gpkg"
+    geo.write_file(df, src, layer="counties")
+    out = tmp_path / "ri_out.gpkg"
+    runner = CliRunner()
+    res = runner.invoke(
+        main,
+        [
+            "smooth",
+            str(src),
+            "-o",
+            str(out),
+            "--coverage",
+            "--layer",
+            "counties",
+            "--iterations",
+            "2",
+        ],
+    )
+    assert res.exit_code == 0, res.output
+    assert "coverage valid" in res.output
+    back = geo.read_file(out, layer="counties")
+    assert list(back.columns) == list(df.columns)
+    assert shapely.coverage_is_valid(back.geometry.values)
+    np.testing.assert_allclose(
+        shapely.area(back.geometry.values), shapely.area(df.geometry.values), rtol=1e-9
+    )
+    # GIS-only options on a plain curve file, and derham on a GIS file: one-line errors.
+    csv = tmp_path / "a.csv"
+    csv.write_text("x,y\n0,0\n1,1\n2,0\n")
+    res = runner.invoke(main, ["smooth", str(csv), "-o", str(tmp_path / "b.csv"), "--coverage"])
+    assert res.exit_code == 1 and "apply to GIS files" in res.output
+    res = runner.invoke(main, ["smooth", str(src), "-o", str(out), "--method", "derham"])
+    assert res.exit_code == 1 and "not available for GIS files" in res.output

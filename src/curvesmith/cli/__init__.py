@@ -49,6 +49,7 @@ def _register() -> None:
     from .basic import demo_command, measure_command, smooth_command
     from .derham import derham_command
     from .fair import fair_command
+    from .geo import batch_group
     from .keyline import keyline_command
 
     commands = (
@@ -58,6 +59,7 @@ def _register() -> None:
         affine_command,
         fair_command,
         keyline_command,
+        batch_group,
         demo_command,
     )
     for command in commands:

@@ -142,6 +142,19 @@ def _alpha_value(text: str):
     show_default=True,
     help="chaikin/derham: keep the end points of open polylines (PostGIS preserveEndPoints).",
 )
+@click.option(
+    "--coverage",
+    is_flag=True,
+    help="GIS: polygons share borders; smooth each shared arc once (no gaps, areas exact).",
+)
+@click.option("--layer", default=None, help="GIS: input layer name or index.")
+@click.option(
+    "--equal-area", is_flag=True, help="GIS: smooth in an equal-area projection (data in degrees)."
+)
+@click.option("--make-valid", is_flag=True, help="GIS: repair invalid input polygons first.")
+@click.option(
+    "--snap", type=float, default=None, help="GIS coverage: snap distance to clean it first."
+)
 def smooth_command(
     source: str,
     dest: str,
@@ -152,6 +165,11 @@ def smooth_command(
     anchors: str | None,
     gamma: float,
     preserve_endpoints: bool,
+    coverage: bool,
+    layer: str | None,
+    equal_area: bool,
+    make_valid: bool,
+    snap: float | None,
 ) -> None:
     """Smooth every curve in IN and write the result to OUT.
 
@@ -159,8 +177,36 @@ def smooth_command(
     preserves the signed area of every closed ring, and for open polylines the
     area between the polyline and its chord, exactly. Structure and properties
     of the input (features, holes, ids) are kept.
+
+    GIS files (GeoPackage .gpkg, Shapefile .shp, FlatGeobuf .fgb, and GeoJSON
+    with --coverage) go through curvesmith.geo (extra "geo"): attributes and
+    CRS are kept, output stays valid, and --coverage keeps neighbouring
+    polygons gap-free.
     """
     from .. import subdivision
+    from .geo import is_geofile, smooth_geofile
+
+    if source != "-" and is_geofile(source, coverage=coverage):
+        if anchors:
+            raise CurveError("--anchors is not available for GIS files")
+        smooth_geofile(
+            source,
+            dest,
+            method=method,
+            iterations=iterations,
+            alpha=alpha,
+            coverage=coverage,
+            layer=layer,
+            equal_area=equal_area,
+            make_valid=make_valid,
+            snap=snap,
+        )
+        return
+    if coverage or layer is not None or equal_area or make_valid or snap is not None:
+        raise CurveError(
+            "--coverage, --layer, --equal-area, --make-valid and --snap apply to GIS files "
+            "(.gpkg, .shp, .fgb, or GeoJSON with --coverage)"
+        )
 
     if method == "cca":
         from .. import cca

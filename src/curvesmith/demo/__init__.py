@@ -19,7 +19,7 @@ from typing import Any
 __all__ = ["SECTIONS", "DemoContext", "run_demo"]
 
 #: Section modules of this package, in the order they appear in the summary.
-SECTIONS: list[str] = ["subdivision", "cca", "derham", "affine", "elastica", "keyline"]
+SECTIONS: list[str] = ["subdivision", "cca", "derham", "affine", "elastica", "keyline", "geo"]
 
 
 @dataclass
@@ -108,7 +108,7 @@ def run_demo(outdir, *, sections: list[str] | None = None, progress=None) -> dic
     dict
         The summary written to ``summary.json``.
     """
-    from ..errors import CurveError
+    from ..errors import CurveError, MissingDependencyError
 
     outdir = Path(outdir)
     outdir.mkdir(parents=True, exist_ok=True)
@@ -127,7 +127,13 @@ def run_demo(outdir, *, sections: list[str] | None = None, progress=None) -> dic
             progress(f"{name}: {module.TITLE}")
         ctx = DemoContext(outdir=outdir, section=name)
         t0 = time.perf_counter()
-        module.run(ctx)
+        try:
+            module.run(ctx)
+        except MissingDependencyError as exc:
+            # A section of an optional extra: say what to install, run the others.
+            ctx.text(f"**Not run:** {exc}")
+            if progress is not None:
+                progress(f"{name}: not run: {exc}")
         seconds = time.perf_counter() - t0
         summary["sections"].append(
             {

@@ -39,6 +39,10 @@ def _gaps_overlaps(after: np.ndarray) -> tuple[float, float, int]:
 
 def run(ctx) -> None:
     """Smooth the counties four ways, tabulate area changes and gaps, draw the maps."""
+    from ..errors import require
+
+    for module in ("shapely", "geopandas", "pyogrio", "pyproj"):
+        require(module, "geo", "the geo demo section")
     import matplotlib.pyplot as plt
     import shapely
     from matplotlib.patches import Rectangle
