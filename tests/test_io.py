@@ -1204,3 +1204,47 @@ def test_svg_long_polyline_fast_path_equals_svgelements(monkeypatch, d, transfor
             b.member,
             b.properties,
         )
+
+
+OUTER = "M 0,0 L 100,0 L 100,100 L 0,100 Z"
+INNER_SAME = "M 10,10 L 40,10 L 40,40 L 10,40 Z"  # same winding as OUTER
+INNER_OPPOSITE = "M 60,60 L 60,90 L 90,90 L 90,60 Z"
+ISLAND = "M 20,20 L 30,20 L 30,30 L 20,30 Z"  # inside INNER_SAME
+FAR = "M 200,0 L 210,0 L 210,10 Z"
+
+
+@pytest.mark.parametrize(
+    ("d", "rule", "expected"),
+    [
+        # evenodd: parity of the nesting depth
+        (f"{OUTER} {INNER_SAME}", "evenodd", [(0, 0), (0, 1)]),
+        (f"{OUTER} {INNER_SAME} {ISLAND}", "evenodd", [(0, 0), (0, 1), (1, 0)]),
+        (f"{INNER_SAME} {OUTER} {FAR}", "evenodd", [(0, 1), (0, 0), (1, 0)]),
+        # nonzero (the SVG default): a hole must wind the other way
+        (f"{OUTER} {INNER_SAME}", None, [(0, 0), (1, 0)]),
+        (f"{OUTER} {INNER_OPPOSITE} {INNER_SAME}", None, [(0, 0), (0, 1), (1, 0)]),
+        (f"{OUTER} {FAR}", "evenodd", [(0, 0), (1, 0)]),
+    ],
+)
+def test_svg_compound_path_holes(d, rule, expected):
+    # Regression: a donut path (fill-rule evenodd) was read as a MultiPolygon of two
+    # overlapping squares, an invalid geometry once written to GeoJSON.
+    attr = f' fill-rule="{rule}"' if rule else ""
+    svg = f'<svg xmlns="http://www.w3.org/2000/svg"><path d="{d}"{attr}/></svg>'
+    curves = read_svg(io.StringIO(svg))
+    assert [(c.part, c.ring) for c in curves] == expected
+    polygons = {c.part for c in curves}
+    assert {c.kind for c in curves} == {"Polygon" if len(polygons) == 1 else "MultiPolygon"}
+    doc = json.loads(_geojson_text(curves))
+    geometry = doc["features"][0]["geometry"]
+    rings = geometry["coordinates"] if geometry["type"] == "Polygon" else None
+    if rings is not None:
+        # RFC 7946 orientation: exterior counter-clockwise, holes clockwise
+        signs = [np.sign(signed_area(np.array(r[:-1]))) for r in rings]
+        assert signs == [1] + [-1] * (len(rings) - 1)
+
+
+def _geojson_text(curves) -> str:
+    buf = io.StringIO()
+    write_geojson(curves, buf)
+    return buf.getvalue()

@@ -65,7 +65,9 @@ SVG
     (also with rounded corners), ``circle`` and ``ellipse``, also through
     ``use``; ``transform`` attributes are applied; ``display="none"``
     elements and the content of ``defs`` are not drawn and not read. Each
-    subpath becomes one curve, closed when it ends with ``Z``; a lone
+    subpath becomes one curve, closed when it ends with ``Z`` (closed
+    subpaths that the fill rule leaves empty inside another one are read as
+    holes, see :func:`read_svg`); a lone
     ``moveto`` draws nothing and is skipped, zero-length segments are dropped,
     and a closed subpath with only two distinct vertices (it encloses no
     area) is read as an open curve. Coordinates are the SVG user coordinates
@@ -1487,8 +1489,13 @@ def read_svg(source: Source, *, tolerance: float | None = None) -> list[Curve]:
         those that gave curves), ``part`` the subpath index; ``kind`` is
         LineString/Polygon for single subpaths, MultiLineString/MultiPolygon
         when all subpaths of an element are open/closed, and mixed elements
-        get one ``member`` per subpath. Files written by :func:`write_svg`
-        restore the written structure and properties instead.
+        get one ``member`` per subpath. Closed subpaths inside another one
+        that the fill leaves empty (any odd depth with
+        ``fill-rule="evenodd"``; opposite winding with the default
+        ``nonzero``) are holes: ``ring`` k >= 1 of the polygon (``part``) of
+        their container, as in a GeoJSON Polygon. Files written by
+        :func:`write_svg` restore the written structure and properties
+        instead.
 
     Raises
     ------
@@ -1627,9 +1634,10 @@ def _svg_curves(element, subpaths, feature: int, name: str) -> list[Curve]:
         if n == 1:
             kind = "Polygon" if subpaths[0][1] else "LineString"
             index = [(None, 0, 0, kind)]
-        elif len(flags) == 1:
-            kind = "MultiPolygon" if flags.pop() else "MultiLineString"
-            index = [(None, k, 0, kind) for k in range(n)]
+        elif flags == {True}:
+            index = _nested_rings(subpaths, element.values.get("fill-rule") == "evenodd")
+        elif flags == {False}:
+            index = [(None, k, 0, "MultiLineString") for k in range(n)]
         else:
             index = [
                 (k, 0, 0, "Polygon" if c else "LineString") for k, (_, c) in enumerate(subpaths)
@@ -1653,6 +1661,70 @@ def _svg_curves(element, subpaths, feature: int, name: str) -> list[Curve]:
         except CurveError as exc:
             raise CurveFormatError(f"{name}: element {feature}: {exc}") from None
     return out
+
+
+def _inside(point: np.ndarray, ring: np.ndarray) -> bool:
+    """Return whether `point` is inside the closed `ring` (even-odd ray casting)."""
+    x, y = point
+    xa, ya = ring[:, 0], ring[:, 1]
+    xb, yb = np.roll(xa, -1), np.roll(ya, -1)
+    crosses = (ya > y) != (yb > y)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        xs = xa + (y - ya) * (xb - xa) / (yb - ya)
+    return bool(np.count_nonzero(crosses & (x < xs)) % 2)
+
+
+def _nested_rings(subpaths, evenodd: bool) -> list[tuple]:
+    """(member, part, ring, kind) of closed subpaths: rings inside others become holes.
+
+    A subpath inside another (its first vertex inside and its area smaller) is a hole of
+    the smallest one containing it when the fill leaves it empty: always with
+    ``fill-rule="evenodd"`` at odd depth, with the default ``nonzero`` rule when it winds the
+    other way round than its container. Outer rings (and filled islands) become polygons;
+    one polygon gives a Polygon, several a MultiPolygon. Subpaths that merely overlap stay
+    separate polygons (the SVG fill of overlaps is not a simple feature anyway).
+    """
+    areas = [_shoelace(pts) for pts, _ in subpaths]
+    n = len(subpaths)
+    parent: list[int | None] = [None] * n
+    for j, (pts, _) in enumerate(subpaths):
+        best = None
+        for i, (outer, _) in enumerate(subpaths):
+            if i == j or abs(areas[i]) <= abs(areas[j]) or not _inside(pts[0], outer):
+                continue
+            if best is None or abs(areas[i]) < abs(areas[best]):
+                best = i
+        parent[j] = best
+    hole = [False] * n
+    owner: list[int] = list(range(n))
+    for j in sorted(range(n), key=lambda k: -abs(areas[k])):  # containers first
+        i = parent[j]
+        if i is None:
+            continue
+        if evenodd:
+            hole[j] = not hole[i]
+        else:
+            hole[j] = not hole[i] and (areas[i] > 0) != (areas[j] > 0)
+        owner[j] = owner[i] if hole[j] else j
+    exteriors = [k for k in range(n) if not hole[k]]
+    if len(exteriors) == n:
+        return [(None, k, 0, "MultiPolygon") for k in range(n)]
+    kind = "Polygon" if len(exteriors) == 1 else "MultiPolygon"
+    part_of = {k: p for p, k in enumerate(exteriors)}
+    rings: dict[int, int] = {}
+    index = []
+    for k in range(n):
+        if hole[k]:
+            rings[owner[k]] = rings.get(owner[k], 0) + 1
+            index.append((None, part_of[owner[k]], rings[owner[k]], kind))
+        else:
+            index.append((None, part_of[k], 0, kind))
+    return index
+
+
+def _shoelace(pts: np.ndarray) -> float:
+    x, y = pts[:, 0], pts[:, 1]
+    return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
 
 
 def _num(v: float) -> str:
