@@ -773,3 +773,16 @@ def test_anchor_on_repeated_closing_vertex():
     np.testing.assert_array_equal(a, b)
     with pytest.raises(CurveError, match=r"anchors must be vertex indices in \[0, 6\), got 6"):
         cca.smooth(regular(6), closed=True, anchors=[6])
+
+
+def test_subnormal_bend_does_not_overflow():
+    # Regression (found by the geo property tests): a vertex bent by a subnormal offset made
+    # tan(beta) overflow in the restriction pass, a RuntimeWarning (an error under pytest).
+    p = np.array([[0, 0], [1, 2.2e-309], [2, 0], [3, 0]])
+    out = cca.smooth(p, closed=False)
+    assert np.isfinite(out).all()
+    assert_area_kept(p, out)
+    ring = np.array([[0, 0], [1, 2.2e-309], [2, 0], [2, 1]])
+    out = cca.smooth(ring, closed=True, iterations=3)
+    assert np.isfinite(out).all()
+    assert_area_kept(ring, out)

@@ -988,7 +988,15 @@ def _step2(x, y, fixed, closed, alpha_fn, restrict, c, C, tilt_n, balance_tol, l
     return ox, oy, newfixed, nred, nfig, nunsat
 
 
-def _restrict(alpha, half_a2, cr, scross, dot, short, length, fixed, edge_on, c, C, limits):
+def _restrict(*args):
+    # Nearly straight vertices (sin of the turning angle ~1e-309) give tan(beta) = inf;
+    # the comparisons below then decide correctly (inf demands a decrease where there is
+    # a cut area, inf * 0 = nan demands none), so overflow is expected, not an error.
+    with np.errstate(over="ignore", invalid="ignore"):
+        return _restrict_passes(*args)
+
+
+def _restrict_passes(alpha, half_a2, cr, scross, dot, short, length, fixed, edge_on, c, C, limits):
     """Local alpha decrease for Definition 2 / Fig. 12 and the section 3.2 inflection rule.
 
     Per edge ``i`` (vertices ``i``, ``i + 1``): convex and end edges need
