@@ -289,3 +289,54 @@ def test_write_errors_name_the_output_file(runner, tmp_path):
     one_line_error(res, f"{out}: SVG is planar: curve 0 has 3D points")
     res = runner.invoke(main, ["smooth", str(src), "-o", str(tmp_path / "nodir" / "r.csv")])
     one_line_error(res, "nodir", "does not exist")
+
+
+def _ellipse_ring(cx, cy, a, b, n=200, reverse=False):
+    t = np.linspace(0.0, 2.0 * np.pi, n, endpoint=False)
+    ring = np.c_[cx + a * np.cos(t), cy + b * np.sin(t)]
+    ring = ring[::-1] if reverse else ring
+    return [*ring.tolist(), ring[0].tolist()]
+
+
+def test_affine_on_polygons_with_holes_and_multipolygons(runner, tmp_path):
+    # Regression: per-curve results as properties made the GeoJSON writer refuse the rings of
+    # one feature ("its curves have different properties"), and --open turned a hole into a
+    # LineString with ring 1 ("ring must be 0 for a LineString, got 1").
+    doc = {
+        "type": "FeatureCollection",
+        "features": [
+            {
+                "type": "Feature",
+                "properties": {"n": 1},
+                "geometry": {
+                    "type": "Polygon",
+                    "coordinates": [
+                        _ellipse_ring(0, 0, 10, 8),
+                        _ellipse_ring(0, 0, 2, 1, reverse=True),
+                    ],
+                },
+            },
+            {
+                "type": "Feature",
+                "properties": {"n": 2},
+                "geometry": {
+                    "type": "MultiPolygon",
+                    "coordinates": [[_ellipse_ring(30, 0, 10, 8)], [_ellipse_ring(-30, 0, 9, 8)]],
+                },
+            },
+        ],
+    }
+    src = tmp_path / "lakes.geojson"
+    src.write_text(json.dumps(doc))
+    out = tmp_path / "out.geojson"
+    res = runner.invoke(main, ["affine", str(src), "-o", str(out), "--vertices", "12"])
+    assert res.exit_code == 0, res.output
+    lake, pair = json.loads(out.read_text())["features"]
+    assert lake["geometry"]["type"] == "Polygon" and len(lake["geometry"]["coordinates"]) == 2
+    areas = lake["properties"]["affine_area"]
+    assert len(areas) == 2 and areas[0] > 0 > areas[1]  # the hole winds clockwise
+    assert lake["properties"]["n"] == 1 and len(pair["properties"]["affine_pieces"]) == 2
+    res = runner.invoke(main, ["affine", str(src), "-o", str(out), "--vertices", "12", "--open"])
+    assert res.exit_code == 0, res.output
+    kinds = [f["geometry"]["type"] for f in json.loads(out.read_text())["features"]]
+    assert kinds == ["MultiLineString", "MultiLineString"]

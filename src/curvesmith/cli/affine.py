@@ -14,6 +14,27 @@ from ._common import FORMAT_OPTION, read_curves, write_curves
 __all__ = ["affine_command"]
 
 
+def _with_results(pairs: list) -> list:
+    """Attach the approximation results to the curves' properties.
+
+    Properties belong to a feature, so a feature with several curves (holes, parts) gets
+    each result as a list, one value per curve in file order; a single curve gets scalars.
+    """
+    by_feature: dict[int, list[dict]] = {}
+    for curve, results in pairs:
+        by_feature.setdefault(curve.feature, []).append(results)
+    out = []
+    for curve, _ in pairs:
+        group = by_feature[curve.feature]
+        props = dict(curve.properties)
+        if len(group) == 1:
+            props.update(group[0])
+        else:
+            props.update({key: [r[key] for r in group] for key in group[0]})
+        out.append(curve.replace(properties=props))
+    return out
+
+
 def _svg_document(paths: list[str], bounds) -> str:
     (x0, y0), (x1, y1) = bounds
     pad = 0.02 * max(x1 - x0, y1 - y0, 1e-12)
@@ -69,7 +90,8 @@ def affine_command(
     affine curvatures are smoothed by optimising the second vertex. Curves with
     inflections are split into pieces; closed curves must be convex. The output
     properties record A, the smoothness objective and, for closed curves, the
-    closing error. Exit status 1 if a curve could not be approximated.
+    closing error (lists with one value per ring or part when a feature has
+    several curves). Exit status 1 if a curve could not be approximated.
     """
     curves = read_curves(source, fmt)
     out, paths = [], []
@@ -88,22 +110,26 @@ def affine_command(
             raise CurveError(f"{source}: curve {i}: {exc}") from None
         if not res.success:
             raise CurveError(f"{source}: curve {i}: {res.message}")
-        props = dict(curve.properties)
-        props.update(
-            affine_area=res.area,
-            affine_objective=res.objective,
-            affine_closing_error=res.closing_error,
-            affine_pieces=int(res.piece_areas.size),
-        )
-        changes = {"properties": props}
+        results = {
+            "affine_area": res.area,
+            "affine_objective": res.objective,
+            "affine_closing_error": res.closing_error,
+            "affine_pieces": int(res.piece_areas.size),
+        }
+        changes = {}
         if not is_closed and curve.kind in ("Polygon", "MultiPolygon"):
-            changes["kind"] = "LineString"
-        out.append(curve.replace(res.points, closed=is_closed, **changes))
+            # rings opened into lines: every ring of the feature becomes one line
+            opened = sum(1 for c in curves if c.feature == curve.feature)
+            part = sum(1 for c in curves[:i] if c.feature == curve.feature)
+            kind = "MultiLineString" if opened > 1 else "LineString"
+            changes.update(kind=kind, part=part if opened > 1 else 0, ring=0)
+        out.append((curve.replace(res.points, closed=is_closed, **changes), results))
         paths.append(affine.svg_path(res.points, closed=is_closed))
         pmin, pmax = res.points.min(axis=0), res.points.max(axis=0)
         lo = pmin if lo is None else lo.clip(max=pmin)
         hi = pmax if hi is None else hi.clip(min=pmax)
         click.echo(f"curve {i}: {res.message}", err=True)
+    out = _with_results(out)
     write_curves(out, dest, fmt)
     if spline_svg is not None:
         Path(spline_svg).write_text(_svg_document(paths, (lo, hi)), encoding="utf-8")
