@@ -340,3 +340,19 @@ def test_affine_on_polygons_with_holes_and_multipolygons(runner, tmp_path):
     assert res.exit_code == 0, res.output
     kinds = [f["geometry"]["type"] for f in json.loads(out.read_text())["features"]]
     assert kinds == ["MultiLineString", "MultiLineString"]
+
+
+def test_old_geojson_crs_is_reported_not_silently_dropped(runner, tmp_path):
+    # A projected crs (QGIS exports it) would silently turn into WGS 84 in the written file
+    doc = dict(GEOJSON, crs={"type": "name", "properties": {"name": "urn:ogc:def:crs:EPSG::2056"}})
+    src = tmp_path / "swiss.geojson"
+    src.write_text(json.dumps(doc))
+    out = tmp_path / "out.geojson"
+    res = runner.invoke(main, ["smooth", str(src), "-o", str(out), "--method", "chaikin"])
+    assert res.exit_code == 0, res.output
+    (line,) = [ln for ln in res.output.splitlines() if ln.strip()]
+    assert line.startswith("Warning: ") and "EPSG::2056" in line and "not kept" in line
+    wgs = dict(doc, crs={"type": "name", "properties": {"name": "urn:ogc:def:crs:OGC:1.3:CRS84"}})
+    src.write_text(json.dumps(wgs))
+    res = runner.invoke(main, ["smooth", str(src), "-o", str(out), "--method", "chaikin"])
+    assert res.exit_code == 0 and res.output == ""

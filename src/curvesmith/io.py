@@ -49,7 +49,8 @@ GeoJSON (RFC 7946)
     Points, MultiPoints, null geometries, empty geometries and nested
     GeometryCollections are refused with a :class:`CurveFormatError` naming
     the feature: they are not curves, and skipping them would silently lose
-    data. ``bbox`` and foreign members are not kept. Coordinates with a
+    data. ``bbox`` and foreign members are not kept; a ``crs`` member (old
+    GeoJSON) is dropped with a ``UserWarning`` naming it. Coordinates with a
     third value keep it (``(N, 3)`` points).
     Write: always a FeatureCollection, one feature per distinct
     ``Curve.feature`` (in order of first appearance), its geometry rebuilt
@@ -917,6 +918,17 @@ class _GeoJSONReader:
                 "", f"expected a GeoJSON object with a 'type' member, found {_describe(obj)}"
             )
         kind = obj["type"]
+        crs = obj.get("crs")
+        props = crs.get("properties") if isinstance(crs, dict) else None
+        label = props.get("name") if isinstance(props, dict) else None
+        if crs is not None and not (isinstance(label, str) and label.endswith("CRS84")):
+            warnings.warn(
+                f"{self.name}: the 'crs' member ({label or crs!r}) is not kept; files written "
+                "from these curves have none, and RFC 7946 readers will take the coordinates as "
+                "WGS 84 longitude/latitude",
+                UserWarning,
+                stacklevel=4,
+            )
         if kind == "FeatureCollection":
             features = obj.get("features")
             if not isinstance(features, list):

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import io as _stdio
 import sys
+import warnings
 from pathlib import Path
 
 import click
@@ -34,9 +35,17 @@ def read_curves(source: str, fmt: str | None = None) -> list[Curve]:
         data = raw.read() if raw is not None else sys.stdin.read()
         stream = _stdio.BytesIO(data) if isinstance(data, bytes) else _stdio.StringIO(data)
         stream.name = "<stdin>"
-        curves = _read(stream, format=fmt)
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always", UserWarning)
+            curves = _read(stream, format=fmt)
+        for w in caught:
+            click.echo(f"Warning: {w.message}", err=True)
     else:
-        curves = _read(Path(source), format=_format_of(source, fmt))
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always", UserWarning)
+            curves = _read(Path(source), format=_format_of(source, fmt))
+        for w in caught:  # one line each, like the errors
+            click.echo(f"Warning: {w.message}", err=True)
     if not curves:
         raise CurveError(f"{source} contains no curves")
     return curves
