@@ -24,7 +24,9 @@ plot
     Matplotlib figures: overlays, curvature combs, convergence plots.
 geo, batch
     Shapely/GeoPandas geometries, coverages and files (extra ``geo``) and Dask
-    batch processing (extra ``dask``); imported on first use.
+    batch processing (extra ``dask``).
+
+Capability modules are imported on first use, so ``import curvesmith`` is cheap.
 
 The most used functions are re-exported here:
 
@@ -38,7 +40,7 @@ from __future__ import annotations
 import importlib
 from importlib.metadata import PackageNotFoundError, version
 
-from . import affine, cca, derham, elastica, errors, geometry, io, keyline, plot, subdivision
+from . import errors, geometry, subdivision
 from .errors import CurveError
 from .geometry import curve_length, signed_area
 
@@ -47,7 +49,9 @@ try:
 except PackageNotFoundError:  # pragma: no cover - running from a source tree
     __version__ = "0.0.0"
 
-_LAZY = ("geo", "batch")
+# Capability modules load on first use (``cs.cca``, ``from curvesmith import affine``):
+# ``import curvesmith`` and the CLI start fast, and geo/batch need optional extras.
+_LAZY = ("affine", "batch", "cca", "derham", "elastica", "geo", "io", "keyline", "plot")
 
 __all__ = [
     "CurveError",
@@ -70,7 +74,10 @@ __all__ = [
 
 
 def __getattr__(name: str):
-    # geo and batch need optional dependencies: import them only when asked for.
     if name in _LAZY:
         return importlib.import_module(f"{__name__}.{name}")
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(__all__))

@@ -7,7 +7,6 @@ from xml.sax.saxutils import quoteattr
 
 import click
 
-from .. import affine
 from ..errors import CurveError
 from ._common import FORMAT_OPTION, read_curves, write_curves
 
@@ -93,6 +92,8 @@ def affine_command(
     closing error (lists with one value per ring or part when a feature has
     several curves). Exit status 1 if a curve could not be approximated.
     """
+    from .. import affine
+
     curves = read_curves(source, fmt)
     out, paths = [], []
     lo = hi = None
