@@ -58,7 +58,9 @@ def test_as_int_and_as_float():
         as_int(True, name="n")
     with pytest.raises(CurveError, match=r"in \[1, 3\], got 4"):
         as_int(4, name="k", minimum=1, maximum=3)
-    assert as_float("0.25", name="alpha", low=0, high=1 / 3) == 0.25
+    assert as_float(np.float32(0.25), name="alpha", low=0, high=1 / 3) == 0.25
+    with pytest.raises(CurveError, match="alpha must be a real number, got '0.25'"):
+        as_float("0.25", name="alpha")
     with pytest.raises(CurveError, match=r"alpha must be in \(0, 0.333333\), got 0.5"):
         as_float(0.5, name="alpha", low=0, high=1 / 3)
     with pytest.raises(CurveError, match="tol must be finite, got nan"):
@@ -74,3 +76,8 @@ def test_huge_finite_values_pass_the_finiteness_check():
     assert p[0, 0] == 1e308
     with pytest.raises(CurveError, match="row 1"):
         as_points([[1e308, 1e308], [np.inf, -1.0]])
+
+
+def test_complex_input_is_refused_not_truncated():
+    with pytest.raises(CurveError, match="points must be real coordinates, got a complex array"):
+        as_points(np.array([[0, 0], [1, 1]]) + 1j)

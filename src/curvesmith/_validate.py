@@ -70,6 +70,8 @@ def as_points(
     ...
     curvesmith.errors.CurveError: points must have at least 3 points, got 2
     """
+    if np.iscomplexobj(points):
+        raise CurveError(f"{name} must be real coordinates, got a complex array")
     try:
         arr = np.array(points, dtype=np.float64, copy=True)
     except (TypeError, ValueError) as exc:
@@ -183,16 +185,17 @@ def as_float(
     --------
     >>> as_float(2, name="gamma", low=1.0)
     2.0
+    >>> as_float("2", name="gamma")
+    Traceback (most recent call last):
+    ...
+    curvesmith.errors.CurveError: gamma must be a real number, got '2'
     >>> as_float(0.5, name="gamma", low=1.0)
     Traceback (most recent call last):
     ...
     curvesmith.errors.CurveError: gamma must be > 1, got 0.5
     """
-    if isinstance(value, bool) or not isinstance(value, Real):
-        try:
-            value = float(value)
-        except (TypeError, ValueError):
-            raise CurveError(f"{name} must be a real number, got {value!r}") from None
+    if isinstance(value, bool | np.bool_ | str | bytes) or not isinstance(value, Real):
+        raise CurveError(f"{name} must be a real number, got {value!r}")
     value = float(value)
     if not math.isfinite(value):
         raise CurveError(f"{name} must be finite, got {value}")
