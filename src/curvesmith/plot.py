@@ -100,16 +100,22 @@ def before_after(
         draw_curve(
             ax, pa, closed=closed, lw=1.6, label=f"{name}: {len(pa)} pts, {_describe(pa, closed)}"
         )
-    _legend_below(ax)
     ax.set_xlabel("x")
     ax.set_ylabel("y")
     if title:
         ax.set_title(title)
+    _legend_below(ax)
     return ax
 
 
 def _legend_below(ax) -> None:
-    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.16), fontsize=8, frameon=False)
+    # Below the x label whatever the axes' height: anchored to the bottom of the tight
+    # bounding box of the axes and its labels (call after setting the labels).
+    fig = ax.figure
+    ax.apply_aspect()  # equal-aspect axes shrink at draw time; measure the final box
+    renderer = fig.canvas.get_renderer()
+    box = ax.get_tightbbox(renderer).transformed(ax.transAxes.inverted())
+    ax.legend(loc="upper center", bbox_to_anchor=(0.5, box.y0 - 0.02), fontsize=8, frameon=False)
 
 
 def curvature_comb(
