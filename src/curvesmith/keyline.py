@@ -62,6 +62,8 @@ import numpy as np
 
 from ._validate import as_float, as_int, as_points
 from .errors import CurveError
+from .geometry import _resample_equilateral as _resample
+from .geometry import resample_equilateral
 
 if TYPE_CHECKING:
     from .elastica import FitResult
@@ -335,143 +337,6 @@ def _principal_frame(q: np.ndarray) -> PrincipalFrame:
 # --------------------------------------------------------------------------------------
 # 5.3 equilateral open polygon approximation
 # --------------------------------------------------------------------------------------
-
-
-def resample_equilateral(points, step) -> np.ndarray:
-    """Equilateral open polygon approximation of a polyline with step ``r``.
-
-    Implements the procedure of section 5.3 (Figs. 11-13): ``A_1`` is the first
-    vertex; ``A_{k+1}`` is the point of the polyline at distance ``r`` from
-    ``A_k`` that does not return towards ``A_{k-1}``, and when several points
-    qualify, the one closest to the right end (the last vertex) along the
-    polyline (Fig. 12); when no such point exists, ``A_k`` is the stop point
-    (Fig. 13). "Does not return" is read as "lies further along the polyline
-    (larger arc length) than ``A_k``": for keylines it coincides with the
-    paper's picture, and it makes the arc-length position strictly increase,
-    so the polygon has at most ``floor(length / r) + 1`` vertices. Candidates
-    are found among all segments of the polyline (the paper's rule is global:
-    a curve that comes back within ``r`` of itself is short-cut), using
-    bounding circles of blocks of ``~sqrt(N)`` segments searched from the right
-    end, so that a step costs ``O(sqrt(N))`` vectorized operations.
-
-    Every chord of the result has length ``r`` to rounding, and every vertex
-    lies on the input polyline. The caller orients the input: the pipeline of
-    :func:`fit` starts from the left end (negative x').
-
-    Parameters
-    ----------
-    points : (N, d) array_like
-        Open polyline, any dimension d >= 1, N >= 2. Repeated consecutive
-        points (common in scans) are allowed.
-    step : float
-        The chord length ``r > 0``.
-
-    Returns
-    -------
-    (M, d) ndarray
-        ``A_1 ... A_M`` with ``M >= 2``.
-
-    Raises
-    ------
-    CurveError
-        If `step` <= 0 or not finite, the points are not finite, or no point
-        of the polyline is at distance `step` from its first vertex (the step
-        is longer than the curve reaches).
-
-    Examples
-    --------
-    >>> a = resample_equilateral([[0, 0], [10, 0]], 3.0)
-    >>> a[:, 0].tolist()
-    [0.0, 3.0, 6.0, 9.0]
-    """
-    p = as_points(points, dim=None, min_points=2)
-    r = as_float(step, name="step", low=0.0)
-    return _resample(p, r)[0]
-
-
-def _resample(p: np.ndarray, r: float) -> tuple[np.ndarray, np.ndarray]:
-    """Return the equilateral polygon and the arc-length positions of its vertices.
-
-    The segments are grouped in blocks of ``B ~ sqrt(N)`` consecutive segments
-    with a bounding circle each. A block can hold a point at distance ``r``
-    from the centre ``c`` only if ``| |c - m| - r | <= rho`` for its circle
-    ``(m, rho)``; the candidate blocks are searched from the last one
-    backwards and the first block with an intersection beyond the current arc
-    length holds the intersection closest to the right end. A step costs
-    ``O(N / B + B)`` in a fixed number of numpy calls.
-    """
-    d = np.diff(p, axis=0)
-    seg_len = np.sqrt(np.einsum("ij,ij->i", d, d))
-    keep = seg_len > 0.0
-    if not keep.any():
-        raise CurveError(f"points must not all coincide, got every point at {p[0].tolist()}")
-    starts = np.ascontiguousarray(p[:-1][keep])
-    d = np.ascontiguousarray(d[keep])
-    seg_len = seg_len[keep]
-    a2 = seg_len**2
-    s0 = np.concatenate([[0.0], np.cumsum(seg_len)])[:-1]
-    total = float(s0[-1] + seg_len[-1])
-    nseg = seg_len.size
-    bsize = max(64, math.isqrt(nseg))
-    first = np.arange(0, nseg, bsize)
-    last = np.minimum(first + bsize, nseg)
-    ends = starts + d
-    box_lo = np.minimum.reduceat(np.minimum(starts, ends), first, axis=0)
-    box_hi = np.maximum.reduceat(np.maximum(starts, ends), first, axis=0)
-    centre = 0.5 * (box_lo + box_hi)  # bounding circle of each block
-    radius = 0.5 * np.sqrt(np.einsum("ij,ij->i", box_hi - box_lo, box_hi - box_lo))
-    radius = radius * (1.0 + 1e-12) + 1e-12 * r
-    block_t_end = s0[last - 1] + seg_len[last - 1]
-    tol = 1e-12 * r + 8.0 * np.finfo(float).eps * total
-    eps = 1e-13
-
-    def crossing(blk: int, c: np.ndarray, t_cur: float):
-        sl = slice(first[blk], last[blk])
-        w = starts[sl] - c
-        b = np.einsum("ij,ij->i", w, d[sl])
-        aa = a2[sl]
-        disc = b * b - aa * (np.einsum("ij,ij->i", w, w) - r * r)
-        sq = np.sqrt(np.maximum(disc, 0.0))
-        # roots of aa u^2 + 2 b u + cq = 0; the larger one unless it is past the segment.
-        # (the point a + u d is accurate to ~eps * r either way: no cancellation concern)
-        u = (sq - b) / aa
-        u = np.where(u <= 1.0 + eps, u, (-sq - b) / aa)
-        valid = (disc >= 0.0) & (u >= -eps) & (u <= 1.0 + eps)
-        u = np.clip(u, 0.0, 1.0)
-        t = np.where(valid, s0[sl] + u * seg_len[sl], -np.inf)
-        m = int(np.argmax(t))
-        if t[m] <= t_cur + tol:
-            return None
-        j = first[blk] + m
-        return float(t[m]), starts[j] + u[m] * d[j]
-
-    out = [p[0].copy()]
-    ts = [0.0]
-    c = p[0]
-    t_cur = 0.0
-    lo_blk = 0
-    for _ in range(int(total / r) + 2):
-        while block_t_end[lo_blk] <= t_cur + tol and lo_blk < first.size - 1:
-            lo_blk += 1  # blocks wholly behind A_k cannot hold the next vertex
-        dc = centre[lo_blk:] - c
-        cand = np.flatnonzero(np.abs(np.sqrt(np.einsum("ij,ij->i", dc, dc)) - r) <= radius[lo_blk:])
-        hit = None
-        for blk in cand[::-1]:
-            hit = crossing(lo_blk + int(blk), c, t_cur)
-            if hit is not None:
-                break
-        if hit is None:
-            break  # only the way back remains: A_k is the stop point (Fig. 13)
-        t_cur, c = hit
-        out.append(c)
-        ts.append(t_cur)
-    if len(out) < 2:
-        far = float(np.sqrt(((p - p[0]) ** 2).sum(axis=1)).max())
-        raise CurveError(
-            f"step must be at most the largest distance {far:.6g} of the polyline from its "
-            f"first point (the curve is {total:.6g} long), got {r:.6g}"
-        )
-    return np.asarray(out), np.asarray(ts)
 
 
 # --------------------------------------------------------------------------------------
