@@ -81,3 +81,15 @@ def test_huge_finite_values_pass_the_finiteness_check():
 def test_complex_input_is_refused_not_truncated():
     with pytest.raises(CurveError, match="points must be real coordinates, got a complex array"):
         as_points(np.array([[0, 0], [1, 1]]) + 1j)
+
+
+def test_as_bool_and_growth_limit():
+    from curvesmith._validate import as_bool, check_growth
+
+    assert as_bool(np.True_, name="closed") is True
+    for bad in (None, "no", 1, 0.0):
+        with pytest.raises(CurveError, match="closed must be True or False"):
+            as_bool(bad, name="closed")
+    check_growth(10, 3, lambda n: 3 * n, limit=270)  # 30, 90, 270: at the limit is fine
+    with pytest.raises(CurveError, match=r"at most 269 output vertices, got 3 \(step 3 alone"):
+        check_growth(10, 3, lambda n: 3 * n, limit=269)

@@ -14,7 +14,20 @@ import numpy as np
 
 from .errors import CurveError
 
-__all__ = ["as_float", "as_int", "as_points", "check_distinct"]
+__all__ = [
+    "MAX_VERTICES",
+    "as_bool",
+    "as_float",
+    "as_int",
+    "as_points",
+    "check_distinct",
+    "check_growth",
+]
+
+MAX_VERTICES = 2**27
+"""Largest number of output vertices a refinement call may create (about 134 million;
+2 GB for 2D float64 points). Every subdivision or CCA step multiplies the vertex count,
+so a mistyped ``iterations=40`` would otherwise exhaust the memory instead of failing."""
 
 
 def _shape_text(shape: Sequence[int]) -> str:
@@ -128,6 +141,35 @@ def check_distinct(points: np.ndarray, *, name: str = "points", closed: bool = F
             f"{name} has a zero-length closing edge: the last vertex repeats the first "
             f"{points[0].tolist()} more than once"
         )
+
+
+def as_bool(value, *, name: str) -> bool:
+    """Check that `value` is a bool (``None`` and strings such as ``"no"`` are refused).
+
+    Examples
+    --------
+    >>> as_bool("no", name="closed")
+    Traceback (most recent call last):
+    ...
+    curvesmith.errors.CurveError: closed must be True or False, got 'no'
+    """
+    if not isinstance(value, bool | np.bool_):
+        raise CurveError(f"{name} must be True or False, got {value!r}")
+    return bool(value)
+
+
+def check_growth(n: int, iterations: int, step, *, limit: int = MAX_VERTICES) -> None:
+    """Raise if `iterations` steps of ``n -> step(n)`` vertices exceed `limit` vertices."""
+    for k in range(iterations):
+        grown = step(n)
+        if grown <= n:
+            return  # the count no longer grows (a 2-point open line stays 2 points)
+        n = grown
+        if n > limit:
+            raise CurveError(
+                f"iterations must be small enough for at most {limit} output vertices, "
+                f"got {iterations} (step {k + 1} alone would give {n} vertices)"
+            )
 
 
 def as_int(value, *, name: str, minimum: int | None = None, maximum: int | None = None) -> int:

@@ -31,27 +31,15 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._validate import as_float, as_int, as_points
+from ._validate import MAX_VERTICES, as_bool, as_float, as_int, as_points, check_growth
 from .errors import CurveError
 
 __all__ = ["MAX_VERTICES", "chaikin", "de_rham", "lane_riesenfeld"]
 
-MAX_VERTICES = 2**27
-"""Largest number of output vertices a subdivision call may create (about 134 million;
-2 GB for 2D float64 points). Every step doubles the vertex count, so a mistyped
-``iterations=40`` would otherwise exhaust the memory instead of failing."""
-
-
-def _as_flag(value, name: str) -> bool:
-    """A bool argument; refuses ``None`` and strings (``preserve_endpoints="no"`` is truthy)."""
-    if not isinstance(value, bool | np.bool_):
-        raise CurveError(f"{name} must be True or False, got {value!r}")
-    return bool(value)
-
 
 def _input_points(points, closed) -> tuple[np.ndarray, bool]:
     """Validate the common arguments; (N, d) rows in any dimension, but not a transposed array."""
-    closed = _as_flag(closed, "closed")
+    closed = as_bool(closed, name="closed")
     try:
         shape = np.shape(points)
     except ValueError:  # ragged: as_points says what is wrong
@@ -64,20 +52,6 @@ def _input_points(points, closed) -> tuple[np.ndarray, bool]:
         )
     p = as_points(points, closed=closed, min_points=3 if closed else 2, dim=None)
     return p, closed
-
-
-def _check_growth(n: int, iterations: int, step) -> None:
-    """Raise if `iterations` steps of ``n -> step(n)`` exceed :data:`MAX_VERTICES`."""
-    for k in range(iterations):
-        grown = step(n)
-        if grown <= n:
-            return  # the count no longer grows (a 2-point open line stays 2 points)
-        n = grown
-        if n > MAX_VERTICES:
-            raise CurveError(
-                f"iterations must be small enough for at most {MAX_VERTICES} output vertices, "
-                f"got {iterations} (step {k + 1} alone would give {n} vertices)"
-            )
 
 
 def chaikin(
@@ -162,9 +136,9 @@ def de_rham(
     gamma = as_float(gamma, name="gamma", low=1.0)
     iterations = as_int(iterations, name="iterations", minimum=0)
     p, closed = _input_points(points, closed)
-    preserve_endpoints = _as_flag(preserve_endpoints, "preserve_endpoints")
+    preserve_endpoints = as_bool(preserve_endpoints, name="preserve_endpoints")
     extra = 0 if closed else (0 if preserve_endpoints else -2)
-    _check_growth(p.shape[0], iterations, lambda n: 2 * n + extra)
+    check_growth(p.shape[0], iterations, lambda n: 2 * n + extra, limit=MAX_VERTICES)
     beta = 1.0 / (gamma + 2.0)
     alpha = 1.0 - beta
     for _ in range(iterations):
@@ -246,7 +220,7 @@ def lane_riesenfeld(
     degree = as_int(degree, name="degree", minimum=1)
     iterations = as_int(iterations, name="iterations", minimum=0)
     p, closed = _input_points(points, closed)
-    preserve_endpoints = _as_flag(preserve_endpoints, "preserve_endpoints")
+    preserve_endpoints = as_bool(preserve_endpoints, name="preserve_endpoints")
     if not closed:
         # an open step keeps 2 n - degree averaged vertices (+ 2 kept ends), which must be a
         # polyline; for n < degree the count shrinks from step to step
@@ -268,7 +242,7 @@ def lane_riesenfeld(
                 break  # stable from here on, or too large (reported below)
             n = grown
     extra = 0 if closed else (2 if preserve_endpoints else 0) - degree
-    _check_growth(p.shape[0], iterations, lambda n: 2 * n + extra)
+    check_growth(p.shape[0], iterations, lambda n: 2 * n + extra, limit=MAX_VERTICES)
     for _ in range(iterations):
         p = _lane_riesenfeld_step(p, degree, closed, preserve_endpoints)
     return p
