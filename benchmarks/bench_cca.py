@@ -8,7 +8,8 @@ median wall time over the repeats, output vertices per second for CCA and
 Chaikin, the time ratio per output vertex (CCA / Chaikin) in wall time and in
 CPU time (``process_time``, steadier on a shared machine), the number of local
 alpha decreases, and the peak traced memory of one CCA run as a multiple of the
-output array (tracemalloc; skipped above 3 M output vertices).
+output array (tracemalloc; skipped above 3 M output vertices). Quantities not
+measured print as ``-``.
 
 Run: ``python benchmarks/bench_cca.py [--quick] [--repeats R]``.
 """
@@ -87,17 +88,15 @@ def main() -> None:
                 v_cca = out.shape[0] / t_cca / 1e6
                 v_ch = ch.shape[0] / t_ch / 1e6
                 cpu_ratio = (c_cca / out.shape[0]) / max(c_ch / ch.shape[0], 1e-30)
-                mem = (
-                    float("nan")
-                    if args.no_memory or n * 3**it > 3_000_000
-                    else peak_ratio(
-                        lambda p=p, it=it: cca.smooth(p, closed=True, iterations=it), out.nbytes
-                    )
-                )
+                if args.no_memory or n * 3**it > 3_000_000:
+                    mem = "-"
+                else:
+                    run_mem = lambda p=p, it=it: cca.smooth(p, closed=True, iterations=it)  # noqa: E731
+                    mem = f"{peak_ratio(run_mem, out.nbytes):.2f}"
                 red = "-" if info is None else str(info.reductions)
                 print(
                     f"{kind:>6} {n:>8} {it:>2} {out.shape[0]:>10} {t_cca:>8.3f} {v_cca:>9.2f} "
-                    f"{v_ch:>12.2f} {v_ch / v_cca:>6.2f} {cpu_ratio:>9.2f} {red:>8} {mem:>8.2f}"
+                    f"{v_ch:>12.2f} {v_ch / v_cca:>6.2f} {cpu_ratio:>9.2f} {red:>8} {mem:>8}"
                 )
 
 
