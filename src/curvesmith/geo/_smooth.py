@@ -433,36 +433,55 @@ def _smooth_polygonal(g, feat_index, smoother, levels):
     reductions: list[GeometryReduction] = []
     if hard.any():
         sel = np.nonzero(hard[ring_geom])[0]
-        arcs = [rings[r] for r in sel]
-        fixed, red = resolve_arcs(
-            arcs,
-            loops=np.ones(len(sel), dtype=bool),
+        reductions += _resolve_parts(
+            rings,
+            new,
+            sel,
+            loops=True,
             groups=ring_geom[sel],
-            frozen=np.zeros(len(sel), dtype=bool),
+            part_geom=ring_geom,
+            first_part=first_ring_of_geom,
+            feat_index=feat_index,
             smoother=smoother,
             levels=levels,
         )
-        for k, r in enumerate(sel):
-            new[r] = fixed[k]
-        for rd in red:
-            r = sel[rd.arc]
-            gi = ring_geom[r]
-            reductions.append(
-                GeometryReduction(
-                    int(feat_index[gi]),
-                    int(r - first_ring_of_geom[gi]),
-                    rd.start,
-                    rd.stop,
-                    rd.iterations,
-                    rd.alpha_scale,
-                )
-            )
         res = build(new)
     a0 = _signed_areas(rings)
     a1 = _signed_areas(new)
     scale = np.where(a0 != 0, np.abs(a0), 1.0)
     change = float(np.max(np.abs(a1 - a0) / scale)) if len(a0) else 0.0
     return res, reductions, n_rings, change
+
+
+def _resolve_parts(
+    parts, new, sel, *, loops, groups, part_geom, first_part, feat_index, smoother, levels
+) -> list[GeometryReduction]:
+    """Re-smooth the conflicting parts ``sel`` less (in place in `new`); return the reductions."""
+    fixed, red = resolve_arcs(
+        [parts[r] for r in sel],
+        loops=np.full(len(sel), loops, dtype=bool),
+        groups=groups,
+        frozen=np.zeros(len(sel), dtype=bool),
+        smoother=smoother,
+        levels=levels,
+    )
+    for k, r in enumerate(sel):
+        new[r] = fixed[k]
+    out = []
+    for rd in red:
+        r = sel[rd.arc]
+        gi = part_geom[r]
+        out.append(
+            GeometryReduction(
+                int(feat_index[gi]),
+                int(r - first_part[gi]),
+                rd.start,
+                rd.stop,
+                rd.iterations,
+                rd.alpha_scale,
+            )
+        )
+    return out
 
 
 def _smooth_lineal(g, feat_index, smoother, levels):
@@ -492,29 +511,18 @@ def _smooth_lineal(g, feat_index, smoother, levels):
     reductions: list[GeometryReduction] = []
     if hard.any():
         sel = np.nonzero(hard)[0]
-        fixed, red = resolve_arcs(
-            [lines[r] for r in sel],
-            loops=np.zeros(len(sel), dtype=bool),
+        reductions += _resolve_parts(
+            lines,
+            new,
+            sel,
+            loops=False,
             groups=np.arange(len(sel)),
-            frozen=np.zeros(len(sel), dtype=bool),
+            part_geom=line_geom,
+            first_part=first_line_of_geom,
+            feat_index=feat_index,
             smoother=smoother,
             levels=levels,
         )
-        for k, r in enumerate(sel):
-            new[r] = fixed[k]
-        for rd in red:
-            r = sel[rd.arc]
-            gi = line_geom[r]
-            reductions.append(
-                GeometryReduction(
-                    int(feat_index[gi]),
-                    int(r - first_line_of_geom[gi]),
-                    rd.start,
-                    rd.stop,
-                    rd.iterations,
-                    rd.alpha_scale,
-                )
-            )
     lens = np.array([len(x) for x in new], dtype=np.int64)
     offs = np.concatenate([[0], np.cumsum(lens)])
     ml = shapely.from_ragged_array(T.MULTILINESTRING, np.concatenate(new), (offs, geom_off))
