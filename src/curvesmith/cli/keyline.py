@@ -12,6 +12,7 @@ import click
 import numpy as np
 
 from ..errors import CurveError
+from ..keyline import TABLE_COLUMNS
 
 __all__ = ["SUMMARY_PARAMS", "TABLE_FIELDS", "keyline_command", "read_scan"]
 
@@ -19,16 +20,7 @@ __all__ = ["SUMMARY_PARAMS", "TABLE_FIELDS", "keyline_command", "read_scan"]
 TABLE_FIELDS = (
     "file",
     "curve",
-    "side",
-    "n_points",
-    "h",
-    "phi",
-    "phi_deg",
-    "z",
-    "q",
-    "k",
-    "rms",
-    "success",
+    *TABLE_COLUMNS,
     "step",
     "inflection_index",
     "plane_rms",
