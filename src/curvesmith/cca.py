@@ -533,8 +533,8 @@ def smooth_with_info(
     fig11_total = 0
     unsat_total = 0
     for it in range(1, iterations + 1):
-        step = _step if len(cols) == 3 or _FORCE_GENERIC else _step2_cols
-        cols, fixed, nred, nfig, nunsat = step(
+        step = _step_cols if len(cols) == 3 or _FORCE_GENERIC else _step2_cols
+        cols, fixed, nred, nfig, nunsat, stacked = step(
             cols,
             fixed,
             closed,
@@ -545,16 +545,18 @@ def smooth_with_info(
             tilt / 2.0**it,
             balance_tol,
             (max_passes, min_factor),
+            stacked=it == iterations,
         )
         red_steps.append(nred)
         fig11_total += nfig
         unsat_total += nunsat
 
-    out = np.column_stack(cols)
+    out = np.column_stack(cols) if stacked is None else stacked
     if frame is not None:
         out = out @ frame
     out += origin
-    out[fixed] = p[fixed_in]  # fixed vertices (ends, anchors) are returned bit-exact
+    if fixed_in.any():
+        out[fixed] = p[fixed_in]  # fixed vertices (ends, anchors) are returned bit-exact
     ok = unsat_total == 0
     msg = (
         f"{iterations} CCA1 step(s), {sum(red_steps)} local alpha reduction(s), "
@@ -680,9 +682,13 @@ def _plane_frame(q: np.ndarray) -> np.ndarray | None:
 _FORCE_GENERIC = False  # tests compare the lean 2D step with the generic one
 
 
-def _step2_cols(cols, fixed, closed, *args):
-    x, y, fixed, nred, nfig, nunsat = _step2(cols[0], cols[1], fixed, closed, *args)
-    return [x, y], fixed, nred, nfig, nunsat
+def _step2_cols(cols, fixed, closed, *args, stacked=False):
+    x, y, fixed, nred, nfig, nunsat, xy = _step2(cols[0], cols[1], fixed, closed, *args, stacked)
+    return [x, y], fixed, nred, nfig, nunsat, xy
+
+
+def _step_cols(*args, stacked=False):
+    return (*_step(*args), None)
 
 
 _SHRINK = 1.0 - 8.0 * np.finfo(float).eps
@@ -843,19 +849,38 @@ def _step(cols, fixed, closed, alpha_fn, restrict, c, C, tilt_n, balance_tol, li
     return out, newfixed, nred, nfig, nunsat
 
 
-def _step2(x, y, fixed, closed, alpha_fn, restrict, c, C, tilt_n, balance_tol, limits):
-    """One 2D CCA1 step on coordinate columns; the same arithmetic as :func:`_step`, leaner."""
-    ex = _roll_m1(x)
-    ex -= x
-    ey = _roll_m1(y)
-    ey -= y
-    length = np.sqrt(ex * ex + ey * ey)
+def _ext(n: int) -> np.ndarray:
+    """Buffer of n + 1 slots: ``b[:-1]`` is a[i] and ``b[1:]`` is a[i+1] once ``b[n] = b[0]``."""
+    return np.empty(n + 1)
+
+
+def _step2(x, y, fixed, closed, alpha_fn, restrict, c, C, tilt_n, balance_tol, limits, stacked):
+    """One 2D CCA1 step on coordinate columns; the same arithmetic as :func:`_step`, leaner.
+
+    Cyclic neighbours are views into buffers of ``n + 1`` slots whose extra slot
+    repeats the wrapped element (``u_{i-1}`` is ``ux_e[:-1]`` when ``ux_e[1:]``
+    holds ``u_i``), so no shifted copies are made; the restriction pass hands
+    back the edge terms it computed. With ``stacked`` the output is written
+    into one ``(M, 2)`` array whose columns are returned (no later stacking).
+    """
+    n = x.shape[0]
+    ex = np.empty(n)
+    np.subtract(x[1:], x[:-1], out=ex[:-1])
+    ex[-1] = x[0] - x[-1]
+    ey = np.empty(n)
+    np.subtract(y[1:], y[:-1], out=ey[:-1])
+    ey[-1] = y[0] - y[-1]
+    len_e = _ext(n)
+    length = len_e[1:]
+    tmp = np.multiply(ey, ey)
+    np.multiply(ex, ex, out=length)
+    length += tmp
+    np.sqrt(length, out=length)
     body = length if closed else length[:-1]
     if body.size and body.min() == 0:
         (x, y), fixed = _compact([x, y], fixed, closed)
-        args = (alpha_fn, restrict, c, C, tilt_n, balance_tol, limits)
+        args = (alpha_fn, restrict, c, C, tilt_n, balance_tol, limits, stacked)
         return _step2(x, y, fixed, closed, *args)
-    n = x.shape[0]
     if closed:
         edge_on = None
     else:
@@ -864,14 +889,22 @@ def _step2(x, y, fixed, closed, alpha_fn, restrict, c, C, tilt_n, balance_tol, l
         fixed = fixed.copy()
         fixed[0] = fixed[-1] = True
         length[-1] = max(float(length[-1]), 1.0)  # absent wrap edge: only guard the divisions
-    inv = 1.0 / length
-    ux = ex * inv
-    uy = ey * inv
-    del ex, ey, inv
-    upx = _roll_p1(ux)
-    upy = _roll_p1(uy)
-    cr = upx * uy - upy * ux  # cross(u_{i-1}, u_i) = sin(turning angle)
-    dot = upx * ux + upy * uy
+    len_e[0] = length[-1]
+    inv = np.divide(1.0, length, out=tmp)
+    ux_e = _ext(n)
+    uy_e = _ext(n)
+    ux, uy = ux_e[1:], uy_e[1:]
+    np.multiply(ex, inv, out=ux)
+    np.multiply(ey, inv, out=uy)
+    ux_e[0] = ux[-1]
+    uy_e[0] = uy[-1]
+    upx, upy = ux_e[:-1], uy_e[:-1]
+    del inv
+    cr = np.multiply(upx, uy, out=ex)  # cross(u_{i-1}, u_i) = sin(turning angle)
+    cr -= np.multiply(upy, ux, out=tmp)
+    dot = np.multiply(upx, ux, out=ey)
+    dot += np.multiply(upy, uy, out=tmp)
+    del ex, ey
     scross = np.abs(cr)
     any_fixed = bool(fixed.any())
     constant = getattr(alpha_fn, "constant", None)
@@ -883,75 +916,100 @@ def _step2(x, y, fixed, closed, alpha_fn, restrict, c, C, tilt_n, balance_tol, l
         free = ~fixed
         alpha[free] = alpha_fn(np.arctan2(scross[free], -dot[free]))
     else:
-        alpha = alpha_fn(np.arctan2(scross, -dot))  # interior angle in [0, pi]
-    short = np.minimum(length, _roll_p1(length))
-    half_a2 = 0.5 * short * short
+        alpha = alpha_fn(np.arctan2(scross, np.negative(dot, out=tmp)))  # interior angle
+    del tmp
+    short = np.minimum(length, len_e[:-1])
+    half_a2 = np.multiply(short, 0.5)
+    half_a2 *= short
     nred = nunsat = 0
     if restrict:
-        on = np.ones(n, dtype=bool) if edge_on is None else edge_on
-        alpha, nred, nunsat, a, (K,) = _restrict(
-            alpha, half_a2, [cr], scross, dot, short, length, fixed, on, c, C, limits
+        alpha, nred, nunsat, a_e, K_e, w, A, k12 = _restrict2(
+            alpha, half_a2, cr, scross, dot, short, length, fixed, any_fixed, edge_on, c, C, limits
         )
+        K = K_e[:-1]
+        Kn = K_e[1:]
     else:
-        a = alpha * short
-        K = alpha * alpha * half_a2 * cr  # signed cut areas
-    del half_a2, short
-    Kn = _roll_m1(K)
-    A = 0.5 * (K + Kn)  # signed augmentation per edge
-    an = _roll_m1(a)
-    w = 0.5 * (length - a - an)
+        a_e = _ext(n)
+        np.multiply(alpha, short, out=a_e[:-1])
+        a_e[n] = a_e[0]
+        K_e = _ext(n)
+        K = K_e[:-1]
+        np.multiply(alpha, alpha, out=K)
+        K *= half_a2
+        K *= cr  # signed cut areas
+        K_e[n] = K[0]
+        Kn = K_e[1:]
+        w = np.subtract(length, a_e[:-1])
+        w -= a_e[1:]
+        w *= 0.5
+        A = np.add(K, Kn)
+        k12 = np.multiply(K, Kn)
+    A *= 0.5  # signed augmentation per edge
+    del half_a2, short, alpha
+    a = a_e[:-1]
     if w.min() > 0:
-        s = A / w
+        s = np.divide(A, w)
     else:
         s = np.zeros(n)
         np.divide(A, w, out=s, where=w > 0)
-    # cut points L_i = V_i - a u_{i-1}, R_i = V_i + a u_i; apex G_i = M_i + s (uy, -ux)
-    Lx = x - a * upx
-    Ly = y - a * upy
-    Rx = x + a * ux
-    Ry = y + a * uy
-    del upx, upy
-    Gx = _roll_m1(Lx)
-    Gx += Rx
-    Gx *= 0.5
-    Gx += s * uy
-    Gy = _roll_m1(Ly)
-    Gy += Ry
-    Gy *= 0.5
-    Gy -= s * ux
 
     # Fig. 11 candidates: inflection edges (opposite cut signs), usually few
-    cand = np.flatnonzero(K * Kn < 0)
+    cand = np.flatnonzero(k12 < 0)
+    del k12
     kc, knc = K[cand], Kn[cand]
     ok = np.abs(kc + knc) <= (0.5 * balance_tol) * (np.abs(kc) + np.abs(knc))
     ok &= w[cand] > 0
     if edge_on is not None:
         ok &= edge_on[cand]
-    fig = np.zeros(n, dtype=bool)
-    fig[cand[ok]] = True
     nfig = int(np.count_nonzero(ok))
     single = (a == 0) | fixed if any_fixed else a == 0
-    if nfig == 0 and edge_on is None and not single.any():
-        # regular layout [L_i, R_i, G_i]
-        ox = np.empty(3 * n)
-        oy = np.empty(3 * n)
+    regular = nfig == 0 and edge_on is None and not single.any()
+    if regular:
+        total = 3 * n
+    else:
+        fig = np.zeros(n, dtype=bool)
+        fig[cand[ok]] = True
+        on = np.ones(n, dtype=bool) if edge_on is None else edge_on
+        cnt_v = np.where(single, 1, 2)
+        cnt = cnt_v + on + fig
+        start = np.cumsum(cnt) - cnt
+        total = int(start[-1] + cnt[-1])
+    if stacked:
+        xy = np.empty((total, 2))
+        ox, oy = xy[:, 0], xy[:, 1]
+    else:
+        xy = None
+        ox, oy = np.empty(total), np.empty(total)
+
+    # cut points L_i = V_i - a u_{i-1}, R_i = V_i + a u_i; apex G_i = M_i + s (uy, -ux)
+    Lx_e, Ly_e = _ext(n), _ext(n)
+    Lx, Ly = Lx_e[:-1], Ly_e[:-1]
+    np.subtract(x, np.multiply(a, upx, out=Lx), out=Lx)
+    np.subtract(y, np.multiply(a, upy, out=Ly), out=Ly)
+    Lx_e[n] = Lx[0]
+    Ly_e[n] = Ly[0]
+    del upx, upy, ux_e, uy_e
+    if regular:  # layout [L_i, R_i, G_i], written in place
+        Rx, Ry, Gx, Gy = ox[1::3], oy[1::3], ox[2::3], oy[2::3]
         ox[0::3] = Lx
-        ox[1::3] = Rx
-        ox[2::3] = Gx
         oy[0::3] = Ly
-        oy[1::3] = Ry
-        oy[2::3] = Gy
-        return ox, oy, np.zeros(3 * n, dtype=bool), nred, 0, nunsat
-    on = np.ones(n, dtype=bool) if edge_on is None else edge_on
-    cnt_v = np.where(single, 1, 2)
-    cnt = cnt_v + on + fig
-    start = np.cumsum(cnt) - cnt
-    total = int(start[-1] + cnt[-1])
+    else:
+        Rx, Ry, Gx, Gy = np.empty(n), np.empty(n), np.empty(n), np.empty(n)
+    np.add(x, np.multiply(a, ux, out=Rx), out=Rx)
+    np.add(y, np.multiply(a, uy, out=Ry), out=Ry)
+    np.add(Lx_e[1:], Rx, out=Gx)
+    Gx *= 0.5
+    Gx += np.multiply(s, uy)
+    np.add(Ly_e[1:], Ry, out=Gy)
+    Gy *= 0.5
+    Gy -= np.multiply(s, ux, out=s)
+    del s
+    if regular:
+        return ox, oy, np.zeros(total, dtype=bool), nred, 0, nunsat, xy
+
     two = ~single
     s_second = start[two] + 1
     s_edge = (start + cnt_v)[on]
-    ox = np.empty(total)
-    oy = np.empty(total)
     ox[start] = np.where(single, x, Lx)
     oy[start] = np.where(single, y, Ly)
     ox[s_second] = Rx[two]
@@ -985,7 +1043,7 @@ def _step2(x, y, fixed, closed, alpha_fn, restrict, c, C, tilt_n, balance_tol, l
     newfixed = np.zeros(total, dtype=bool)
     if any_fixed:
         newfixed[start[fixed]] = True
-    return ox, oy, newfixed, nred, nfig, nunsat
+    return ox, oy, newfixed, nred, nfig, nunsat, xy
 
 
 def _restrict(*args):
@@ -1118,3 +1176,240 @@ def _restrict_passes(alpha, half_a2, cr, scross, dot, short, length, fixed, edge
         edges = np.flatnonzero(touched)
     nred = int(np.count_nonzero(alpha < alpha0))
     return alpha, nred, nunsat, a, K
+
+
+def _sorted_unique(v: np.ndarray) -> np.ndarray:
+    """Sorted distinct values of an integer array (np.unique without its hash path)."""
+    s = np.sort(v)
+    if s.size > 1:
+        keep = np.empty(s.size, dtype=bool)
+        keep[0] = True
+        np.not_equal(s[1:], s[:-1], out=keep[1:])
+        s = s[keep]
+    return s
+
+
+def _restrict2(
+    alpha, half_a2, cr, scross, dot, short, length, fixed, any_fixed, edge_on, c, C, limits
+):
+    """2D :func:`_restrict_passes` that also returns the edge terms of the final alphas.
+
+    Same rules and the same arithmetic (so the same alphas); the generic
+    :func:`_restrict_passes` is the reference the tests compare against. Cut
+    lengths and cut areas live in buffers of ``n + 1`` slots (``b[n] = b[0]``)
+    so that the next vertex's value is a view. Work saved on the way: the
+    trig bound of inflection edges is evaluated only where the trig-free lower
+    bound ``tan(C |tau| / 2) >= C |sin(tau)| / 2`` does not already clear the
+    edge, and per-vertex factors are merged on the touched vertices only.
+    Returns ``alpha, nred, nunsat, a_e, K_e, w, S, k12`` with ``S = K_i +
+    K_{i+1}``, ``k12 = K_i K_{i+1}`` and the half-width ``w`` per edge.
+    """
+    with np.errstate(over="ignore", invalid="ignore"):
+        return _restrict2_passes(
+            alpha, half_a2, cr, scross, dot, short, length, fixed, any_fixed, edge_on, c, C, limits
+        )
+
+
+def _restrict2_passes(
+    alpha, half_a2, cr, scross, dot, short, length, fixed, any_fixed, edge_on, c, C, limits
+):
+    max_passes, min_factor = limits
+    n = alpha.shape[0]
+    alpha0 = alpha
+    alpha = alpha.copy()
+    a_e = _ext(n)
+    a = a_e[:-1]
+    np.multiply(alpha, short, out=a)
+    a_e[n] = a[0]
+    K_e = _ext(n)
+    K = K_e[:-1]
+    np.multiply(alpha, alpha, out=K)
+    K *= half_a2
+    K *= cr
+    K_e[n] = K[0]
+    Kn = K_e[1:]
+    # edge terms, kept current for every edge through the passes
+    w = np.subtract(length, a)
+    w -= a_e[1:]
+    w *= 0.5
+    k12 = np.multiply(K, Kn)
+    S = np.add(K, Kn)
+    # tan(beta) = cot(|tau| / 2) at turning vertices, 0 elsewhere
+    turning = scross > 0
+    if any_fixed:
+        turning &= ~fixed
+    tanb_e = np.zeros(n + 1)
+    tanb = tanb_e[:-1]
+    np.divide(np.add(dot, 1.0), scross, out=tanb, where=turning)
+    tanb_e[n] = tanb[0]
+    if any_fixed:
+        tn = np.empty(n + 1, dtype=bool)
+        tn[:-1] = turning
+        tn[n] = turning[0]
+        fx = np.empty(n + 1, dtype=bool)
+        fx[:-1] = fixed
+        fx[n] = fixed[0]
+        endish_all = (fixed & tn[1:]) | (fx[1:] & turning)  # end edges
+    else:
+        endish_all = None
+    del turning
+    half_c = 0.5 * c
+    f_v = None  # per-vertex factor buffer, allocated on demand, kept at 1 between passes
+    decreased = False
+    edges = None  # None: pass over every edge (restricted to ``mask`` if not None)
+    mask = None  # None: all edges
+    nunsat = 0
+    for npass in range(max_passes + 1):
+        if edges is None:  # every edge, with views instead of gathers
+            if mask is not None:  # the same values as before for the untouched edges
+                np.subtract(length, a, out=w)
+                w -= a_e[1:]
+                w *= 0.5
+                np.multiply(K, Kn, out=k12)
+                np.add(K, Kn, out=S)
+            net = np.abs(S)
+            w2 = np.multiply(w, w)
+            need_c = np.maximum(tanb, tanb_e[1:])
+            need_c *= half_c
+            need_c *= net  # c T |A|
+            viol_c = w2 < need_c * (1.0 - 1e-12)
+            conv = k12 > 0
+            if endish_all is not None:
+                conv |= endish_all
+            viol_c &= conv
+            infl = np.less(k12, 0, out=conv)
+            if edge_on is not None:
+                viol_c &= edge_on
+                infl &= edge_on
+            if mask is not None:  # later pass: only the edges next to decreased vertices
+                viol_c &= mask
+                infl &= mask
+            ic = np.flatnonzero(viol_c)
+            ii = np.flatnonzero(infl)
+            del viol_c, conv, infl
+            jc = ic + 1
+            jc[jc == n] = 0
+            jj = ii + 1
+            jj[jj == n] = 0
+            k12_ii = k12[ii]
+            net_ii = net[ii]
+            w2_ii = w2[ii]
+            m1 = np.abs(K[ii])
+            m2 = np.abs(Kn[ii])
+            f = w2[ic]
+            f /= need_c[ic]
+            del net, w2, need_c
+        else:
+            i = edges
+            j = i + 1
+            j[j == n] = 0
+            K1, K2 = K[i], K[j]
+            we = 0.5 * (length[i] - a[i] - a[j])
+            w[i] = we
+            k12e = K1 * K2
+            k12[i] = k12e
+            Se = K1 + K2
+            S[i] = Se
+            nete = np.abs(Se)
+            w2e = we * we
+            T = np.maximum(tanb[i], tanb[j])
+            need = half_c * T * nete
+            conv = k12e > 0
+            if endish_all is not None:
+                conv |= endish_all[i]
+            viol = (w2e < need * (1.0 - 1e-12)) & conv
+            infl = k12e < 0
+            if edge_on is not None:
+                on = edge_on[i]
+                viol &= on
+                infl &= on
+            sel = np.flatnonzero(viol)
+            ic, jc = i[sel], j[sel]
+            f = w2e[sel] / need[sel]
+            sel = np.flatnonzero(infl)
+            ii, jj = i[sel], j[sel]
+            k12_ii = k12e[sel]
+            net_ii = nete[sel]
+            w2_ii = w2e[sel]
+            m1 = np.abs(K1[sel])
+            m2 = np.abs(K2[sel])
+        # inflection edges: epsilon = atan(|A| / w^2) <= C |tau_m| / 2, i.e.
+        # |K_1 + K_2| <= s2 = 2 w^2 tan(C |tau_m| / 2); as tan(x) >= x and
+        # |tau| >= |sin(tau)|, s2 >= C w^2 |sin(tau_m)| clears most edges trig-free
+        minor2 = m2 <= m1
+        mv = np.where(minor2, jj, ii)
+        scm = scross[mv]
+        unsure = np.flatnonzero(net_ii > (C * (1.0 - 1e-9)) * w2_ii * scm)
+        tau_m = np.arctan2(scm[unsure], dot[mv[unsure]])
+        s2u = 2.0 * w2_ii[unsure] * np.tan(0.5 * C * tau_m)  # bound on |K_1 + K_2|
+        badu = net_ii[unsure] > s2u * (1.0 + 1e-12)
+        bad = unsure[badu]
+        nbad = bad.size
+        if ic.size == 0 and nbad == 0:
+            break
+        if npass == max_passes:
+            nunsat = int(ic.size + nbad)
+            break
+        np.sqrt(f, out=f)
+        f *= _SHRINK
+        verts = [ic, jc]
+        facs = [f, f]
+        if nbad:
+            mi2 = minor2[bad]
+            m1b, m2b = m1[bad], m2[bad]
+            mag_d = np.where(mi2, m1b, m2b)
+            mag_m = np.where(mi2, m2b, m1b)
+            dotab = k12_ii[bad]  # K_d . K_m
+            sb = s2u[badu]
+            # largest t = f^2 with |t K_d + K_m| <= s2 (2D: t = (|K_m| + s2) / |K_d|)
+            disc = dotab * dotab - mag_d * mag_d * (mag_m * mag_m - sb * sb)
+            okd = disc >= 0
+            t = (-dotab + np.sqrt(np.maximum(disc, 0.0))) / (mag_d * mag_d)
+            f_dom = np.sqrt(np.clip(t, 0.0, 1.0)) * _SHRINK
+            dom = np.where(mi2, ii[bad], jj[bad])
+            verts.append(dom[okd])
+            facs.append(f_dom[okd])
+            if not okd.all():
+                # cannot happen in 2D (disc = (|K_d| s2)^2); kept as in the generic pass
+                nb = net_ii[bad][~okd]
+                fb = np.sqrt(sb[~okd] / nb) * _SHRINK
+                verts += [ii[bad][~okd], jj[bad][~okd]]
+                facs += [fb, fb]
+        v = np.concatenate(verts)
+        fv = np.concatenate(facs)
+        if f_v is None:
+            f_v = np.ones(n)
+        np.minimum.at(f_v, v, fv)  # per vertex the smallest factor of its edges
+        v = np.flatnonzero(f_v < 1.0) if 32 * v.size > n else _sorted_unique(v)
+        fv = f_v[v]
+        f_v[v] = 1.0  # restore the buffer
+        keep = fv < 1.0
+        if any_fixed:
+            keep &= ~fixed[v]
+        if not keep.all():
+            v, fv = v[keep], fv[keep]
+        av = alpha[v]
+        new = np.maximum(av * fv, min_factor * alpha0[v])
+        moved = new < av
+        if not moved.all():
+            v, new = v[moved], new[moved]
+            if v.size == 0:  # every violation sits at the floor
+                nunsat = int(ic.size + nbad)
+                break
+        alpha[v] = new
+        decreased = True
+        a[v] = new * short[v]
+        K[v] = new * new * half_a2[v] * cr[v]
+        a_e[n] = a[0]
+        K_e[n] = K[0]
+        ev = v - 1  # edge v - 1 ends at v
+        ev[0] = n - 1 if ev[0] < 0 else ev[0]
+        if 8 * v.size > n:  # many edges: a masked pass with views beats gathers
+            mask = np.zeros(n, dtype=bool)
+            mask[v] = True
+            mask[ev] = True
+            edges = None
+        else:
+            edges = _sorted_unique(np.concatenate([v, ev]))
+    nred = int(np.count_nonzero(alpha < alpha0)) if decreased else 0
+    return alpha, nred, nunsat, a_e, K_e, w, S, k12
