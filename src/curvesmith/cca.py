@@ -270,7 +270,28 @@ def _profile_poly():
 
 
 def _eval_profile(theta: np.ndarray) -> np.ndarray:
-    # Evaluate scipy's PCHIP piecewise cubic (its breakpoints and coefficients) by Horner;
+    # Evaluate scipy's PCHIP piecewise cubic (its breakpoints and coefficients) by Horner.
+    # Smoothed curves have almost all angles in the last piece (150..180 deg): that piece is
+    # evaluated with scalar coefficients for every angle, the others are redone on their
+    # (few) angles -- the same floating-point operations as the general path.
+    theta = np.asarray(theta, dtype=float)
+    brk, coef = _profile_poly()
+    if theta.ndim == 0 or theta.size < 64:
+        return _eval_profile_pieces(theta)
+    dt = theta - brk[-2]
+    c = coef[:, -1]
+    out = np.multiply(dt, c[0])
+    for k in (1, 2, 3):
+        out += c[k]
+        if k < 3:
+            out *= dt
+    rest = np.flatnonzero(theta <= brk[-2])
+    if rest.size:
+        out[rest] = _eval_profile_pieces(theta[rest])
+    return out
+
+
+def _eval_profile_pieces(theta: np.ndarray) -> np.ndarray:
     # np.take on the 6 pieces is about twice as fast as PPoly.__call__ on large arrays.
     brk, coef = _profile_poly()
     idx = np.searchsorted(brk[1:-1], theta, side="left")
@@ -1204,7 +1225,7 @@ def _restrict2(
     Returns ``alpha, nred, nunsat, a_e, K_e, w, S, k12`` with ``S = K_i +
     K_{i+1}``, ``k12 = K_i K_{i+1}`` and the half-width ``w`` per edge.
     """
-    with np.errstate(over="ignore", invalid="ignore"):
+    with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
         return _restrict2_passes(
             alpha, half_a2, cr, scross, dot, short, length, fixed, any_fixed, edge_on, c, C, limits
         )
@@ -1238,9 +1259,11 @@ def _restrict2_passes(
     turning = scross > 0
     if any_fixed:
         turning &= ~fixed
-    tanb_e = np.zeros(n + 1)
+    tanb_e = _ext(n)
     tanb = tanb_e[:-1]
-    np.divide(np.add(dot, 1.0), scross, out=tanb, where=turning)
+    np.divide(np.add(dot, 1.0), scross, out=tanb)  # inf / nan where not turning: reset
+    if any_fixed or not turning.all():
+        tanb[~turning] = 0.0
     tanb_e[n] = tanb[0]
     if any_fixed:
         tn = np.empty(n + 1, dtype=bool)
