@@ -555,6 +555,7 @@ def smooth_with_info(
     unsat_total = 0
     for it in range(1, iterations + 1):
         step = _step_cols if len(cols) == 3 or _FORCE_GENERIC else _step2_cols
+        last = it == iterations and frame is None and len(cols) == 2
         cols, fixed, nred, nfig, nunsat, stacked = step(
             cols,
             fixed,
@@ -566,16 +567,19 @@ def smooth_with_info(
             tilt / 2.0**it,
             balance_tol,
             (max_passes, min_factor),
-            stacked=it == iterations,
+            stacked=(float(origin[0]), float(origin[1])) if last else None,
         )
         red_steps.append(nred)
         fig11_total += nfig
         unsat_total += nunsat
 
-    out = np.column_stack(cols) if stacked is None else stacked
-    if frame is not None:
-        out = out @ frame
-    out += origin
+    if stacked is None:
+        out = np.column_stack(cols)
+        if frame is not None:
+            out = out @ frame
+        out += origin
+    else:
+        out = stacked  # the last step added the origin on writing
     if fixed_in.any():
         out[fixed] = p[fixed_in]  # fixed vertices (ends, anchors) are returned bit-exact
     ok = unsat_total == 0
@@ -703,12 +707,12 @@ def _plane_frame(q: np.ndarray) -> np.ndarray | None:
 _FORCE_GENERIC = False  # tests compare the lean 2D step with the generic one
 
 
-def _step2_cols(cols, fixed, closed, *args, stacked=False):
+def _step2_cols(cols, fixed, closed, *args, stacked=None):
     x, y, fixed, nred, nfig, nunsat, xy = _step2(cols[0], cols[1], fixed, closed, *args, stacked)
     return [x, y], fixed, nred, nfig, nunsat, xy
 
 
-def _step_cols(*args, stacked=False):
+def _step_cols(*args, stacked=None):
     return (*_step(*args), None)
 
 
@@ -881,8 +885,11 @@ def _step2(x, y, fixed, closed, alpha_fn, restrict, c, C, tilt_n, balance_tol, l
     Cyclic neighbours are views into buffers of ``n + 1`` slots whose extra slot
     repeats the wrapped element (``u_{i-1}`` is ``ux_e[:-1]`` when ``ux_e[1:]``
     holds ``u_i``), so no shifted copies are made; the restriction pass hands
-    back the edge terms it computed. With ``stacked`` the output is written
-    into one ``(M, 2)`` array whose columns are returned (no later stacking).
+    back the edge terms it computed, and buffers that are dead are reused (a
+    fresh large array costs its page faults). With ``stacked = (ox, oy)`` (the
+    last step) the output is written into one ``(M, 2)`` array, with the origin
+    added on writing -- the same ``value + origin`` rounding as adding it later
+    -- and its columns are returned (no later stacking, no extra pass).
     """
     n = x.shape[0]
     ex = np.empty(n)
@@ -966,17 +973,17 @@ def _step2(x, y, fixed, closed, alpha_fn, restrict, c, C, tilt_n, balance_tol, l
         A = np.add(K, Kn)
         k12 = np.multiply(K, Kn)
     A *= 0.5  # signed augmentation per edge
-    del half_a2, short, alpha
     a = a_e[:-1]
-    if w.min() > 0:
-        s = np.divide(A, w)
-    else:
-        s = np.zeros(n)
-        np.divide(A, w, out=s, where=w > 0)
 
     # Fig. 11 candidates: inflection edges (opposite cut signs), usually few
     cand = np.flatnonzero(k12 < 0)
-    del k12
+    # dead buffers reused below: k12 -> s, short/half_a2/alpha/cr -> R, G (no fresh pages)
+    if w.min() > 0:
+        s = np.divide(A, w, out=k12)
+    else:
+        s = k12
+        s.fill(0.0)
+        np.divide(A, w, out=s, where=w > 0)
     kc, knc = K[cand], Kn[cand]
     ok = np.abs(kc + knc) <= (0.5 * balance_tol) * (np.abs(kc) + np.abs(knc))
     ok &= w[cand] > 0
@@ -984,7 +991,8 @@ def _step2(x, y, fixed, closed, alpha_fn, restrict, c, C, tilt_n, balance_tol, l
         ok &= edge_on[cand]
     nfig = int(np.count_nonzero(ok))
     single = (a == 0) | fixed if any_fixed else a == 0
-    regular = nfig == 0 and edge_on is None and not single.any()
+    any_single = bool(single.any())
+    regular = nfig == 0 and edge_on is None and not any_single
     if regular:
         total = 3 * n
     else:
@@ -995,9 +1003,10 @@ def _step2(x, y, fixed, closed, alpha_fn, restrict, c, C, tilt_n, balance_tol, l
         cnt = cnt_v + on + fig
         start = np.cumsum(cnt) - cnt
         total = int(start[-1] + cnt[-1])
-    if stacked:
+    if stacked is not None:  # last step: (M, 2) output with the origin added on writing
         xy = np.empty((total, 2))
         ox, oy = xy[:, 0], xy[:, 1]
+        o_x, o_y = stacked
     else:
         xy = None
         ox, oy = np.empty(total), np.empty(total)
@@ -1010,33 +1019,35 @@ def _step2(x, y, fixed, closed, alpha_fn, restrict, c, C, tilt_n, balance_tol, l
     Lx_e[n] = Lx[0]
     Ly_e[n] = Ly[0]
     del upx, upy, ux_e, uy_e
-    if regular:  # layout [L_i, R_i, G_i], written in place
-        Rx, Ry, Gx, Gy = ox[1::3], oy[1::3], ox[2::3], oy[2::3]
-        ox[0::3] = Lx
-        oy[0::3] = Ly
-    else:
-        Rx, Ry, Gx, Gy = np.empty(n), np.empty(n), np.empty(n), np.empty(n)
+    Rx, Ry, Gx, Gy = short, half_a2, alpha, cr
+    del short, half_a2, alpha, cr
     np.add(x, np.multiply(a, ux, out=Rx), out=Rx)
     np.add(y, np.multiply(a, uy, out=Ry), out=Ry)
     np.add(Lx_e[1:], Rx, out=Gx)
     Gx *= 0.5
-    Gx += np.multiply(s, uy)
+    tmp = np.multiply(s, uy, out=w if nfig == 0 else None)
+    Gx += tmp
     np.add(Ly_e[1:], Ry, out=Gy)
     Gy *= 0.5
     Gy -= np.multiply(s, ux, out=s)
-    del s
-    if regular:
+    del s, tmp
+    if regular:  # layout [L_i, R_i, G_i]
+        if stacked is not None:
+            np.add(Lx, o_x, out=ox[0::3])
+            np.add(Rx, o_x, out=ox[1::3])
+            np.add(Gx, o_x, out=ox[2::3])
+            np.add(Ly, o_y, out=oy[0::3])
+            np.add(Ry, o_y, out=oy[1::3])
+            np.add(Gy, o_y, out=oy[2::3])
+        else:
+            ox[0::3] = Lx
+            ox[1::3] = Rx
+            ox[2::3] = Gx
+            oy[0::3] = Ly
+            oy[1::3] = Ry
+            oy[2::3] = Gy
         return ox, oy, np.zeros(total, dtype=bool), nred, 0, nunsat, xy
 
-    two = ~single
-    s_second = start[two] + 1
-    s_edge = (start + cnt_v)[on]
-    ox[start] = np.where(single, x, Lx)
-    oy[start] = np.where(single, y, Ly)
-    ox[s_second] = Rx[two]
-    oy[s_second] = Ry[two]
-    ox[s_edge] = Gx[on]
-    oy[s_edge] = Gy[on]
     if nfig:
         i = np.flatnonzero(fig)
         j = (i + 1) % n
@@ -1056,11 +1067,46 @@ def _step2(x, y, fixed, closed, alpha_fn, restrict, c, C, tilt_n, balance_tol, l
         q1x, q1y = 0.5 * (Rx[i] + mx), 0.5 * (Ry[i] + my)
         q2x, q2y = 0.5 * (mx + Lx[j]), 0.5 * (my + Ly[j])
         # first apex on side s1 of the right normal (uy, -ux): opposite the cut at V_i
+        fig_pts = (
+            q1x + s1 * h1 * uyi,
+            q1y - s1 * h1 * uxi,
+            q2x - s1 * h2 * uyi,
+            q2y + s1 * h2 * uxi,
+        )
+    if any_single:  # uncut or fixed vertex: the vertex itself (x - 0 u = x, same value)
+        np.copyto(Lx, x, where=single)
+        np.copyto(Ly, y, where=single)
+    if stacked is not None:
+        for arr, o in ((Lx, o_x), (Rx, o_x), (Gx, o_x), (Ly, o_y), (Ry, o_y), (Gy, o_y)):
+            arr += o
+    s_edge = start + cnt_v
+    ox[start] = Lx
+    oy[start] = Ly
+    if any_single:
+        two = ~single
+        s_second = start[two] + 1
+        ox[s_second] = Rx[two]
+        oy[s_second] = Ry[two]
+    else:
+        s_second = start + 1
+        ox[s_second] = Rx
+        oy[s_second] = Ry
+    if edge_on is not None:
+        s_edge = s_edge[on]
+        ox[s_edge] = Gx[on]
+        oy[s_edge] = Gy[on]
+    else:
+        ox[s_edge] = Gx
+        oy[s_edge] = Gy
+    if nfig:
         se = start[i] + cnt_v[i]
-        ox[se] = q1x + s1 * h1 * uyi
-        oy[se] = q1y - s1 * h1 * uxi
-        ox[se + 1] = q2x - s1 * h2 * uyi
-        oy[se + 1] = q2y + s1 * h2 * uxi
+        px, py, qx, qy = fig_pts
+        if stacked is not None:
+            px, py, qx, qy = px + o_x, py + o_y, qx + o_x, qy + o_y
+        ox[se] = px
+        oy[se] = py
+        ox[se + 1] = qx
+        oy[se + 1] = qy
     newfixed = np.zeros(total, dtype=bool)
     if any_fixed:
         newfixed[start[fixed]] = True
