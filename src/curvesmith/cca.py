@@ -1088,9 +1088,8 @@ def _step2(x, y, fixed, closed, alpha_fn, restrict, c, C, tilt_n, balance_tol, l
         ox[s_second] = Rx[two]
         oy[s_second] = Ry[two]
     else:
-        s_second = start + 1
-        ox[s_second] = Rx
-        oy[s_second] = Ry
+        ox[1:][start] = Rx  # at start + 1, without a fresh index array
+        oy[1:][start] = Ry
     if edge_on is not None:
         s_edge = s_edge[on]
         ox[s_edge] = Gx[on]
@@ -1325,6 +1324,7 @@ def _restrict2_passes(
     half_c = 0.5 * c
     f_v = None  # per-vertex factor buffer, allocated on demand, kept at 1 between passes
     decreased = False
+    bufs = None
     edges = None  # None: pass over every edge (restricted to ``mask`` if not None)
     mask = None  # None: all edges
     nunsat = 0
@@ -1336,13 +1336,16 @@ def _restrict2_passes(
                 w *= 0.5
                 np.multiply(K, Kn, out=k12)
                 np.add(K, Kn, out=S)
-            net = np.abs(S)
-            w2 = np.multiply(w, w)
-            need_c = np.maximum(tanb, tanb_e[1:])
+            if bufs is None:  # one set of scratch arrays for every whole-array pass
+                bufs = [np.empty(n) for _ in range(4)]
+                bufs += [np.empty(n, dtype=bool), np.empty(n, dtype=bool)]
+            net = np.abs(S, out=bufs[0])
+            w2 = np.multiply(w, w, out=bufs[1])
+            need_c = np.maximum(tanb, tanb_e[1:], out=bufs[2])
             need_c *= half_c
             need_c *= net  # c T |A|
-            viol_c = w2 < need_c * (1.0 - 1e-12)
-            conv = k12 > 0
+            viol_c = np.less(w2, np.multiply(need_c, 1.0 - 1e-12, out=bufs[3]), out=bufs[4])
+            conv = np.greater(k12, 0, out=bufs[5])
             if endish_all is not None:
                 conv |= endish_all
             viol_c &= conv
