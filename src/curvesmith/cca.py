@@ -535,7 +535,8 @@ def smooth_with_info(
             f"{'closed polygon' if closed else 'polyline'} after removing consecutive "
             f"duplicates, got {p.shape[0]}"
         )
-    if closed and not np.any(np.ptp(p, axis=0) > 0):
+    # _dedupe leaves consecutive vertices distinct, so "all identical" shows in p[0], p[1]
+    if closed and not np.any(p[1] != p[0]):
         raise CurveError("points are all identical: a polygon needs non-zero extent")
 
     if iterations == 0:
@@ -1461,7 +1462,9 @@ def _restrict2_passes(
         if not keep.all():
             v, fv = v[keep], fv[keep]
         av = alpha[v]
-        new = np.maximum(av * fv, min_factor * alpha0[v])
+        new = av * fv
+        if min_factor > 0:  # with a zero floor max(new, 0) is new (both >= 0 or nan)
+            np.maximum(new, min_factor * alpha0[v], out=new)
         moved = new < av
         if not moved.all():
             v, new = v[moved], new[moved]
