@@ -1307,7 +1307,8 @@ def _restrict2_passes(
         turning &= ~fixed
     tanb_e = _ext(n)
     tanb = tanb_e[:-1]
-    np.divide(np.add(dot, 1.0), scross, out=tanb)  # inf / nan where not turning: reset
+    np.add(dot, 1.0, out=tanb)
+    tanb /= scross  # inf / nan where not turning: reset
     if any_fixed or not turning.all():
         tanb[~turning] = 0.0
     tanb_e[n] = tanb[0]
