@@ -833,3 +833,16 @@ def test_profile_fast_path_matches_piecewise_evaluation():
     np.testing.assert_allclose(got, ref, rtol=0, atol=1e-15)
     small = np.array([cca.alpha_profile(float(t)) for t in theta[::97]])
     np.testing.assert_array_equal(small, got[::97])
+
+
+def test_closed_must_be_a_bool_and_iterations_are_capped(monkeypatch):
+    # Regressions from acceptance testing: closed="no" was truthy (smoothed as a ring) and
+    # iterations=30 tried to build 3^30 vertices instead of failing.
+    p = [[0, 0], [1, 2], [2, 0], [3, 1], [4, 0]]
+    for bad in ("no", None, 1):
+        with pytest.raises(CurveError, match="closed must be True or False"):
+            cca.smooth(p, closed=bad)
+    monkeypatch.setattr(cca, "MAX_VERTICES", 100)
+    assert cca.smooth(p, closed=True, iterations=2).shape[0] <= 100
+    with pytest.raises(CurveError, match=r"at most 100 output vertices, got 3 \(step 3"):
+        cca.smooth(p, closed=True, iterations=3)

@@ -146,7 +146,7 @@ from functools import lru_cache
 
 import numpy as np
 
-from ._validate import as_float, as_int, as_points
+from ._validate import MAX_VERTICES, as_bool, as_float, as_int, as_points, check_growth
 from .errors import CurveError
 
 __all__ = [
@@ -508,7 +508,7 @@ def smooth_with_info(
     >>> res.reductions > 0, res.success
     (True, True)
     """
-    closed = bool(closed)
+    closed = as_bool(closed, name="closed")
     iterations = as_int(iterations, name="iterations", minimum=0)
     c = as_float(c, name="c", low=1.0)
     C = as_float(C, name="C", low=0.0, high=1.0)
@@ -541,6 +541,8 @@ def smooth_with_info(
 
     if iterations == 0:
         return CCAResult(p, 0, 0, (), 0, 0, True, "0 CCA1 steps: input returned")
+    # every step triples the vertex count (closed 3n, open 3n - 3, Fig. 11 edges one more)
+    check_growth(p.shape[0], iterations, lambda n: 3 * n, limit=MAX_VERTICES)
     fixed_in = fixed
     origin = p[0].copy()
     q = p - origin
