@@ -30,55 +30,12 @@ import time
 import numpy as np
 
 from curvesmith import keyline
+from curvesmith.geometry import resample_equilateral
 
 
 def elastica_walker(p: np.ndarray, step: float) -> np.ndarray:
-    """Peer: a plain first-hit equal-chord walker (one Python step per segment tried).
-
-    Parameters
-    ----------
-    p : (N, 2) ndarray
-        Vertices (validated, float64).
-    step : float
-        Chord length ``r > 0``.
-
-    Returns
-    -------
-    (M, 2) ndarray
-        Vertices ``A_1 = p[0], A_2, ...`` with ``|A_{j+1} - A_j| = step``.
-    """
-    out = [p[0].copy()]
-    cur = p[0].copy()
-    seg = 0  # search from this segment on
-    t_min = 0.0  # and from this parameter on it
-    n_seg = p.shape[0] - 1
-    while seg < n_seg:
-        found = False
-        for i in range(seg, n_seg):
-            a, b = p[i], p[i + 1]
-            d = b - a
-            f = a - cur
-            aa = float(d @ d)
-            if aa == 0.0:
-                continue
-            bb = 2.0 * float(f @ d)
-            cc = float(f @ f) - step * step
-            disc = bb * bb - 4.0 * aa * cc
-            if disc < 0.0:
-                continue
-            root = np.sqrt(disc)
-            lo = t_min if i == seg else 0.0
-            hits = [t for t in ((-bb - root) / (2 * aa), (-bb + root) / (2 * aa)) if lo < t <= 1.0]
-            if hits:
-                t = min(hits)
-                cur = a + t * d
-                out.append(cur.copy())
-                seg, t_min = i, t
-                found = True
-                break
-        if not found:
-            break
-    return np.array(out)
+    """Peer: the plain first-hit walker (``rule="walk"``; one Python step per segment tried)."""
+    return resample_equilateral(p, step, rule="walk")
 
 
 def median_time(fn, repeats):

@@ -85,7 +85,7 @@ def test_fair_basin_factor_decides_success(tmp_path):
     above its noise: a failure by default, accepted with a large --basin-factor."""
     t = np.linspace(0, 4 * np.pi, 200)
     wave = np.column_stack((t, 0.2 * t * np.sin(t)))
-    from curvesmith.geometry import resample_equilateral as equilateral
+    from curvesmith.geometry import _resample_walk as equilateral
 
     src, out, rep = tmp_path / "w.csv", tmp_path / "o.csv", tmp_path / "r.json"
     write_csv(src, equilateral(wave, 0.1))

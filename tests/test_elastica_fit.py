@@ -214,7 +214,7 @@ def test_ipopt_backend_matches_least_squares():
 
 
 def test_equilateral_resampler_keeps_order_and_step():
-    from curvesmith.geometry import resample_equilateral as equilateral
+    from curvesmith.geometry import _resample_walk as equilateral
 
     rng = np.random.default_rng(5)
     poly = np.cumsum(rng.normal(size=(40, 2)), axis=0)

@@ -177,3 +177,18 @@ def test_menger_curvature_circle_and_sign():
 def test_bad_input(fn, arg, match):
     with pytest.raises(CurveError, match=match):
         fn(arg)
+
+
+def test_resample_rules_on_a_curve_that_comes_back_near_itself():
+    # A loop whose end comes back within the step of its start: the paper's rule (closest
+    # to the right end) short-cuts to the end, the walk follows the loop.
+    t = np.linspace(0, 1.95 * np.pi, 400)
+    loop = np.c_[np.cos(t), np.sin(t)]
+    walk = geometry.resample_equilateral(loop, 0.3, rule="walk")
+    paper = geometry.resample_equilateral(loop, 0.3, rule="paper")
+    for out in (walk, paper):
+        np.testing.assert_allclose(np.linalg.norm(np.diff(out, axis=0), axis=1), 0.3, rtol=1e-12)
+    assert len(walk) >= 19  # about 1.9 pi / 0.3 chords around the loop
+    assert len(paper) < len(walk) / 2  # jumped across the gap to the other end
+    with pytest.raises(CurveError, match="rule must be 'paper' or 'walk', got 'x'"):
+        geometry.resample_equilateral(loop, 0.3, rule="x")

@@ -424,7 +424,7 @@ def menger_curvature(points, *, closed: bool = False) -> np.ndarray:
     return k
 
 
-def resample_equilateral(points, step) -> np.ndarray:
+def resample_equilateral(points, step, *, rule: str = "paper") -> np.ndarray:
     """Equilateral open polygon approximation of a polyline with step ``r``.
 
     Implements the procedure of section 5.3 (Figs. 11-13): ``A_1`` is the first
@@ -447,6 +447,11 @@ def resample_equilateral(points, step) -> np.ndarray:
     Implements section 5.3 of Graiff Zurita, Kajiwara & Suzuki; used by
     :mod:`curvesmith.keyline` and by ``curvesmith.elastica.fit(resample=...)``.
 
+    With ``rule="walk"`` the next vertex is instead the *first* point ahead on
+    the polyline at distance ``r`` (a plain walk): it never short-cuts a curve
+    that comes back near itself (loops, figure eights), at the price of one
+    Python step per segment tried. :func:`curvesmith.elastica.fit` uses it.
+
     Parameters
     ----------
     points : (N, d) array_like
@@ -454,6 +459,9 @@ def resample_equilateral(points, step) -> np.ndarray:
         points (common in scans) are allowed.
     step : float
         The chord length ``r > 0``.
+    rule : {"paper", "walk"}, optional
+        ``"paper"`` (default): the candidate closest to the right end, section
+        5.3; ``"walk"``: the first candidate ahead.
 
     Returns
     -------
@@ -475,6 +483,13 @@ def resample_equilateral(points, step) -> np.ndarray:
     """
     p = as_points(points, dim=None, min_points=2)
     r = as_float(step, name="step", low=0.0)
+    if rule == "walk":
+        out = _resample_walk(p, r)
+        if out.shape[0] < 2:
+            raise CurveError(f"step must be shorter than the polyline reaches, got {r:.6g}")
+        return out
+    if rule != "paper":
+        raise CurveError(f"rule must be 'paper' or 'walk', got {rule!r}")
     return _resample_equilateral(p, r)[0]
 
 
@@ -561,3 +576,39 @@ def _resample_equilateral(p: np.ndarray, r: float) -> tuple[np.ndarray, np.ndarr
             f"first point (the curve is {total:.6g} long), got {r:.6g}"
         )
     return np.asarray(out), np.asarray(ts)
+
+
+def _resample_walk(p: np.ndarray, step: float) -> np.ndarray:
+    """First-hit equal-chord walk along a validated polyline (see resample_equilateral)."""
+    out = [p[0].copy()]
+    cur = p[0].copy()
+    seg = 0  # search from this segment on
+    t_min = 0.0  # and from this parameter on it
+    n_seg = p.shape[0] - 1
+    while seg < n_seg:
+        found = False
+        for i in range(seg, n_seg):
+            a, b = p[i], p[i + 1]
+            d = b - a
+            f = a - cur
+            aa = float(d @ d)
+            if aa == 0.0:
+                continue
+            bb = 2.0 * float(f @ d)
+            cc = float(f @ f) - step * step
+            disc = bb * bb - 4.0 * aa * cc
+            if disc < 0.0:
+                continue
+            root = np.sqrt(disc)
+            lo = t_min if i == seg else 0.0
+            hits = [t for t in ((-bb - root) / (2 * aa), (-bb + root) / (2 * aa)) if lo < t <= 1.0]
+            if hits:
+                t = min(hits)
+                cur = a + t * d
+                out.append(cur.copy())
+                seg, t_min = i, t
+                found = True
+                break
+        if not found:
+            break
+    return np.array(out)

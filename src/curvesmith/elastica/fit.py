@@ -41,7 +41,7 @@ from scipy.special import ellipk
 
 from .._validate import as_float, as_int, as_points
 from ..errors import CurveError, require
-from ..geometry import _resample_equilateral
+from ..geometry import _resample_walk
 from .exact import ElasticaParams, _as_params, _positions, _positions_and_jacobian, case_of
 from .guess import _data_curvature, _initial_guess
 
@@ -374,7 +374,7 @@ def fit(
             step = float(np.hypot(*np.diff(data, axis=0).T).mean())
         else:
             step = as_float(resample, name="resample", low=0.0)
-        data = _resample_equilateral(data, step)[0]
+        data = _resample_walk(data, step)
         if data.shape[0] < 5:
             raise CurveError(
                 f"resample step {step:.6g} leaves {data.shape[0]} points; need at least 5"
