@@ -150,21 +150,26 @@ def _de_rham_step(
     p: np.ndarray, alpha: float, beta: float, closed: bool, keep_ends: bool
 ) -> np.ndarray:
     m, d = (p.shape[0], p.shape[1]) if closed else (p.shape[0] - 1, p.shape[1])
-    a = p[:m]
-    if closed:
-        b = np.empty_like(p)
-        b[:-1] = p[1:]
-        b[-1] = p[0]
-    else:
-        b = p[1:]
     extra = 2 if (keep_ends and not closed) else 0
     out = np.empty((2 * m + extra, d))
-    body = (out[1:-1] if extra else out).reshape(m, 2, d)
+    body = out[1:-1] if extra else out
+    # One coordinate at a time: numpy's loops over (m, d) arrays with a short inner axis
+    # and strided output cost ~10x more than 1-D loops (measured at 1e5 vertices).
     # S_2i = a + beta (b - a) = alpha a + beta b ;  S_2i+1 = b - beta (b - a) = beta a + alpha b.
-    step = b - a
-    step *= beta
-    np.add(a, step, out=body[:, 0])
-    np.subtract(b, step, out=body[:, 1])
+    nxt = np.empty(m)
+    step = np.empty(m)
+    for k in range(d):
+        col = p[:, k]
+        a = col[:m]
+        if closed:
+            nxt[:-1] = col[1:]
+            nxt[-1] = col[0]
+        else:
+            nxt[:] = col[1:]
+        np.subtract(nxt, a, out=step)
+        step *= beta
+        np.add(a, step, out=body[0::2, k])
+        np.subtract(nxt, step, out=body[1::2, k])
     if extra:
         out[0] = p[0]
         out[-1] = p[-1]
