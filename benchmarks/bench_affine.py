@@ -21,26 +21,16 @@ Run ``python benchmarks/bench_affine.py`` (``--quick`` for a short run).
 from __future__ import annotations
 
 import argparse
-import statistics
-import time
 
 import numpy as np
 from scipy.interpolate import BSpline, make_lsq_spline
 from scipy.spatial import cKDTree
 
+from _timing import median_time
 from curvesmith import affine
 from curvesmith.data import load_points
 
 CONTROL = load_points("affine_bezier8.csv")
-
-
-def median_time(fn, repeats):
-    times, out = [], None
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        out = fn()
-        times.append(time.perf_counter() - t0)
-    return statistics.median(times), out
 
 
 def spline_curvature_jump(spline: BSpline, knots: np.ndarray, eps: float) -> float:

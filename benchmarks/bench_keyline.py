@@ -29,6 +29,7 @@ import time
 
 import numpy as np
 
+from _timing import median_time
 from curvesmith import keyline
 from curvesmith.geometry import resample_equilateral
 
@@ -36,15 +37,6 @@ from curvesmith.geometry import resample_equilateral
 def elastica_walker(p: np.ndarray, step: float) -> np.ndarray:
     """Peer: the plain first-hit walker (``rule="walk"``; one Python step per segment tried)."""
     return resample_equilateral(p, step, rule="walk")
-
-
-def median_time(fn, repeats):
-    times, out = [], None
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        out = fn()
-        times.append(time.perf_counter() - t0)
-    return statistics.median(times), out
 
 
 def brute_force(p, r):

@@ -12,10 +12,10 @@ Usage: ``python benchmarks/bench_subdivision.py [--quick] [--repeat R]``
 from __future__ import annotations
 
 import argparse
-import time
 
 import numpy as np
 
+from _timing import median_time
 from curvesmith import subdivision
 
 
@@ -26,16 +26,6 @@ def plain_chaikin_closed(p: np.ndarray) -> np.ndarray:
     out[0::2] = 0.75 * p + 0.25 * q
     out[1::2] = 0.25 * p + 0.75 * q
     return out
-
-
-def median_time(fn, repeat: int) -> float:
-    fn()  # warm up
-    times = []
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t0)
-    return float(np.median(times))
 
 
 def main() -> None:
@@ -60,7 +50,7 @@ def main() -> None:
         }
         peer = None
         for name, fn in cases.items():
-            sec = median_time(fn, args.repeat)
+            sec, _ = median_time(fn, args.repeat, warmup=True)
             peer = sec if peer is None else peer
             rate = 2 * n / sec / 1e6
             print(f"{n:>9} {name:<26} {sec * 1e3:>10.3f} {rate:>13.1f} {peer / sec:>13.2f}x")
