@@ -44,6 +44,22 @@ def _echo_warnings(caught) -> None:
         click.echo(f"Warning: {w.message}", err=True)
 
 
+def _layer(layer: str | None) -> str | int | None:
+    """A layer name, or its index when given as digits."""
+    return int(layer) if isinstance(layer, str) and layer.isdigit() else layer
+
+
+def _run_reporting_crs(fn, *args, **kwargs):
+    """Call a file smoother and print its geographic-CRS warnings as one line each."""
+    from .. import geo
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", geo.GeographicCRSWarning)
+        report = fn(*args, **kwargs)
+    _echo_warnings(w for w in caught if issubclass(w.category, geo.GeographicCRSWarning))
+    return report
+
+
 def smooth_geofile(
     in_path: str,
     out_path: str,
@@ -88,24 +104,19 @@ def smooth_geofile(
 
     if method not in ("cca", "chaikin"):
         raise CurveError(f"--method {method} is not available for GIS files; use cca or chaikin")
-    lay: str | int | None = layer
-    if isinstance(layer, str) and layer.isdigit():
-        lay = int(layer)
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always", geo.GeographicCRSWarning)
-        report = geo.smooth_file(
-            in_path,
-            out_path,
-            method=method,
-            iterations=iterations,
-            alpha=_alpha(alpha),
-            coverage=coverage,
-            layer=lay,
-            equal_area=equal_area,
-            make_valid=make_valid,
-            snap=snap,
-        )
-    _echo_warnings(w for w in caught if issubclass(w.category, geo.GeographicCRSWarning))
+    report = _run_reporting_crs(
+        geo.smooth_file,
+        in_path,
+        out_path,
+        method=method,
+        iterations=iterations,
+        alpha=_alpha(alpha),
+        coverage=coverage,
+        layer=_layer(layer),
+        equal_area=equal_area,
+        make_valid=make_valid,
+        snap=snap,
+    )
     parts = [f"{report.n_features} features smoothed"]
     if report.n_reductions:
         parts.append(f"{report.n_reductions} piece(s) smoothed less to stay valid")
@@ -182,29 +193,26 @@ def batch_smooth_command(
     A feature that fails is written unchanged and listed with its reason in the
     errors report (JSON).
     """
-    from .. import batch, geo
+    from .. import batch
 
-    lay: str | int | None = int(layer) if layer is not None and layer.isdigit() else layer
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always", geo.GeographicCRSWarning)
-        report = batch.smooth_file(
-            source,
-            dest,
-            method=method,
-            iterations=iterations,
-            alpha=_alpha(alpha),
-            layer=lay,
-            coverage=coverage,
-            equal_area=equal_area,
-            make_valid=make_valid,
-            snap=snap,
-            partition_size=partition_size,
-            workers=workers,
-            scheduler=scheduler,
-            progress=progress,
-            errors_path=errors_path,
-        )
-    _echo_warnings(w for w in caught if issubclass(w.category, geo.GeographicCRSWarning))
+    report = _run_reporting_crs(
+        batch.smooth_file,
+        source,
+        dest,
+        method=method,
+        iterations=iterations,
+        alpha=_alpha(alpha),
+        layer=_layer(layer),
+        coverage=coverage,
+        equal_area=equal_area,
+        make_valid=make_valid,
+        snap=snap,
+        partition_size=partition_size,
+        workers=workers,
+        scheduler=scheduler,
+        progress=progress,
+        errors_path=errors_path,
+    )
     click.echo(
         f"{report.n_features} features in {report.n_partitions} task(s), "
         f"{report.seconds:.2f} s; {len(report.errors)} failed "
