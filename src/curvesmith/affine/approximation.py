@@ -278,6 +278,17 @@ class _Curve:
         return turns * n + j + (ss - cum[j]) / seg
 
 
+def _first_crossing(lo: int, hi: int, crossed) -> int:
+    """Bisect for the smallest ``j`` in ``(lo, hi]`` with ``crossed(j)``, given ``crossed(hi)``."""
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        if crossed(mid):
+            hi = mid
+        else:
+            lo = mid
+    return hi
+
+
 def _construct(
     cv: _Curve, t0: float, t1: float, area: float, m: int, t_end: float, u_max: float = 4.0
 ):
@@ -306,6 +317,11 @@ def _construct(
     for _ in range(m - 1):
         wx, wy = xs[-1] - xs[-2], ys[-1] - ys[-2]
         base = wx * ys[-1] - wy * xs[-1] + area  # g(z) - A = wx*zy - wy*zx - base
+
+        def crossed(j, wx=wx, wy=wy, base=base):  # g(x_j) - A has the sign of A
+            k = j % n if closed else j
+            return sgn * (wx * py[k] - wy * px[k] - base) >= 0.0
+
         j0 = math.floor(tprev)
         jmax = j0 + n if closed else jlast + 1
         seg = -1
@@ -330,18 +346,10 @@ def _construct(
                         if lo <= j0:
                             lo = j0
                             break
-                        kl = lo % n if closed else lo
-                        if sgn * (wx * py[kl] - wy * px[kl] - base) < 0.0:
+                        if not crossed(lo):
                             break
                         hi, off = lo, 2 * off
-                    while hi - lo > 1:
-                        mid = (lo + hi) // 2
-                        km = mid % n if closed else mid
-                        if sgn * (wx * py[km] - wy * px[km] - base) >= 0.0:
-                            hi = mid
-                        else:
-                            lo = mid
-                    seg = hi - 1
+                    seg = _first_crossing(lo, hi, crossed) - 1
                 else:
                     start = jg
             if seg < 0:
@@ -350,15 +358,7 @@ def _construct(
                     jp = min(start + off, jmax)
                     kk = jp % n if closed else jp
                     if sgn * (wx * py[kk] - wy * px[kk] - base) >= 0.0:
-                        lo, hi = last_ok, jp
-                        while hi - lo > 1:
-                            mid = (lo + hi) // 2
-                            km = mid % n if closed else mid
-                            if sgn * (wx * py[km] - wy * px[km] - base) >= 0.0:
-                                hi = mid
-                            else:
-                                lo = mid
-                        seg = hi - 1
+                        seg = _first_crossing(last_ok, jp, crossed) - 1
                         break
                     if closed or jp < n:
                         tx, ty = ax[kk], ay[kk]
