@@ -292,9 +292,16 @@ def _eval_profile(theta: np.ndarray) -> np.ndarray:
 
 
 def _eval_profile_pieces(theta: np.ndarray) -> np.ndarray:
-    # np.take on the 6 pieces is about twice as fast as PPoly.__call__ on large arrays.
+    # np.take on the 6 pieces is about twice as fast as PPoly.__call__ on large arrays. The
+    # piece index is the number of inner breakpoints below theta (searchsorted, side="left"),
+    # counted by five comparisons: about three times faster than a binary search per angle.
     brk, coef = _profile_poly()
-    idx = np.searchsorted(brk[1:-1], theta, side="left")
+    if theta.ndim == 0:
+        idx = np.searchsorted(brk[1:-1], theta, side="left")
+    else:
+        idx = np.zeros(theta.shape, dtype=np.intp)
+        for b in brk[1:-1]:
+            idx += theta > b
     dt = theta - brk.take(idx)
     out = coef[0].take(idx)
     for k in (1, 2, 3):
@@ -352,8 +359,9 @@ class CCAResult:
         Number of balanced inflection edges treated with the two-triangle
         construction of Fig. 11, summed over all steps.
     unsatisfied : int
-        Number of edges (summed over steps) where the restrictions could not be
-        met within ``max_passes`` passes; 0 means every restriction held.
+        Number of edges (summed over steps) where the restrictions do not hold
+        in the end: not met within ``max_passes`` passes, or the
+        ``min_factor`` floor stopped the decrease; 0 means every restriction held.
     success : bool
         ``unsatisfied == 0``. The area is preserved either way.
     message : str
@@ -711,7 +719,9 @@ _FORCE_GENERIC = False  # tests compare the lean 2D step with the generic one
 
 
 def _step2_cols(cols, fixed, closed, *args, stacked=None):
-    x, y, fixed, nred, nfig, nunsat, xy = _step2(cols[0], cols[1], fixed, closed, *args, stacked)
+    x, y, fixed, nred, nfig, nunsat, xy = _step2_blocked(
+        cols[0], cols[1], fixed, closed, *args, stacked=stacked
+    )
     return [x, y], fixed, nred, nfig, nunsat, xy
 
 
@@ -882,7 +892,13 @@ def _ext(n: int) -> np.ndarray:
     return np.empty(n + 1)
 
 
-def _step2(x, y, fixed, closed, alpha_fn, restrict, c, C, tilt_n, balance_tol, limits, stacked):
+class _NeedsWholeStep(Exception):
+    """A block of :func:`_step2_blocked` has zero-length edges: the whole step compacts."""
+
+
+def _step2(
+    x, y, fixed, closed, alpha_fn, restrict, c, C, tilt_n, balance_tol, limits, stacked, core=None
+):
     """One 2D CCA1 step on coordinate columns; the same arithmetic as :func:`_step`, leaner.
 
     Cyclic neighbours are views into buffers of ``n + 1`` slots whose extra slot
@@ -893,6 +909,11 @@ def _step2(x, y, fixed, closed, alpha_fn, restrict, c, C, tilt_n, balance_tol, l
     last step) the output is written into one ``(M, 2)`` array, with the origin
     added on writing -- the same ``value + origin`` rounding as adding it later
     -- and its columns are returned (no later stacking, no extra pass).
+
+    With ``core = (lo, hi)`` the columns are one block of :func:`_step2_blocked`
+    (its core vertices ``lo .. hi - 1`` and halos): the counts cover the core
+    only, and the last item returned is the slice ``(start, stop)`` of the
+    output that comes from the core (otherwise None).
     """
     n = x.shape[0]
     ex = np.empty(n)
@@ -909,6 +930,8 @@ def _step2(x, y, fixed, closed, alpha_fn, restrict, c, C, tilt_n, balance_tol, l
     np.sqrt(length, out=length)
     body = length if closed else length[:-1]
     if body.size and body.min() == 0:
+        if core is not None:
+            raise _NeedsWholeStep
         (x, y), fixed = _compact([x, y], fixed, closed)
         args = (alpha_fn, restrict, c, C, tilt_n, balance_tol, limits, stacked)
         return _step2(x, y, fixed, closed, *args)
@@ -955,7 +978,20 @@ def _step2(x, y, fixed, closed, alpha_fn, restrict, c, C, tilt_n, balance_tol, l
     nred = nunsat = 0
     if restrict:
         alpha, nred, nunsat, a_e, K_e, w, A, k12 = _restrict2(
-            alpha, half_a2, cr, scross, dot, short, length, fixed, any_fixed, edge_on, c, C, limits
+            alpha,
+            half_a2,
+            cr,
+            scross,
+            dot,
+            short,
+            length,
+            fixed,
+            any_fixed,
+            edge_on,
+            c,
+            C,
+            limits,
+            core,
         )
         K = K_e[:-1]
         Kn = K_e[1:]
@@ -993,6 +1029,11 @@ def _step2(x, y, fixed, closed, alpha_fn, restrict, c, C, tilt_n, balance_tol, l
     if edge_on is not None:
         ok &= edge_on[cand]
     nfig = int(np.count_nonzero(ok))
+    if core is None:
+        nfig_counted = nfig
+    else:
+        edges_fig = cand[ok]
+        nfig_counted = int(np.count_nonzero((edges_fig >= core[0]) & (edges_fig < core[1])))
     single = (a == 0) | fixed if any_fixed else a == 0
     any_single = bool(single.any())
     regular = nfig == 0 and edge_on is None and not any_single
@@ -1049,7 +1090,8 @@ def _step2(x, y, fixed, closed, alpha_fn, restrict, c, C, tilt_n, balance_tol, l
             oy[0::3] = Ly
             oy[1::3] = Ry
             oy[2::3] = Gy
-        return ox, oy, np.zeros(total, dtype=bool), nred, 0, nunsat, xy
+        span = None if core is None else (3 * core[0], 3 * core[1])
+        return ox, oy, np.zeros(total, dtype=bool), nred, 0, nunsat, xy, span
 
     if nfig:
         i = np.flatnonzero(fig)
@@ -1112,7 +1154,88 @@ def _step2(x, y, fixed, closed, alpha_fn, restrict, c, C, tilt_n, balance_tol, l
     newfixed = np.zeros(total, dtype=bool)
     if any_fixed:
         newfixed[start[fixed]] = True
-    return ox, oy, newfixed, nred, nfig, nunsat, xy
+    span = None
+    if core is not None:
+        span = (int(start[core[0]]), int(start[core[1]]) if core[1] < n else total)
+    return ox, oy, newfixed, nred, nfig_counted, nunsat, xy, span
+
+
+#: Core vertices per block of :func:`_step2_blocked`: a block's temporaries (a few
+#: dozen arrays of this length) stay in the processor's cache.
+_BLOCK = 32768
+
+
+def _step2_blocked(x, y, fixed, closed, *args, stacked):
+    """:func:`_step2` over cache-sized blocks of vertices: the same result, faster on long rings.
+
+    CCA1 is local: the output of vertex ``i`` (its cut points and the apex on
+    edge ``i``) depends on vertices ``i - 1 .. i + 2`` and on the local alpha
+    decreases, and each restriction pass moves a decrease by at most one vertex.
+    So each block of ``_BLOCK`` vertices is computed with a halo of
+    ``max_passes + 8`` vertices on both sides (the block's own wrap edge, which
+    is not an edge of the curve, disturbs only the halo), and the outputs of the
+    core vertices are copied out in order. Every value is computed by the same
+    element-wise arithmetic as in the one-piece step, so the result is the same
+    to the last bit; counts (decreases, Fig. 11 edges, unsatisfied edges) cover
+    each block's core only. The temporaries of a block stay in the cache and
+    are reused between blocks (no page faults); the one-piece step streams
+    several dozen arrays of the whole length through memory.
+
+    Short curves, a halo too long for the block (a large ``max_passes``) and
+    zero-length edges (which :func:`_step2` removes first) take the one-piece step.
+    """
+    n = x.shape[0]
+    halo = args[-1][0] + 8  # limits = (max_passes, min_factor)
+    block = _BLOCK
+    if n < 2 * block or 4 * halo > block:
+        return _step2(x, y, fixed, closed, *args, stacked)[:7]
+    cap = 4 * n  # at most L, R and two Fig. 11 apexes per vertex
+    if stacked is not None:
+        xy = np.empty((cap, 2))
+        ox, oy = xy[:, 0], xy[:, 1]
+    else:
+        ox, oy = np.empty(cap), np.empty(cap)
+    newfixed = np.zeros(cap, dtype=bool)
+    pos = nred = nfig = nunsat = 0
+    for s in range(0, n, block):
+        e = min(n, s + block)
+        if closed:
+            lo, hi = s - halo, e + halo
+            idx = slice(lo, hi) if lo >= 0 and hi <= n else np.arange(lo, hi) % n
+            core = (halo, halo + e - s)
+            piece_closed = True
+        else:
+            lo, hi = max(0, s - halo), min(n, e + halo)
+            idx = slice(lo, hi)
+            core = (s - lo, e - lo)
+            piece_closed = hi < n  # a block's wrap edge sits in its halo; the true end stays open
+        try:
+            bx, by, bfixed, bred, bfig, bunsat, _, span = _step2(
+                x[idx], y[idx], fixed[idx], piece_closed, *args, None, core
+            )
+        except _NeedsWholeStep:
+            return _step2(x, y, fixed, closed, *args, stacked)[:7]
+        a, b = span
+        m = b - a
+        if stacked is not None:  # the same value + origin rounding as the one-piece step
+            np.add(bx[a:b], stacked[0], out=ox[pos : pos + m])
+            np.add(by[a:b], stacked[1], out=oy[pos : pos + m])
+        else:
+            ox[pos : pos + m] = bx[a:b]
+            oy[pos : pos + m] = by[a:b]
+        newfixed[pos : pos + m] = bfixed[a:b]
+        pos += m
+        nred += bred
+        nfig += bfig
+        nunsat += bunsat
+    newfixed.resize(pos, refcheck=False)  # in place: frees the unused tail
+    if stacked is None:
+        ox.resize(pos, refcheck=False)
+        oy.resize(pos, refcheck=False)
+        return ox, oy, newfixed, nred, nfig, nunsat, None
+    del ox, oy  # no views of xy may outlive its resize
+    xy.resize((pos, 2), refcheck=False)
+    return xy[:, 0], xy[:, 1], newfixed, nred, nfig, nunsat, xy
 
 
 def _restrict(*args):
@@ -1131,8 +1254,12 @@ def _restrict_passes(alpha, half_a2, cr, scross, dot, short, length, fixed, edge
     ``|K_1 + K_2| <= 2 w^2 tan(C |tau_m| / 2)``. The first pass checks every
     edge, later passes only the edges next to vertices just decreased. Returns
     the decreased alphas, the number of vertices decreased, the number of
-    edges still violating after ``max_passes`` passes, and the matching cut
-    lengths ``a`` and cut areas ``K`` (so the caller need not recompute them).
+    edges violating at the end (pass limit reached, or decreases stopped by the
+    ``min_factor`` floor), and the matching cut lengths ``a`` and cut areas
+    ``K`` (so the caller need not recompute them). An edge is rechecked only
+    when one of its vertices moved, so each edge's violation state is kept from
+    its latest check: an edge stuck at the floor stays counted while decreases
+    elsewhere go on.
     """
     max_passes, min_factor = limits
     n = alpha.shape[0]
@@ -1147,7 +1274,9 @@ def _restrict_passes(alpha, half_a2, cr, scross, dot, short, length, fixed, edge
     kfac = alpha * alpha * half_a2
     K = [kfac * ck for ck in cr]
     edges = None  # None: all edges
-    nunsat = 0
+    # violation state of every edge at its latest check: an edge is rechecked only when
+    # one of its vertices moved, so this is the state at the end for every edge
+    pending = np.zeros(n, dtype=bool)
     for npass in range(max_passes + 1):
         if edges is None:  # first pass: all edges, with shifts instead of gathers
             i = np.arange(n)
@@ -1194,10 +1323,10 @@ def _restrict_passes(alpha, half_a2, cr, scross, dot, short, length, fixed, edge
         s2 = 2.0 * w2[ii] * np.tan(0.5 * C * tau_m)  # bound on |K_1 + K_2|
         bad = net[ii] > s2 * (1.0 + 1e-12)
         nbad = int(np.count_nonzero(bad))
-        if ic.size == 0 and nbad == 0:
-            break
-        if npass == max_passes:
-            nunsat = int(ic.size + nbad)
+        pending[i] = False
+        pending[i[ic]] = True
+        pending[i[ii[bad]]] = True
+        if (ic.size == 0 and nbad == 0) or npass == max_passes:
             break
         f = np.sqrt(w2[ic] / need_c[ic]) * _SHRINK
         verts = [i[ic], j[ic]]
@@ -1232,7 +1361,6 @@ def _restrict_passes(alpha, half_a2, cr, scross, dot, short, length, fixed, edge
         if not moved.all():
             v, new = v[moved], new[moved]
             if v.size == 0:  # every violation sits at the floor
-                nunsat = int(ic.size + nbad)
                 break
         alpha[v] = new
         a[v] = alpha[v] * short[v]
@@ -1244,7 +1372,7 @@ def _restrict_passes(alpha, half_a2, cr, scross, dot, short, length, fixed, edge
         touched[v - 1] = True  # edge v - 1 ends at v (index -1 wraps to n - 1)
         edges = np.flatnonzero(touched)
     nred = int(np.count_nonzero(alpha < alpha0))
-    return alpha, nred, nunsat, a, K
+    return alpha, nred, int(np.count_nonzero(pending)), a, K
 
 
 def _sorted_unique(v: np.ndarray) -> np.ndarray:
@@ -1259,7 +1387,7 @@ def _sorted_unique(v: np.ndarray) -> np.ndarray:
 
 
 def _restrict2(
-    alpha, half_a2, cr, scross, dot, short, length, fixed, any_fixed, edge_on, c, C, limits
+    alpha, half_a2, cr, scross, dot, short, length, fixed, any_fixed, edge_on, c, C, limits, core
 ):
     """2D :func:`_restrict_passes` that also returns the edge terms of the final alphas.
 
@@ -1271,16 +1399,31 @@ def _restrict2(
     bound ``tan(C |tau| / 2) >= C |sin(tau)| / 2`` does not already clear the
     edge, and per-vertex factors are merged on the touched vertices only.
     Returns ``alpha, nred, nunsat, a_e, K_e, w, S, k12`` with ``S = K_i +
-    K_{i+1}``, ``k12 = K_i K_{i+1}`` and the half-width ``w`` per edge.
+    K_{i+1}``, ``k12 = K_i K_{i+1}`` and the half-width ``w`` per edge; with
+    ``core = (lo, hi)`` the counts cover vertices and edges ``lo .. hi - 1`` only
+    (a block of :func:`_step2_blocked`).
     """
     with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
         return _restrict2_passes(
-            alpha, half_a2, cr, scross, dot, short, length, fixed, any_fixed, edge_on, c, C, limits
+            alpha,
+            half_a2,
+            cr,
+            scross,
+            dot,
+            short,
+            length,
+            fixed,
+            any_fixed,
+            edge_on,
+            c,
+            C,
+            limits,
+            core,
         )
 
 
 def _restrict2_passes(
-    alpha, half_a2, cr, scross, dot, short, length, fixed, any_fixed, edge_on, c, C, limits
+    alpha, half_a2, cr, scross, dot, short, length, fixed, any_fixed, edge_on, c, C, limits, core
 ):
     max_passes, min_factor = limits
     n = alpha.shape[0]
@@ -1331,7 +1474,7 @@ def _restrict2_passes(
     bufs = None
     edges = None  # None: pass over every edge (restricted to ``mask`` if not None)
     mask = None  # None: all edges
-    nunsat = 0
+    pending = np.zeros(n, dtype=bool)  # violation state of every edge at its latest check
     for npass in range(max_passes + 1):
         if edges is None:  # every edge, with views instead of gathers
             if mask is not None:  # the same values as before for the untouched edges
@@ -1421,10 +1564,15 @@ def _restrict2_passes(
         badu = net_ii[unsure] > s2u * (1.0 + 1e-12)
         bad = unsure[badu]
         nbad = bad.size
-        if ic.size == 0 and nbad == 0:
-            break
-        if npass == max_passes:
-            nunsat = int(ic.size + nbad)
+        if edges is not None:
+            pending[i] = False
+        elif mask is not None:
+            pending &= ~mask
+        else:
+            pending.fill(False)
+        pending[ic] = True
+        pending[ii[bad]] = True
+        if (ic.size == 0 and nbad == 0) or npass == max_passes:
             break
         np.sqrt(f, out=f)
         f *= _SHRINK
@@ -1472,7 +1620,6 @@ def _restrict2_passes(
         if not moved.all():
             v, new = v[moved], new[moved]
             if v.size == 0:  # every violation sits at the floor
-                nunsat = int(ic.size + nbad)
                 break
         alpha[v] = new
         decreased = True
@@ -1489,5 +1636,7 @@ def _restrict2_passes(
             edges = None
         else:
             edges = _sorted_unique(np.concatenate([v, ev]))
-    nred = int(np.count_nonzero(alpha < alpha0)) if decreased else 0
+    lo, hi = (0, n) if core is None else core
+    nred = int(np.count_nonzero(alpha[lo:hi] < alpha0[lo:hi])) if decreased else 0
+    nunsat = int(np.count_nonzero(pending[lo:hi]))
     return alpha, nred, nunsat, a_e, K_e, w, S, k12
