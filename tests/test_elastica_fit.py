@@ -4,9 +4,10 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from scipy.optimize import least_squares, leastsq
 
 from curvesmith.elastica import PARAM_NAMES, fit, initial_guess, sample, tangent_angles
-from curvesmith.elastica.fit import _noise_level
+from curvesmith.elastica.fit import _noise_level, _Problem
 from curvesmith.errors import CurveError
 
 
@@ -327,3 +328,125 @@ def test_fit_pinned_at_an_inflection_section_5_4():
     assert res.case == "ii" and abs(res.params.h - 1.0) < 0.01
     exact = fit(clean, fixed={"x0": 12.0, "y0": -3.0})
     assert abs(exact.params.k - k) < 1e-8 and exact.max_distance < 1e-9
+
+
+def _trf_reference(data, start, *, tol=1e-12, max_nfev=400):
+    """The bounded trust-region reflective solve written out: least_squares(trf), h, k > 0."""
+    prob = _Problem(data, np.array(start, dtype=float), np.ones(7, dtype=bool))
+    lo = np.full(7, -np.inf)
+    lo[2] = lo[6] = 1e-12
+    res = least_squares(
+        prob.residuals,
+        np.array(start, dtype=float),
+        jac=prob.jacobian,
+        bounds=(lo, np.inf),
+        method="trf",
+        x_scale="jac",
+        ftol=tol,
+        xtol=tol,
+        gtol=tol,
+        max_nfev=max_nfev,
+    )
+    return res, prob
+
+
+def test_levenberg_marquardt_reaches_the_trf_optimum_on_random_noisy_curves():
+    """The default path finishes in LM (MINPACK) and lands where bounded trf lands.
+
+    trf (ftol = 1e-12) stops with a remaining Gauss-Newton step of up to ~5e-8 on the
+    ill-conditioned cases (k > 5, cond(J) ~ 1e6), LM's is < 1e-12: the parameters are
+    compared with trf's optimum polished by plain Gauss-Newton steps (the stationary
+    point itself), the cost and the fitted curve with trf's raw result."""
+    rng = np.random.default_rng(99)
+    for _ in range(15):
+        p = random_params(rng)
+        n = int(rng.integers(40, 150))
+        clean = sample(p, n)
+        data = clean + rng.normal(scale=0.01 * p[2], size=clean.shape)
+        res = fit(data, continuation=False)
+        assert res.message.startswith("Levenberg-Marquardt (MINPACK lmder)"), res.message
+        ref, prob = _trf_reference(data, res.start)
+        assert ref.status > 0
+        assert abs(res.cost - ref.cost) <= 1e-12 * ref.cost
+        assert np.max(np.abs(res.points - sample(ref.x, n))) < 1e-8 * p[2]
+        x = ref.x.copy()
+        for _ in range(8):
+            x += np.linalg.lstsq(prob.jacobian(x), -prob.residuals(x), rcond=None)[0]
+        scale = np.maximum(1.0, np.abs(x))
+        np.testing.assert_array_less(np.abs(np.array(res.params) - x) / scale, 1e-9)
+        assert res.params.h > 0 and res.params.k > 0
+        assert res.iterations > 1
+
+
+def test_lm_outside_u_falls_back_to_bounded_trf():
+    """From k = 0.2 with z, q of the wrong sign, LM crosses k = 0 and converges to the mirror
+    parametrisation k = -0.7 (the same curve, outside U). The trf fallback from the same
+    start stays in U and still recovers the curve; iterations count both solvers."""
+    p = (0.5, -0.25, 0.05, 0.3, 0.06, 0.4, 0.7)
+    pts = sample(p, 60)
+    start = (0.5, -0.25, 0.05, 0.3, -0.06, -0.4, 0.2)
+    prob = _Problem(pts, np.array(start), np.ones(7, dtype=bool))
+    lm_x, _, lm_info, _, lm_ier = leastsq(
+        prob.residuals,
+        np.array(start),
+        Dfun=prob.jacobian,
+        full_output=True,
+        ftol=1e-12,
+        xtol=1e-12,
+        gtol=1e-12,
+        maxfev=400,
+    )
+    assert lm_ier in (1, 2, 3, 4) and lm_x[6] < 0  # plain MINPACK: converged, outside U
+    res = fit(pts, start=start, continuation=False)
+    assert "Levenberg-Marquardt converged outside U (k = -0.7)" in res.message
+    assert "least_squares trf" in res.message
+    assert res.params.k > 0 and res.params.h > 0
+    assert res.success and res.max_distance < 1e-9
+    assert abs(res.params.k - 0.7) < 1e-9
+    ref, _ = _trf_reference(pts, start)
+    np.testing.assert_allclose(np.array(res.params), ref.x, rtol=0, atol=1e-12)
+    assert res.iterations == lm_info["njev"] + ref.njev  # both solvers' Jacobian evaluations
+
+
+def test_failed_lm_falls_back_to_trf_with_the_same_result(monkeypatch):
+    """A stalled LM (MINPACK info 5) hands over to trf from the same start: trf's optimum."""
+    import importlib
+
+    fit_module = importlib.import_module("curvesmith.elastica.fit")  # the package re-exports fit
+    calls = []
+
+    def stalled(func, x0, **kwargs):
+        calls.append(kwargs["maxfev"])
+        return x0, None, {"njev": 2, "nfev": 3, "fvec": func(x0)}, "stalled", 5
+
+    monkeypatch.setattr(fit_module, "leastsq", stalled)
+    rng = np.random.default_rng(12)
+    clean = sample((0.0, 0.0, 0.1, 0.3, 0.05, 0.2, 0.6), 80)
+    data = clean + rng.normal(scale=1e-3, size=clean.shape)
+    res = fit(data, continuation=False)
+    assert calls == [400]
+    assert res.message.startswith("Levenberg-Marquardt reached max_iter = 400 function evaluations")
+    assert "least_squares trf" in res.message and res.success
+    ref, _ = _trf_reference(data, res.start)
+    np.testing.assert_allclose(np.array(res.params), ref.x, rtol=0, atol=1e-12)
+    assert res.iterations == 2 + ref.njev
+
+
+def test_lm_trial_points_with_nan_residuals_neither_warn_nor_pass():
+    """k <= -1 (outside U) gives NaN residuals (scipy's ellipj for m > 1): MINPACK must not
+    accept them and no floating-point warning may escape (pytest turns them into errors)."""
+    import importlib
+
+    fit_module = importlib.import_module("curvesmith.elastica.fit")
+    pts = sample((0.5, -0.25, 0.05, 0.3, 0.06, 0.4, 0.7), 60)
+    free = np.ones(7, dtype=bool)
+    lo, _ = fit_module._bounds(free)
+    x0 = np.array([0.5, -0.25, 0.05, 0.3, 0.06, 0.4, -1.5])
+    prob = _Problem(pts, x0.copy(), free)
+    assert np.all(np.isnan(prob.residuals(x0)[2:]))  # all but the start vertex
+    _, _, msg, why_not = fit_module._levenberg_marquardt(prob, x0, lo, 400, 1e-12)
+    assert msg is None and why_not == "ended with non-finite parameters or residuals"
+    # from just inside k > -1 LM wanders near the NaN region until max_iter: reported, no warning
+    x0[6] = -0.99
+    _, _, msg, why_not = fit_module._levenberg_marquardt(prob, x0, lo, 400, 1e-12)
+    assert msg is None and why_not.startswith("reached max_iter = 400")

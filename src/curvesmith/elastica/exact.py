@@ -44,6 +44,8 @@ Verified discrepancies with the printed formulas (scratch checks, and the tests)
 
 from __future__ import annotations
 
+import functools
+import math
 from dataclasses import dataclass
 from typing import NamedTuple
 
@@ -145,105 +147,159 @@ def _ellipj_scalar_m(u: np.ndarray, m: float):
     return ellipj_am(u, m)
 
 
-def _half_angles(s: np.ndarray, k: float):
-    """``S = sin a``, ``C = cos a``, ``a = (theta - phi)/2`` at arguments `s` (eq. 4.3)."""
+@functools.lru_cache(maxsize=2)
+def _progression(z: float, q: float, n_points: int, k: float):
+    """Arguments ``s_n = z n + q`` (n = 0..N-1) and the Jacobi functions of the half angle there.
+
+    Returns ``(s, jf)``: ``jf = (sn, cn, dn, am)`` at ``(s | k^2)`` for ``k < 1``, at
+    ``(k s | 1/k^2)`` for ``k > 1``, None for ``k = 1``. Memoised on the four numbers:
+    a least-squares solver asks for the residuals and then for the Jacobian at the
+    same point, and the initial guess samples the point the solver starts from. The
+    arrays are read-only.
+    """
+    s = np.arange(n_points, dtype=float)
+    s *= z
+    s += q
+    if k == 1.0:
+        jf = None
+    elif k < 1.0:
+        jf = _ellipj_scalar_m(s, k * k)
+    else:
+        jf = _ellipj_scalar_m(k * s, 1.0 / (k * k))
+    for arr in (s, *(jf or ())):
+        arr.flags.writeable = False
+    return s, jf
+
+
+def _half_angles(s: np.ndarray, k: float, jf=None):
+    """``S = sin a``, ``C = cos a``, ``a = (theta - phi)/2`` at arguments `s` (eq. 4.3).
+
+    `jf`: the Jacobi functions of :func:`_progression` at `s`, if already known.
+    """
     m = k * k
     if k == 1.0:
         return np.tanh(s), sech(s)
     if k < 1.0:
-        sn, _, dn, _ = _ellipj_scalar_m(s, m)
+        sn, _, dn, _ = _ellipj_scalar_m(s, m) if jf is None else jf
         return k * sn, dn
-    sn, cn, _, _ = _ellipj_scalar_m(k * s, 1.0 / m)
+    sn, cn, _, _ = _ellipj_scalar_m(k * s, 1.0 / m) if jf is None else jf
     return sn, cn
 
 
-def _family(s: np.ndarray, k: float):
+def _family(s: np.ndarray, k: float, jf=None):
     """Half angle ``a(s; k)`` as (S, C) with its derivatives ``da/ds`` and ``da/dk``.
 
     ``da/ds = k cn(s; k)`` for every ``k > 0`` (continued modulus), and
     ``da/dk = sd(s; k) - k^2 cn(s; k) I(s|k^2)`` for ``k < 1``,
     ``da/dk = dn(x|1/k^2) (s + I(x|1/k^2)/k^3)`` with ``x = k s`` for ``k > 1``,
-    both from ``d am/dm = -dn I / 2`` (see ``_elliptic``).
+    both from ``d am/dm = -dn I / 2`` (see ``_elliptic``). `jf` as in :func:`_half_angles`.
     """
     m = k * k
     if abs(1.0 - m) < _SEPARATRIX_BAND:
-        S, C = _half_angles(s, k)
+        S, C = _half_angles(s, k, jf)
         _, cn, _ = ellipj(s, m)
         Sp, Cp = _half_angles(s, k + _FD_STEP)
         Sm, Cm = _half_angles(s, k - _FD_STEP)
         a_k = (C * (Sp - Sm) - S * (Cp - Cm)) / (2.0 * _FD_STEP)
         return S, C, k * cn, a_k
     if k < 1.0:
-        sn, cn, dn, ph = _ellipj_scalar_m(s, m)
+        sn, cn, dn, ph = _ellipj_scalar_m(s, m) if jf is None else jf
         a_k = sn / dn - m * cn * _sd2_integral(s, m, sn, cn, dn, ph)
         return k * sn, dn, k * cn, a_k
     x = k * s
-    sn, cn, dn, ph = _ellipj_scalar_m(x, 1.0 / m)
+    sn, cn, dn, ph = _ellipj_scalar_m(x, 1.0 / m) if jf is None else jf
     a_k = dn * (s + _sd2_integral(x, 1.0 / m, sn, cn, dn, ph) / (m * k))
     return sn, cn, k * dn, a_k
 
 
 def _tangents(p: ElasticaParams, n_points: int, *, derivatives: bool = False):
-    """Unit tangents ``T_n`` (n = 0..N-2) of eq. (3.1) and optionally the pieces of eq. (4.11)."""
-    s = p.z * np.arange(n_points, dtype=float) + p.q
+    """Unit tangents ``T_n`` (n = 0..N-2) of eq. (3.1) and optionally the pieces of eq. (4.11).
+
+    Returns ``T`` as ``(N-1, 2)`` (a view of :func:`_phasors`), and with `derivatives`
+    also ``da/ds`` and ``da/dk`` at the vertices (``(N,)`` each).
+    """
+    out = _phasors(p, n_points, derivatives=derivatives)
+    if not derivatives:
+        return out.view(float).reshape(n_points - 1, 2)
+    return (out[0].view(float).reshape(n_points - 1, 2), *out[1:])
+
+
+def _phasors(p: ElasticaParams, n_points: int, *, derivatives: bool = False):
+    """Tangents as complex numbers ``T_n = exp(i (phi + a_n + a_{n+1}))``, ``(N-1,)``.
+
+    Formed as ``e^{i phi} E_n E_{n+1}`` with ``E_n = C_n + i S_n``: the same four
+    products and two sums as the angle-addition formulas. With `derivatives` also
+    ``da/ds`` and ``da/dk`` (see :func:`_family`).
+    """
+    s, jf = _progression(p.z, p.q, n_points, p.k)
     if derivatives:
-        S, C, a_s, a_k = _family(s, p.k)
+        S, C, a_s, a_k = _family(s, p.k, jf)
     else:
-        S, C = _half_angles(s, p.k)
-    cos_rel = C[:-1] * C[1:] - S[:-1] * S[1:]  # cos(Theta_n - phi) = cos(a_n + a_{n+1})
-    sin_rel = S[:-1] * C[1:] + C[:-1] * S[1:]
-    cphi, sphi = np.cos(p.phi), np.sin(p.phi)
-    T = np.empty((n_points - 1, 2))
-    T[:, 0] = cphi * cos_rel - sphi * sin_rel
-    T[:, 1] = sphi * cos_rel + cphi * sin_rel
+        S, C = _half_angles(s, p.k, jf)
+    E = np.empty(n_points, dtype=complex)
+    E.real = C
+    E.imag = S
+    T = E[:-1] * E[1:]
+    T *= complex(math.cos(p.phi), math.sin(p.phi))
     if not derivatives:
         return T
     return T, a_s, a_k
 
 
 def _positions(p: ElasticaParams, n_points: int) -> np.ndarray:
-    T = _tangents(p, n_points)
-    out = np.empty((n_points, 2))
-    out[0] = (p.x0, p.y0)
-    np.cumsum(p.h * T, axis=0, out=out[1:])
+    return _walk(p, _phasors(p, n_points))
+
+
+def _walk(p: ElasticaParams, T: np.ndarray) -> np.ndarray:
+    """``gamma_0 = (x0, y0)``, ``gamma_{n+1} = gamma_n + h T_n`` from complex `T`, as ``(N, 2)``."""
+    out = np.empty(T.shape[0] + 1, dtype=complex)
+    out[0] = complex(p.x0, p.y0)
+    np.multiply(T, p.h, out=out[1:])
+    np.cumsum(out[1:], out=out[1:])
     out[1:] += out[0]
-    return out
+    return out.view(float).reshape(-1, 2)
 
 
 def _positions_and_jacobian(p: ElasticaParams, n_points: int):
     """Vertices ``gamma_n(p)`` and ``d gamma_n / d p`` by eqs. (4.10)-(4.11).
 
-    Returns ``(points (N, 2), jac (N, 2, 7))`` in the parameter order of eq. (4.5).
+    Returns ``(points (N, 2), jac (N, 2, 7))`` in the parameter order of eq. (4.5)
+    (``jac`` is a transposed view of :func:`_jacobian_columns`).
     ``dT_n/dp = N_n d(a_n + a_{n+1})/dp`` (eq. 4.11 with ``dS/C = da``, which stays
     finite where ``C = 0``), ``N_n = R(pi/2) T_n``.
     """
-    T, a_s, a_k = _tangents(p, n_points, derivatives=True)
-    Nrm = np.column_stack((-T[:, 1], T[:, 0]))
-    n = np.arange(n_points, dtype=float)
-    d_z = a_s * n
-    pairs = np.stack(
-        (
-            np.ones(n_points - 1),  # phi rotates every tangent
-            d_z[:-1] + d_z[1:],
-            a_s[:-1] + a_s[1:],
-            a_k[:-1] + a_k[1:],
-        ),
-        axis=1,
-    )
-    steps = np.empty((n_points - 1, 2, 7))
-    steps[:, :, 0:2] = 0.0
-    steps[:, :, 2] = T
-    steps[:, :, 3:] = p.h * Nrm[:, :, None] * pairs[:, None, :]
-    jac = np.empty((n_points, 2, 7))
-    jac[0] = 0.0
-    np.cumsum(steps, axis=0, out=jac[1:])
-    jac[:, 0, 0] += 1.0
-    jac[:, 1, 1] += 1.0
-    pts = np.empty((n_points, 2))
-    pts[0] = (p.x0, p.y0)
-    np.cumsum(p.h * T, axis=0, out=pts[1:])
-    pts[1:] += pts[0]
-    return pts, jac
+    T, a_s, a_k = _phasors(p, n_points, derivatives=True)
+    return _walk(p, T), _columns(p, T, a_s, a_k).transpose(1, 2, 0)
+
+
+def _jacobian_columns(p: ElasticaParams, n_points: int) -> np.ndarray:
+    """``d gamma_n / d p_j`` as ``(7, N, 2)``, one parameter per leading index.
+
+    The same numbers as :func:`_positions_and_jacobian` without the vertices; row
+    ``j`` reshaped to ``(2N,)`` is column ``j`` of the Jacobian of the residual vector.
+    """
+    return _columns(p, *_phasors(p, n_points, derivatives=True))
+
+
+def _columns(p: ElasticaParams, T: np.ndarray, a_s: np.ndarray, a_k: np.ndarray) -> np.ndarray:
+    """Eq. (4.10) in complex form: ``d gamma_n/dp = sum_{j<n} d(h T_j)/dp``, all columns at once."""
+    n_points = T.shape[0] + 1
+    # d(a_n + a_{n+1})/dz, /dq, /dk (the a_n of vertex n sits at s_n = z n + q)
+    rates = np.empty((3, n_points))
+    np.multiply(a_s, np.arange(n_points, dtype=float), out=rates[0])
+    rates[1] = a_s
+    rates[2] = a_k
+    pairs = rates[:, :-1] + rates[:, 1:]
+    steps = np.empty((5, n_points - 1), dtype=complex)
+    steps[0] = T  # d/dh
+    np.multiply(T, complex(0.0, p.h), out=steps[1])  # d/dphi: h N_n = i h T_n
+    np.multiply(steps[1], pairs, out=steps[2:])  # d/dz, d/dq, d/dk
+    cols = np.empty((7, n_points), dtype=complex)
+    cols[0] = 1.0  # d/dx0 = (1, 0)
+    cols[1] = 1j  # d/dy0 = (0, 1)
+    cols[2:, 0] = 0.0
+    np.cumsum(steps, axis=1, out=cols[2:, 1:])
+    return cols.view(float).reshape(7, n_points, 2)
 
 
 def sample(params, n_points: int, *, case: str | None = None) -> np.ndarray:
