@@ -1,9 +1,11 @@
 """Benchmark of curvesmith.cca.smooth against subdivision.chaikin on the same polygons.
 
 Seeded random polygons of 1e2 .. 1e6 vertices (``--quick``: up to 1e5), 1 .. 5
-iterations (capped so the output stays below ~30 M vertices). Two families:
-``wavy`` (a smooth closed curve, few restriction decreases) and ``jagged``
-(radius noise, many inflections and local alpha decreases). For each case the
+iterations (capped so the output stays below ~30 M vertices). Three families:
+``wavy`` (a smooth closed curve, few restriction decreases), ``jagged``
+(radius noise, many inflections and local alpha decreases) and ``noisy``
+(random angles and 5 % radius noise: uneven edges, like a digitised outline,
+the slowest case). For each case the
 median wall time over the repeats, output vertices per second for CCA and
 Chaikin, the time ratio per output vertex (CCA / Chaikin) in wall time and in
 CPU time (``process_time``, steadier on a shared machine), the number of local
@@ -32,8 +34,11 @@ def polygon(kind: str, n: int, rng: np.random.Generator) -> np.ndarray:
     t = 2 * np.pi * np.arange(n) / n
     if kind == "wavy":
         r = 1 + 0.1 * np.sin(7 * t) + 0.05 * np.cos(3 * t)
-    else:
+    elif kind == "jagged":
         r = 1 + 0.3 * rng.uniform(size=n)
+    else:
+        t = np.sort(rng.uniform(0, 2 * np.pi, n))
+        r = 1 + 0.05 * rng.normal(size=n)
     return np.column_stack([r * np.cos(t), r * np.sin(t)])
 
 
@@ -69,11 +74,12 @@ def main() -> None:
     cca.smooth(polygon("wavy", 100, rng), closed=True)  # warm-up (scipy import, PCHIP)
     header = (
         f"{'shape':>6} {'N':>8} {'it':>2} {'out':>10} {'cca s':>8} {'cca Mv/s':>9} "
-        f"{'chaikin Mv/s':>12} {'ratio':>6} {'cpu ratio':>9} {'reduced':>8} {'peak/out':>8}"
+        f"{'cpu Mv/s':>9} {'chaikin Mv/s':>12} {'ratio':>6} {'cpu ratio':>9} {'reduced':>8} "
+        f"{'peak/out':>8}"
     )
     print(header)
     print("-" * len(header))
-    for kind in ("wavy", "jagged"):
+    for kind in ("wavy", "jagged", "noisy"):
         for n in sizes:
             p = polygon(kind, n, rng)
             for it in range(1, 6):
@@ -86,6 +92,7 @@ def main() -> None:
                 )
                 info = cca.smooth_with_info(p, closed=True, iterations=it) if n <= 10**5 else None
                 v_cca = out.shape[0] / t_cca / 1e6
+                v_cpu = out.shape[0] / max(c_cca, 1e-9) / 1e6
                 v_ch = ch.shape[0] / t_ch / 1e6
                 cpu_ratio = (c_cca / out.shape[0]) / max(c_ch / ch.shape[0], 1e-30)
                 if args.no_memory or n * 3**it > 3_000_000:
@@ -96,7 +103,8 @@ def main() -> None:
                 red = "-" if info is None else str(info.reductions)
                 print(
                     f"{kind:>6} {n:>8} {it:>2} {out.shape[0]:>10} {t_cca:>8.3f} {v_cca:>9.2f} "
-                    f"{v_ch:>12.2f} {v_ch / v_cca:>6.2f} {cpu_ratio:>9.2f} {red:>8} {mem:>8}"
+                    f"{v_cpu:>9.2f} {v_ch:>12.2f} {v_ch / v_cca:>6.2f} {cpu_ratio:>9.2f} "
+                    f"{red:>8} {mem:>8}"
                 )
 
 

@@ -1,6 +1,7 @@
 """Tests for curvesmith.cca (Gordon 2010, corner cutting and augmentation)."""
 
 import math
+import os
 from dataclasses import FrozenInstanceError
 
 import numpy as np
@@ -875,14 +876,17 @@ def _noisy_line(n, seed):
 def test_blocked_step_is_bit_identical_to_one_piece_step(monkeypatch, points, closed, kwargs):
     # Blocks of 128 core vertices (halos of max_passes + 8) instead of the default 32768:
     # the same arithmetic element by element, so the same bits and the same counts.
+    # Threads run the blocks in any order; the outputs are gathered in order.
     monkeypatch.setattr(cca, "_BLOCK", 128)
-    blocked = cca.smooth_with_info(points, closed=closed, iterations=3, **kwargs)
+    blocked = cca.smooth_with_info(points, closed=closed, iterations=3, workers=1, **kwargs)
+    threads = cca.smooth_with_info(points, closed=closed, iterations=3, workers=3, **kwargs)
     monkeypatch.setattr(cca, "_BLOCK", 10**9)
     whole = cca.smooth_with_info(points, closed=closed, iterations=3, **kwargs)
-    np.testing.assert_array_equal(blocked.points, whole.points)
-    assert blocked.reductions_per_step == whole.reductions_per_step
-    assert blocked.fig11_edges == whole.fig11_edges
-    assert blocked.unsatisfied == whole.unsatisfied
+    for res in (blocked, threads):
+        np.testing.assert_array_equal(res.points, whole.points)
+        assert res.reductions_per_step == whole.reductions_per_step
+        assert res.fig11_edges == whole.fig11_edges
+        assert res.unsatisfied == whole.unsatisfied
     if "min_factor" in kwargs:
         assert blocked.unsatisfied > 0
     if "alpha" not in kwargs and "anchors" not in kwargs:
@@ -910,14 +914,44 @@ def test_blocked_step_runs_in_blocks_and_falls_back_on_zero_length_edges(monkeyp
     np.testing.assert_array_equal(by, wy)
     np.testing.assert_array_equal(bfixed, wfixed)
     assert counts == wcounts
-    # a zero-length edge in the third block: the one-piece step removes it first
+    # a zero-length edge (a step can create one on real data): removed first, still in blocks
     x2, y2 = np.insert(x, 300, x[300]), np.insert(y, 300, y[300])
+    fixed2 = np.zeros(601, dtype=bool)
     calls.clear()
-    bx, by, *_ = cca._step2_blocked(x2, y2, np.zeros(601, dtype=bool), True, *args, stacked=None)
-    assert calls[-1] is False and sum(calls) == 3  # two blocks, the third raised, then whole
-    wx, wy, *_ = step2(x2, y2, np.zeros(601, dtype=bool), True, *args, None)
+    bx, by, *_ = cca._step2_blocked(x2, y2, fixed2, True, *args, stacked=None)
+    assert calls == [True] * 5
+    wx, wy, *_ = step2(x2, y2, fixed2, True, *args, None)
     np.testing.assert_array_equal(bx, wx)
+    np.testing.assert_array_equal(by, wy)
     assert bx.shape == (1800,)
+    # a block whose own wrap edge has zero length (the ring passes twice through a point):
+    # that block raises, the blocks in flight are dropped and the one-piece step runs
+    x3, y3 = x.copy(), y.copy()
+    x3[279], y3[279] = x3[104], y3[104]  # block 2 covers 104 .. 279 with its halos
+    wx, wy, *_ = step2(x3, y3, fixed, True, *args, None)
+    for workers in (1, 2):
+        calls.clear()
+        tx, ty, *_ = cca._step2_blocked(x3, y3, fixed, True, *args, stacked=None, workers=workers)
+        assert calls[-1] is False
+        np.testing.assert_array_equal(tx, wx)
+        np.testing.assert_array_equal(ty, wy)
+
+
+def test_workers_is_validated():
+    with pytest.raises(CurveError, match="workers must be an integer >= 1, got 0"):
+        cca.smooth(regular(5), closed=True, workers=0)
+    with pytest.raises(CurveError, match="workers must be an integer"):
+        cca.smooth(regular(5), closed=True, workers=1.5)
+    assert 1 <= cca._default_workers() <= 4
+
+
+def test_default_workers_respects_omp_num_threads(monkeypatch):
+    monkeypatch.setenv("OMP_NUM_THREADS", "1")
+    assert cca._default_workers() == 1
+    monkeypatch.setenv("OMP_NUM_THREADS", "64")
+    assert cca._default_workers() == min(4, len(os.sched_getaffinity(0)))
+    monkeypatch.setenv("OMP_NUM_THREADS", "auto")  # not a count: ignored
+    assert cca._default_workers() == min(4, len(os.sched_getaffinity(0)))
 
 
 def _restriction_inputs(p):

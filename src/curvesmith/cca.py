@@ -140,9 +140,13 @@ Paper typos found while verifying (scratch scripts, then the tests)
 from __future__ import annotations
 
 import math
+import os
+from collections import deque
 from collections.abc import Callable, Sequence
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from functools import lru_cache
+from itertools import islice
 
 import numpy as np
 
@@ -395,6 +399,7 @@ def smooth(
     balance_tol: float = 1e-9,
     max_passes: int = 16,
     min_factor: float = 0.0,
+    workers: int | None = None,
 ) -> np.ndarray:
     """Area-preserving CCA1 smoothing of a polygon or polyline (Gordon 2010).
 
@@ -441,6 +446,13 @@ def smooth(
         the price of almost uncut corners next to nearly straight vertices
         (Fig. 12); a floor such as 0.5 keeps those corners smoothing, and edges
         where it binds are counted in :attr:`CCAResult.unsatisfied`.
+    workers : int, optional
+        Threads for long 2D curves: a step over at least 65536 vertices runs in
+        blocks of 32768 (with halos; the result does not depend on the blocks
+        or the threads), and ``workers`` blocks at a time. Default: the number
+        of processors available to this process, at most 4 and at most
+        ``OMP_NUM_THREADS`` when that is set (Dask workers set it to 1); 1 for
+        no threads.
 
     Returns
     -------
@@ -476,6 +488,7 @@ def smooth(
         balance_tol=balance_tol,
         max_passes=max_passes,
         min_factor=min_factor,
+        workers=workers,
     ).points
 
 
@@ -493,6 +506,7 @@ def smooth_with_info(
     balance_tol: float = 1e-9,
     max_passes: int = 16,
     min_factor: float = 0.0,
+    workers: int | None = None,
 ) -> CCAResult:
     """Like :func:`smooth`, returning a :class:`CCAResult` with restriction counts.
 
@@ -500,7 +514,7 @@ def smooth_with_info(
     ----------
     points, closed, iterations, alpha, anchors, c, C, restrict, tilt, balance_tol
         As in :func:`smooth`.
-    max_passes, min_factor
+    max_passes, min_factor, workers
         As in :func:`smooth`.
 
     Returns
@@ -524,6 +538,7 @@ def smooth_with_info(
     balance_tol = as_float(balance_tol, name="balance_tol", low=0.0, high=1.0, low_open=False)
     max_passes = as_int(max_passes, name="max_passes", minimum=1)
     min_factor = as_float(min_factor, name="min_factor", low=0.0, high=1.0, low_open=False)
+    workers = _default_workers() if workers is None else as_int(workers, name="workers", minimum=1)
     alpha_fn = _alpha_function(alpha)
     raw = as_points(points, closed=closed, min_points=1, dim=(2, 3))
     n_in = raw.shape[0]
@@ -579,6 +594,7 @@ def smooth_with_info(
             balance_tol,
             (max_passes, min_factor),
             stacked=(float(origin[0]), float(origin[1])) if last else None,
+            workers=workers,
         )
         red_steps.append(nred)
         fig11_total += nfig
@@ -612,6 +628,23 @@ def smooth_with_info(
 
 
 # --------------------------------------------------------------------------- input helpers
+
+
+def _default_workers() -> int:
+    """Processors available to this process, at most 4 and at most ``OMP_NUM_THREADS``.
+
+    The environment cap follows the convention of numerical libraries (Dask's
+    worker processes set ``OMP_NUM_THREADS=1``), so a parallel caller does not
+    get threads inside each of its workers.
+    """
+    try:
+        available = len(os.sched_getaffinity(0))
+    except (AttributeError, OSError):  # not on Linux
+        available = os.cpu_count() or 1
+    cap = os.environ.get("OMP_NUM_THREADS", "").strip()
+    if cap.isdigit() and int(cap) >= 1:
+        available = min(available, int(cap))
+    return max(1, min(4, available))
 
 
 def _alpha_function(alpha) -> Callable[[np.ndarray], np.ndarray]:
@@ -718,14 +751,14 @@ def _plane_frame(q: np.ndarray) -> np.ndarray | None:
 _FORCE_GENERIC = False  # tests compare the lean 2D step with the generic one
 
 
-def _step2_cols(cols, fixed, closed, *args, stacked=None):
+def _step2_cols(cols, fixed, closed, *args, stacked=None, workers=1):
     x, y, fixed, nred, nfig, nunsat, xy = _step2_blocked(
-        cols[0], cols[1], fixed, closed, *args, stacked=stacked
+        cols[0], cols[1], fixed, closed, *args, stacked=stacked, workers=workers
     )
     return [x, y], fixed, nred, nfig, nunsat, xy
 
 
-def _step_cols(*args, stacked=None):
+def _step_cols(*args, stacked=None, workers=1):
     return (*_step(*args), None)
 
 
@@ -1165,7 +1198,7 @@ def _step2(
 _BLOCK = 32768
 
 
-def _step2_blocked(x, y, fixed, closed, *args, stacked):
+def _step2_blocked(x, y, fixed, closed, *args, stacked, workers=1):
     """:func:`_step2` over cache-sized blocks of vertices: the same result, faster on long rings.
 
     CCA1 is local: the output of vertex ``i`` (its cut points and the apex on
@@ -1181,23 +1214,26 @@ def _step2_blocked(x, y, fixed, closed, *args, stacked):
     are reused between blocks (no page faults); the one-piece step streams
     several dozen arrays of the whole length through memory.
 
-    Short curves, a halo too long for the block (a large ``max_passes``) and
-    zero-length edges (which :func:`_step2` removes first) take the one-piece step.
+    Blocks are independent, so with ``workers > 1`` they run in a thread pool
+    (numpy releases the GIL inside its loops); at most ``2 * workers`` blocks
+    are in flight and their outputs are copied in order, so the result does
+    not depend on the number of threads.
+
+    Zero-length edges (which a step can create on real data) are removed first,
+    as :func:`_step2` does. Short curves, a halo too long for the block (a
+    large ``max_passes``) and a block whose own wrap edge has zero length take
+    the one-piece step.
     """
     n = x.shape[0]
     halo = args[-1][0] + 8  # limits = (max_passes, min_factor)
     block = _BLOCK
     if n < 2 * block or 4 * halo > block:
         return _step2(x, y, fixed, closed, *args, stacked)[:7]
-    cap = 4 * n  # at most L, R and two Fig. 11 apexes per vertex
-    if stacked is not None:
-        xy = np.empty((cap, 2))
-        ox, oy = xy[:, 0], xy[:, 1]
-    else:
-        ox, oy = np.empty(cap), np.empty(cap)
-    newfixed = np.zeros(cap, dtype=bool)
-    pos = nred = nfig = nunsat = 0
-    for s in range(0, n, block):
+    if _has_zero_edges(x, y, closed):
+        (x, y), fixed = _compact([x, y], fixed, closed)
+        return _step2_blocked(x, y, fixed, closed, *args, stacked=stacked, workers=workers)
+
+    def run(s: int):
         e = min(n, s + block)
         if closed:
             lo, hi = s - halo, e + halo
@@ -1209,13 +1245,57 @@ def _step2_blocked(x, y, fixed, closed, *args, stacked):
             idx = slice(lo, hi)
             core = (s - lo, e - lo)
             piece_closed = hi < n  # a block's wrap edge sits in its halo; the true end stays open
-        try:
-            bx, by, bfixed, bred, bfig, bunsat, _, span = _step2(
-                x[idx], y[idx], fixed[idx], piece_closed, *args, None, core
-            )
-        except _NeedsWholeStep:
-            return _step2(x, y, fixed, closed, *args, stacked)[:7]
-        a, b = span
+        return _step2(x[idx], y[idx], fixed[idx], piece_closed, *args, None, core)
+
+    starts = range(0, n, block)
+    try:
+        if workers > 1:
+            with ThreadPoolExecutor(min(workers, len(starts))) as pool:
+                return _gather_blocks(n, _in_order(pool, run, starts, 2 * workers), stacked)
+        return _gather_blocks(n, map(run, starts), stacked)
+    except _NeedsWholeStep:
+        return _step2(x, y, fixed, closed, *args, stacked)[:7]
+
+
+def _has_zero_edges(x: np.ndarray, y: np.ndarray, closed: bool) -> bool:
+    """Whether some edge has zero length as :func:`_step2` computes it (``ex^2 + ey^2 == 0``)."""
+    ex = np.subtract(x[1:], x[:-1])
+    ey = np.subtract(y[1:], y[:-1])
+    ex *= ex
+    ey *= ey
+    ex += ey
+    if not ex.all():
+        return True
+    wx, wy = float(x[0] - x[-1]), float(y[0] - y[-1])
+    return closed and wx * wx + wy * wy == 0.0
+
+
+def _in_order(pool, fn, items, ahead: int):
+    """``fn`` over `items` in `pool`, results in order, at most `ahead` in flight."""
+    items = iter(items)
+    futures = deque(pool.submit(fn, item) for item in islice(items, ahead))
+    try:
+        while futures:
+            result = futures.popleft().result()
+            for item in islice(items, 1):
+                futures.append(pool.submit(fn, item))
+            yield result
+    finally:
+        for future in futures:  # an error (or a zero-length edge) stops the rest
+            future.cancel()
+
+
+def _gather_blocks(n: int, results, stacked):
+    """Copy the core outputs of the blocks, in order, into the step's output."""
+    cap = 4 * n  # at most L, R and two Fig. 11 apexes per vertex
+    if stacked is not None:
+        xy = np.empty((cap, 2))
+        ox, oy = xy[:, 0], xy[:, 1]
+    else:
+        ox, oy = np.empty(cap), np.empty(cap)
+    newfixed = np.zeros(cap, dtype=bool)
+    pos = nred = nfig = nunsat = 0
+    for bx, by, bfixed, bred, bfig, bunsat, _, (a, b) in results:
         m = b - a
         if stacked is not None:  # the same value + origin rounding as the one-piece step
             np.add(bx[a:b], stacked[0], out=ox[pos : pos + m])
