@@ -148,7 +148,8 @@ def main() -> None:
     )
     for n in sizes:
         _, data = make_data(n, rng)
-        fit(data)  # warm-up
+        for _ in range(20):  # warm-up: caches, branch predictors, CPU clock
+            fit(data)
         t_def, c_def, r_def = timed(lambda d=data: fit(d), reps)
         rows = [("default fit (LM, analytic jac)", t_def, c_def, r_def.rms, r_def.success)]
         t, c, (rms, ok) = timed(lambda d=data: trf_least_squares(d), max(3, reps // 3))

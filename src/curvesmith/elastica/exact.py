@@ -255,7 +255,7 @@ def _walk(p: ElasticaParams, T: np.ndarray) -> np.ndarray:
     out = np.empty(T.shape[0] + 1, dtype=complex)
     out[0] = complex(p.x0, p.y0)
     np.multiply(T, p.h, out=out[1:])
-    np.cumsum(out[1:], out=out[1:])
+    np.add.accumulate(out[1:], out=out[1:])  # np.cumsum without its Python wrapper
     out[1:] += out[0]
     return out.view(float).reshape(-1, 2)
 
@@ -298,7 +298,7 @@ def _columns(p: ElasticaParams, T: np.ndarray, a_s: np.ndarray, a_k: np.ndarray)
     cols[0] = 1.0  # d/dx0 = (1, 0)
     cols[1] = 1j  # d/dy0 = (0, 1)
     cols[2:, 0] = 0.0
-    np.cumsum(steps, axis=1, out=cols[2:, 1:])
+    np.add.accumulate(steps, axis=1, out=cols[2:, 1:])
     return cols.view(float).reshape(7, n_points, 2)
 
 

@@ -40,6 +40,7 @@ noise) raise ``basin_factor``.
 from __future__ import annotations
 
 import functools
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -170,9 +171,11 @@ def spacing_spread(points) -> float:
 
 
 def _spacing_check(p: np.ndarray, tol: float) -> None:
-    lengths = np.hypot(*np.diff(p, axis=0).T)
+    e = p[1:] - p[:-1]
+    lengths = np.hypot(e[:, 0], e[:, 1])
     mean = float(lengths.mean())
-    spread = float(lengths.std() / mean)
+    dev = lengths - mean
+    spread = math.sqrt(float(dev @ dev) / dev.size) / mean  # std / mean
     if spread > tol:
         raise CurveError(
             f"points are unevenly spaced: edge lengths from {lengths.min():.6g} to "
@@ -253,25 +256,30 @@ class _Memo:
         self.all_free = bool(prob.free.all())
         self._r = self._j = (None, None)
 
+    def _params(self, x: np.ndarray) -> ElasticaParams:
+        return ElasticaParams._make(x.tolist()) if self.all_free else self.prob.full(x)
+
     def residuals(self, x: np.ndarray) -> np.ndarray:
+        key = x.tobytes()
         last, r = self._r
-        if last is not None and (x == last).all():
+        if key == last:
             return r
         prob = self.prob
-        d = _positions(prob.full(x), prob.n)
+        d = _positions(self._params(x), prob.n)
         d -= prob.data
         r = d.ravel()
-        self._r = (x.copy(), r)
+        self._r = (key, r)
         return r
 
     def jacobian_columns(self, x: np.ndarray) -> np.ndarray:
+        key = x.tobytes()
         last, j = self._j
-        if last is not None and (x == last).all():
+        if key == last:
             return j
         prob = self.prob
-        cols = _jacobian_columns(prob.full(x), prob.n)
+        cols = _jacobian_columns(self._params(x), prob.n)
         j = cols.reshape(7, -1) if self.all_free else cols[prob.free].reshape(-1, 2 * prob.n)
-        self._j = (x.copy(), j)
+        self._j = (key, j)
         return j
 
 
