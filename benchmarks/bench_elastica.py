@@ -3,8 +3,9 @@
 Same data, same run, for N in {100, 300, 1000}: a noisy discrete elastica (three periods,
 case (ii)), each backend started from the same initial guess (section 4.3). Reports the
 median wall time and the median CPU time (``time.process_time``, less sensitive to other
-load on a shared machine) over repeats, the ratio of wall times to the default backend
-and the final rms. A last table fits long near-separatrix curves with many loops from
+load on a shared machine) over repeats, the ratio of wall times to the default backend,
+the iterations (Jacobian evaluations for the least-squares solvers, IPOPT iterations) and
+the final rms. A last table fits long near-separatrix curves with many loops from
 the own initial guess: single start vs the growing-prefix continuation of ``fit``.
 
 Rows: the default ``fit`` (Levenberg-Marquardt, MINPACK ``leastsq``, with the bounded trf
@@ -64,7 +65,7 @@ def trf_least_squares(data: np.ndarray):
         max_nfev=400,
     )
     rms = float(np.sqrt(np.mean(np.sum((sample(res.x, n) - data) ** 2, axis=1))))
-    return rms, res.status > 0
+    return rms, res.status > 0, int(res.njev)
 
 
 def fd_least_squares(data: np.ndarray):
@@ -90,7 +91,7 @@ def fd_least_squares(data: np.ndarray):
         max_nfev=4000,
     )
     rms = float(np.sqrt(np.mean(np.sum((sample(res.x, n) - data) ** 2, axis=1))))
-    return rms, res.status > 0
+    return rms, res.status > 0, int(res.njev)
 
 
 def ipopt_unscaled(data: np.ndarray):
@@ -120,7 +121,7 @@ def ipopt_unscaled(data: np.ndarray):
         },
     )
     rms = float(np.sqrt(np.mean(np.sum((sample(res.x, n) - data) ** 2, axis=1))))
-    return rms, bool(res.success)
+    return rms, bool(res.success), int(res.nit)
 
 
 def timed(fn, repeats: int):
@@ -144,27 +145,27 @@ def main() -> None:
     print("fit of a noisy discrete elastica (sigma = 0.02 h), median wall and CPU time")
     print(
         f"{'N':>5} {'backend':<30} {'time [ms]':>10} {'cpu [ms]':>9} {'x default':>10} "
-        f"{'rms':>12} {'ok':>4}"
+        f"{'iters':>6} {'rms':>12} {'ok':>4}"
     )
     for n in sizes:
         _, data = make_data(n, rng)
         for _ in range(20):  # warm-up: caches, branch predictors, CPU clock
             fit(data)
-        t_def, c_def, r_def = timed(lambda d=data: fit(d), reps)
-        rows = [("default fit (LM, analytic jac)", t_def, c_def, r_def.rms, r_def.success)]
-        t, c, (rms, ok) = timed(lambda d=data: trf_least_squares(d), max(3, reps // 3))
-        rows.append(("least_squares trf (previous)", t, c, rms, ok))
-        t, c, (rms, ok) = timed(lambda d=data: fd_least_squares(d), max(1, reps // 8))
-        rows.append(("least_squares trf, 2-point FD", t, c, rms, ok))
-        t, c, r_ip = timed(lambda d=data: fit(d, method="ipopt"), 1 if n >= 1000 else 3)
-        rows.append(("fit(method='ipopt'), scaled", t, c, r_ip.rms, r_ip.success))
+        t_def, c_def, r = timed(lambda d=data: fit(d), reps)
+        rows = [("default fit (LM, analytic jac)", t_def, c_def, r.iterations, r.rms, r.success)]
+        t, c, (rms, ok, it) = timed(lambda d=data: trf_least_squares(d), max(3, reps // 3))
+        rows.append(("least_squares trf (previous)", t, c, it, rms, ok))
+        t, c, (rms, ok, it) = timed(lambda d=data: fd_least_squares(d), max(1, reps // 8))
+        rows.append(("least_squares trf, 2-point FD", t, c, it, rms, ok))
+        t, c, r = timed(lambda d=data: fit(d, method="ipopt"), 1 if n >= 1000 else 3)
+        rows.append(("fit(method='ipopt'), scaled", t, c, r.iterations, r.rms, r.success))
         if not args.quick or n <= 100:
-            t, c, (rms, ok) = timed(lambda d=data: ipopt_unscaled(d), 1 if args.quick else 3)
-            rows.append(("IPOPT unscaled (paper)", t, c, rms, ok))
-        for name, t, c, rms, ok in rows:
+            t, c, (rms, ok, it) = timed(lambda d=data: ipopt_unscaled(d), 1 if args.quick else 3)
+            rows.append(("IPOPT unscaled (paper)", t, c, it, rms, ok))
+        for name, t, c, it, rms, ok in rows:
             print(
                 f"{n:>5} {name:<30} {1e3 * t:>10.2f} {1e3 * c:>9.2f} {t / t_def:>10.1f} "
-                f"{rms:>12.6g} {ok!s:>4}"
+                f"{it:>6} {rms:>12.6g} {ok!s:>4}"
             )
 
     print()
