@@ -13,9 +13,11 @@ tests). Backends:
   parametrisation of the curve, or no convergence) the bounded trust-region
   reflective solver ``scipy.optimize.least_squares(method="trf", bounds h, k >
   0)`` is run from the same start, so the result always lies in ``U``. Both
-  reach the same optimum where both converge (tests: parameters to 1e-9); LM
-  has less work per iteration (no bound handling or SVD in Python), about half
-  the time of trf alone at ``N = 100`` in ``benchmarks/bench_elastica.py``.
+  reach the same optimum where both converge (tests: the cost to 1e-12, the
+  parameters to 1e-9 of trf's optimum polished by Gauss-Newton steps; trf stops
+  up to ~5e-8 short of it on ill-conditioned cases, LM ~1e-12). LM does less
+  work per iteration (QR inside MINPACK; no bound handling or SVD in Python):
+  about half the time of trf alone at ``N = 100`` in ``benchmarks/bench_elastica.py``.
 * ``method="ipopt"``: the paper's backend, IPOPT through cyipopt (extra
   ``ipopt``) on the scalar objective (4.8) with gradient (4.9) and the
   limited-memory quasi-Newton Hessian, as in the paper, with the variables
@@ -293,10 +295,11 @@ _LM_CONVERGED = {
 
 
 def _levenberg_marquardt(prob: _Problem, x0: np.ndarray, lo: np.ndarray, max_iter, tol):
-    """MINPACK lmder (scipy ``leastsq``) from `x0`, unbounded: ``(x, njev, why_not)``.
+    """MINPACK lmder (scipy ``leastsq``) from `x0`, unbounded: ``(x, njev, message, why_not)``.
 
-    ``why_not`` is None if it converged (``info`` 1-4) to a finite point inside
-    the bounds `lo` (``h, k > 0``) with finite residuals, else the reason in words.
+    ``why_not`` is None (and ``message`` says how it converged) if it converged
+    (``info`` 1-4) to a finite point inside the bounds `lo` (``h, k > 0``) with
+    finite residuals; otherwise ``message`` is None and ``why_not`` the reason in words.
     Trial points outside ``U`` are evaluated as they come (``k <= 0`` mirrors the
     curve, ``k <= -1`` gives NaN residuals, which MINPACK rejects as a step);
     floating-point warnings there are expected and silenced.
