@@ -477,3 +477,17 @@ def test_guess_with_collinear_inner_vertices():
     assert np.all(np.isfinite(g))
     assert abs(g.phi - np.arctan2(mu2, mu1)) < 1e-12  # phi of (4.34), here 0 by symmetry
     assert abs(g.phi) < 1e-12
+
+
+def test_tol_below_machine_epsilon_converges_in_lm():
+    """MINPACK reports info 6-8 ("tol too small") when tol < eps and it reached machine
+    precision: accepted as converged (no trf fallback, whose least_squares would warn)."""
+    rng = np.random.default_rng(11)
+    clean = sample((0.0, 0.0, 0.1, 0.3, 0.05, 0.2, 0.6), 80)
+    data = clean + rng.normal(scale=1e-3, size=clean.shape)
+    default = fit(data)
+    tight = fit(data, tol=1e-20)
+    assert tight.success and "tol below machine precision" in tight.message, tight.message
+    assert tight.message.startswith("Levenberg-Marquardt (MINPACK lmder)")
+    np.testing.assert_allclose(np.array(tight.params), np.array(default.params), atol=1e-9)
+    assert abs(tight.cost - default.cost) <= 1e-12 * default.cost

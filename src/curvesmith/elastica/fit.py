@@ -285,12 +285,17 @@ class _Memo:
         return j
 
 
-#: MINPACK lmder's ``info`` codes 1-4 (converged), in words.
+#: MINPACK lmder's ``info`` codes for convergence, in words: 1-4, and 6-8, which it
+#: returns instead when ``tol`` is below the machine epsilon and the iteration has
+#: reached machine precision.
 _LM_CONVERGED = {
     1: "relative reduction of the sum of squares below tol",
     2: "relative step below tol",
     3: "relative reduction of the sum of squares and relative step below tol",
     4: "residuals orthogonal to the Jacobian columns within tol",
+    6: "no further reduction of the sum of squares possible (tol below machine precision)",
+    7: "no further improvement of the parameters possible (tol below machine precision)",
+    8: "residuals orthogonal to the Jacobian columns to machine precision (tol below it)",
 }
 
 
@@ -298,7 +303,7 @@ def _levenberg_marquardt(prob: _Problem, x0: np.ndarray, lo: np.ndarray, max_ite
     """MINPACK lmder (scipy ``leastsq``) from `x0`, unbounded: ``(x, njev, message, why_not)``.
 
     ``why_not`` is None (and ``message`` says how it converged) if it converged
-    (``info`` 1-4) to a finite point inside the bounds `lo` (``h, k > 0``) with
+    (``info`` 1-4, or 6-8) to a finite point inside the bounds `lo` (``h, k > 0``) with
     finite residuals; otherwise ``message`` is None and ``why_not`` the reason in words.
     Trial points outside ``U`` are evaluated as they come (``k <= 0`` mirrors the
     curve, ``k <= -1`` gives NaN residuals, which MINPACK rejects as a step);
@@ -318,12 +323,10 @@ def _levenberg_marquardt(prob: _Problem, x0: np.ndarray, lo: np.ndarray, max_ite
             maxfev=max_iter,
         )
     njev = int(info["njev"])
-    if ier not in _LM_CONVERGED:
-        why = (
-            f"reached max_iter = {max_iter} function evaluations"
-            if ier == 5
-            else f"stopped with MINPACK info {ier}"
-        )
+    if ier == 5:
+        why = f"reached max_iter = {max_iter} function evaluations"
+    elif ier not in _LM_CONVERGED:
+        why = f"stopped with MINPACK info {ier}"
     elif not (np.all(np.isfinite(x)) and np.all(np.isfinite(info["fvec"]))):
         why = "ended with non-finite parameters or residuals"
     elif np.any(x < lo):
