@@ -446,7 +446,8 @@ def test_failed_lm_falls_back_to_trf_with_the_same_result(monkeypatch):
 
 def test_lm_trial_points_with_nan_residuals_neither_warn_nor_pass():
     """k <= -1 (outside U) gives NaN residuals (scipy's ellipj for m > 1): MINPACK must not
-    accept them and no floating-point warning may escape (pytest turns them into errors)."""
+    accept them. Overflowing trial points must not raise numpy's RuntimeWarning (pytest
+    turns it into an error); both end as a reported non-convergence."""
     import importlib
 
     fit_module = importlib.import_module("curvesmith.elastica.fit")
@@ -460,6 +461,12 @@ def test_lm_trial_points_with_nan_residuals_neither_warn_nor_pass():
     assert msg is None and why_not == "ended with non-finite parameters or residuals"
     # from just inside k > -1 LM wanders near the NaN region until max_iter: reported, no warning
     x0[6] = -0.99
+    _, _, msg, why_not = fit_module._levenberg_marquardt(prob, x0, lo, 400, 1e-12)
+    assert msg is None and why_not.startswith("reached max_iter = 400")
+    # k = 1e307 overflows k s: numpy warns (an error here) unless the LM call silences it
+    x0[6] = 1e307
+    with pytest.raises(RuntimeWarning, match="overflow"):
+        prob.residuals(x0)
     _, _, msg, why_not = fit_module._levenberg_marquardt(prob, x0, lo, 400, 1e-12)
     assert msg is None and why_not.startswith("reached max_iter = 400")
 
