@@ -463,10 +463,10 @@ def test_lm_trial_points_with_nan_residuals_neither_warn_nor_pass():
     x0[6] = -0.99
     _, _, msg, why_not = fit_module._levenberg_marquardt(prob, x0, lo, 400, 1e-12)
     assert msg is None and why_not.startswith("reached max_iter = 400")
-    # k = 1e307 overflows k s: numpy warns (an error here) unless the LM call silences it
+    # k = 1e307 overflows da/dz = n k dn: numpy warns (an error here) unless LM silences it
     x0[6] = 1e307
     with pytest.raises(RuntimeWarning, match="overflow"):
-        prob.residuals(x0)
+        prob.jacobian(x0)
     _, _, msg, why_not = fit_module._levenberg_marquardt(prob, x0, lo, 400, 1e-12)
     assert msg is None and why_not.startswith("reached max_iter = 400")
 
