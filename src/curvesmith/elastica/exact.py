@@ -212,18 +212,6 @@ def _family(s: np.ndarray, k: float, jf=None):
     return sn, cn, k * dn, a_k
 
 
-def _tangents(p: ElasticaParams, n_points: int, *, derivatives: bool = False):
-    """Unit tangents ``T_n`` (n = 0..N-2) of eq. (3.1) and optionally the pieces of eq. (4.11).
-
-    Returns ``T`` as ``(N-1, 2)`` (a view of :func:`_phasors`), and with `derivatives`
-    also ``da/ds`` and ``da/dk`` at the vertices (``(N,)`` each).
-    """
-    out = _phasors(p, n_points, derivatives=derivatives)
-    if not derivatives:
-        return out.view(float).reshape(n_points - 1, 2)
-    return (out[0].view(float).reshape(n_points - 1, 2), *out[1:])
-
-
 def _phasors(p: ElasticaParams, n_points: int, *, derivatives: bool = False):
     """Tangents as complex numbers ``T_n = exp(i (phi + a_n + a_{n+1}))``, ``(N-1,)``.
 
