@@ -111,7 +111,12 @@ first vertex; fixed vertices (ends, anchors) are returned bit-exact. Zero-length
 edges created on the way (spikes) are compacted; nothing divides by zero.
 Every step is a fixed sequence of whole-array numpy operations (no loop per
 vertex); the restriction passes after the first touch only the edges next to
-vertices just decreased.
+vertices just decreased. Steps over 65536 or more 2D vertices run in blocks of
+32768 vertices with halos (the step is local, so the result is the same to the
+last bit), which keeps the temporaries in the processor's cache, and the blocks
+run in ``workers`` threads. The counts of :class:`CCAResult` are exact: an edge
+whose decrease is stopped by the ``min_factor`` floor stays counted as
+unsatisfied while other vertices still move.
 
 Vertex count
 ------------
