@@ -52,9 +52,14 @@ def area_scale(points):
 
 def assert_area_kept(before, after, rtol=1e-12):
     a0, a1 = exact_area(before), exact_area(after)
-    # relative to |A| (the guarantee); a zero-area figure-eight is measured against its scale
-    ext = float(np.ptp(np.asarray(before, dtype=float), axis=0).max())
-    tol = rtol * abs(a0) + 1e-14 * area_scale(before) + 1e-16 * ext * ext
+    # Relative to |A| (the guarantee); a zero-area figure-eight is measured against its scale,
+    # and a figure with no area at all (an anchored piece that is one straight edge) against
+    # the rounding of the output's coordinates: moving each vertex by up to eps |coordinate|
+    # changes the shoelace area by up to eps * max|coordinate| * perimeter.
+    q = np.asarray(after, dtype=float)
+    perimeter = float(np.hypot(*(np.roll(q, -1, axis=0) - q).T).sum())
+    rounding = np.finfo(float).eps * float(np.abs(q).max()) * perimeter
+    tol = rtol * abs(a0) + 1e-14 * area_scale(before) + rounding
     assert abs(a1 - a0) <= tol, (a0, a1, (a1 - a0) / (abs(a0) or 1.0))
 
 

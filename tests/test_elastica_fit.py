@@ -350,6 +350,21 @@ def _trf_reference(data, start, *, tol=1e-12, max_nfev=400):
     return res, prob
 
 
+def _plain_leastsq(prob, start):
+    """scipy leastsq (MINPACK lmder) as fit's defaults call it: ``(x, info, ier)``."""
+    x, _, info, _, ier = leastsq(
+        prob.residuals,
+        np.array(start, dtype=float),
+        Dfun=prob.jacobian,
+        full_output=True,
+        ftol=1e-12,
+        xtol=1e-12,
+        gtol=1e-12,
+        maxfev=400,
+    )
+    return x, info, ier
+
+
 def test_levenberg_marquardt_reaches_the_trf_optimum_on_random_noisy_curves():
     """The default path finishes in LM (MINPACK) and lands where bounded trf lands.
 
@@ -368,16 +383,7 @@ def test_levenberg_marquardt_reaches_the_trf_optimum_on_random_noisy_curves():
         ref, prob = _trf_reference(data, res.start)
         assert ref.status > 0
         # plain leastsq on the same problem: same iterations (Jacobian evaluations), same point
-        lm_x, _, lm_info, _, lm_ier = leastsq(
-            prob.residuals,
-            np.array(res.start),
-            Dfun=prob.jacobian,
-            full_output=True,
-            ftol=1e-12,
-            xtol=1e-12,
-            gtol=1e-12,
-            maxfev=400,
-        )
+        lm_x, lm_info, lm_ier = _plain_leastsq(prob, res.start)
         assert lm_ier in (1, 2, 3, 4) and res.iterations == lm_info["njev"]
         np.testing.assert_allclose(np.array(res.params), lm_x, rtol=1e-12, atol=1e-12)
         assert abs(res.cost - ref.cost) <= 1e-12 * ref.cost
@@ -398,16 +404,7 @@ def test_lm_outside_u_falls_back_to_bounded_trf():
     pts = sample(p, 60)
     start = (0.5, -0.25, 0.05, 0.3, -0.06, -0.4, 0.2)
     prob = _Problem(pts, np.array(start), np.ones(7, dtype=bool))
-    lm_x, _, lm_info, _, lm_ier = leastsq(
-        prob.residuals,
-        np.array(start),
-        Dfun=prob.jacobian,
-        full_output=True,
-        ftol=1e-12,
-        xtol=1e-12,
-        gtol=1e-12,
-        maxfev=400,
-    )
+    lm_x, lm_info, lm_ier = _plain_leastsq(prob, start)
     assert lm_ier in (1, 2, 3, 4) and lm_x[6] < 0  # plain MINPACK: converged, outside U
     res = fit(pts, start=start, continuation=False)
     assert "Levenberg-Marquardt converged outside U (k = -0.7)" in res.message

@@ -1471,9 +1471,7 @@ def _sorted_unique(v: np.ndarray) -> np.ndarray:
     return s
 
 
-def _restrict2(
-    alpha, half_a2, cr, scross, dot, short, length, fixed, any_fixed, edge_on, c, C, limits, core
-):
+def _restrict2(*args):
     """2D :func:`_restrict_passes` that also returns the edge terms of the final alphas.
 
     Same rules and the same arithmetic (so the same alphas); the generic
@@ -1489,22 +1487,7 @@ def _restrict2(
     (a block of :func:`_step2_blocked`).
     """
     with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
-        return _restrict2_passes(
-            alpha,
-            half_a2,
-            cr,
-            scross,
-            dot,
-            short,
-            length,
-            fixed,
-            any_fixed,
-            edge_on,
-            c,
-            C,
-            limits,
-            core,
-        )
+        return _restrict2_passes(*args)
 
 
 def _restrict2_passes(
