@@ -137,6 +137,7 @@ import numpy as np
 
 from ._validate import as_float, as_points
 from .errors import CurveError, CurveFormatError
+from .geometry import _signed_area
 
 __all__ = [
     "FORMATS",
@@ -1735,8 +1736,7 @@ def _nested_rings(subpaths, evenodd: bool) -> list[tuple]:
 
 
 def _shoelace(pts: np.ndarray) -> float:
-    x, y = pts[:, 0], pts[:, 1]
-    return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
+    return _signed_area(pts[:, :2])
 
 
 def _num(v: float) -> str:

@@ -9,6 +9,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import CurveError, require
+from ..geometry import _signed_area
 from ._engine import Level, levels_for, resolve_arcs
 
 __all__ = ["GeometryReduction", "SmoothResult", "smooth"]
@@ -301,8 +302,7 @@ def prepare(geoms: np.ndarray, *, make_valid: bool, what: str = "geometry") -> n
 
 
 def _ring_area(xy: np.ndarray) -> float:
-    x, y = xy[:, 0], xy[:, 1]
-    return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
+    return _signed_area(xy)  # about the first vertex, without cancellation
 
 
 def _signed_areas(rings: list[np.ndarray]) -> np.ndarray:
