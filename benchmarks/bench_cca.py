@@ -6,19 +6,22 @@ iterations (capped so the output stays below ~30 M vertices). Three families:
 (radius noise, many inflections and local alpha decreases) and ``noisy``
 (random angles and 5 % radius noise: uneven edges, like a digitised outline,
 the slowest case). For each case the
-median wall time over the repeats, output vertices per second for CCA and
+median wall time over the repeats, output vertices per second for CCA (wall
+time, and CPU time summed over its threads: the throughput of one core) and
 Chaikin, the time ratio per output vertex (CCA / Chaikin) in wall time and in
 CPU time (``process_time``, steadier on a shared machine), the number of local
 alpha decreases, and the peak traced memory of one CCA run as a multiple of the
 output array (tracemalloc; skipped above 3 M output vertices). Quantities not
-measured print as ``-``.
+measured print as ``-``. CCA runs with its default ``workers`` (threads for
+steps over 65536 vertices) unless ``--workers`` is given; Chaikin is one thread.
 
-Run: ``python benchmarks/bench_cca.py [--quick] [--repeats R]``.
+Run: ``python benchmarks/bench_cca.py [--quick] [--repeats R] [--workers W]``.
 """
 
 from __future__ import annotations
 
 import argparse
+import functools
 import statistics
 import time
 import tracemalloc
@@ -67,6 +70,7 @@ def main() -> None:
     ap.add_argument("--quick", action="store_true", help="sizes up to 1e5, 2 repeats")
     ap.add_argument("--repeats", type=int, default=None, help="timing repeats (median)")
     ap.add_argument("--no-memory", action="store_true", help="skip the tracemalloc runs")
+    ap.add_argument("--workers", type=int, default=None, help="cca threads (default: cca's)")
     args = ap.parse_args()
     sizes = [10**2, 10**3, 10**4, 10**5] + ([] if args.quick else [10**6])
     repeats = args.repeats or (2 if args.quick else 3)
@@ -85,12 +89,18 @@ def main() -> None:
             for it in range(1, 6):
                 if n * 3**it > MAX_OUTPUT:
                     break
-                run = lambda p=p, it=it: cca.smooth(p, closed=True, iterations=it)  # noqa: E731
+                run = functools.partial(
+                    cca.smooth, p, closed=True, iterations=it, workers=args.workers
+                )
                 t_cca, c_cca, out = timed(run, repeats)
                 t_ch, c_ch, ch = timed(
                     lambda p=p, it=it: subdivision.chaikin(p, closed=True, iterations=it), repeats
                 )
-                info = cca.smooth_with_info(p, closed=True, iterations=it) if n <= 10**5 else None
+                info = (
+                    cca.smooth_with_info(p, closed=True, iterations=it, workers=args.workers)
+                    if n <= 10**5
+                    else None
+                )
                 v_cca = out.shape[0] / t_cca / 1e6
                 v_cpu = out.shape[0] / max(c_cca, 1e-9) / 1e6
                 v_ch = ch.shape[0] / t_ch / 1e6
@@ -98,8 +108,7 @@ def main() -> None:
                 if args.no_memory or n * 3**it > 3_000_000:
                     mem = "-"
                 else:
-                    run_mem = lambda p=p, it=it: cca.smooth(p, closed=True, iterations=it)  # noqa: E731
-                    mem = f"{peak_ratio(run_mem, out.nbytes):.2f}"
+                    mem = f"{peak_ratio(run, out.nbytes):.2f}"
                 red = "-" if info is None else str(info.reductions)
                 print(
                     f"{kind:>6} {n:>8} {it:>2} {out.shape[0]:>10} {t_cca:>8.3f} {v_cca:>9.2f} "
