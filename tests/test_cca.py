@@ -1019,3 +1019,36 @@ def test_unsatisfied_counts_every_violated_edge(seed):
     assert res.unsatisfied == strict and res.success == (strict == 0)
     if seed == 60:
         assert strict == 33 and not res.success
+
+
+@pytest.mark.parametrize("scale", [1e-170, 1e-300, 1e200, 1e300])
+def test_extreme_scales_are_smoothed_like_unit_scale(scale):
+    # Regression: at 1e-170 every squared edge length underflowed to 0, the step saw
+    # zero-length edges that compacting could not remove, and recursed without end.
+    # Such inputs are scaled by a power of two (exact), which CCA1 commutes with.
+    t = 2 * np.pi * np.arange(60) / 60
+    p = np.c_[np.cos(t), np.sin(t)] * (1 + 0.2 * np.sin(5 * t))[:, None] * scale
+    e = math.frexp(float(np.abs(p).max()))[1]
+    out = cca.smooth(p, closed=True, iterations=2)
+    np.testing.assert_array_equal(
+        out, np.ldexp(cca.smooth(np.ldexp(p, -e), closed=True, iterations=2), e)
+    )
+    assert np.isfinite(out).all() and out.shape == (540, 2)
+    assert_area_kept(np.ldexp(p, -e), np.ldexp(out, -e))
+    line = cca.smooth(p[:20], closed=False, anchors=[7], iterations=2)
+    np.testing.assert_array_equal(line[[0, -1]], p[[0, 19]])  # fixed vertices bit-exact
+
+
+def test_edge_whose_square_underflows_counts_as_a_duplicate():
+    # Two vertices 1e-170 apart on a unit ring: the steps see a zero-length edge, so the
+    # duplicate removal must too (it compared coordinates for equality and kept both).
+    t = 2 * np.pi * np.arange(40) / 40
+    p = np.c_[np.cos(t), np.sin(t)]
+    q = np.insert(p, 6, p[6] + [1e-170, 0.0], axis=0)
+    np.testing.assert_array_equal(
+        cca.smooth(q, closed=True, iterations=2), cca.smooth(p, closed=True, iterations=2)
+    )
+    ring = np.array([[0.0, 0.0], [1e-170, 0.0], [1.0, 0.0], [1.0, 1.0]])  # via the origin
+    out = cca.smooth(ring, closed=True, iterations=3)
+    assert np.isfinite(out).all()
+    assert_area_kept(ring, out)

@@ -207,3 +207,9 @@ def test_resample_rules_on_a_curve_that_comes_back_near_itself():
     assert len(paper) < len(walk) / 2  # jumped across the gap to the other end
     with pytest.raises(CurveError, match="rule must be 'paper' or 'walk', got 'x'"):
         geometry.resample_equilateral(loop, 0.3, rule="x")
+
+
+def test_private_ring_area_of_nothing_is_zero():
+    # io and geo call the private helper on rings they build; an empty one has no area
+    assert geometry._signed_area(np.zeros((0, 2))) == 0.0
+    assert geometry._signed_area(np.ones((1, 2))) == 0.0

@@ -356,3 +356,16 @@ def test_old_geojson_crs_is_reported_not_silently_dropped(runner, tmp_path):
     src.write_text(json.dumps(wgs))
     res = runner.invoke(main, ["smooth", str(src), "-o", str(out), "--method", "chaikin"])
     assert res.exit_code == 0 and res.output == ""
+
+
+def test_smooth_cli_on_coordinates_of_1e_170(runner, tmp_path):
+    # Regression (acceptance testing): squared edge lengths underflowed and cca recursed until
+    # Python's recursion limit; the CLI printed a traceback.
+    src = tmp_path / "tiny.csv"
+    src.write_text("x,y\n0,0\n1e-170,0\n1e-170,1e-170\n0,1e-170\n")
+    out = tmp_path / "out.csv"
+    res = runner.invoke(main, ["smooth", str(src), "-o", str(out)])
+    assert res.exit_code == 0, res.output
+    pts = cio.read_csv(out)[0].points
+    assert pts.shape == (69, 2) and np.isfinite(pts).all()  # 3 steps: 4 -> 9 -> 24 -> 69
+    np.testing.assert_array_equal(pts[[0, -1]], [[0.0, 0.0], [0.0, 1e-170]])  # ends kept

@@ -422,7 +422,9 @@ def smooth(
     alpha : "regular", float or callable, optional
         alpha-profile (section 4): ``"regular"`` (Table 1, PCHIP), a constant
         in (0, 1/3), or a function of the interior angle in radians (array in,
-        array out; values in [0, 1/3)).
+        array out; values in [0, 1/3)). The function must act angle by angle:
+        long curves are smoothed in blocks, possibly in several threads at once
+        (see `workers`), so it is called on pieces of the angle array.
     anchors : sequence of int, optional
         Indices of input vertices that stay fixed (section 5); the pieces between
         anchors are smoothed as independent polylines, each keeping its area
@@ -546,6 +548,12 @@ def smooth_with_info(
     workers = _default_workers() if workers is None else as_int(workers, name="workers", minimum=1)
     alpha_fn = _alpha_function(alpha)
     raw = as_points(points, closed=closed, min_points=1, dim=(2, 3))
+    # Coordinates so small or so large that squared edge lengths would underflow or overflow
+    # are scaled by a power of two (exact) and scaled back at the end; CCA1 commutes with it.
+    top = float(np.abs(raw).max())
+    exp2 = math.frexp(top)[1] if top > 0 and not _TINY < top < _HUGE else 0
+    if exp2:
+        raw = np.ldexp(raw, -exp2)
     n_in = raw.shape[0]
     fixed = np.zeros(n_in, dtype=bool)
     if anchors is not None:
@@ -568,7 +576,8 @@ def smooth_with_info(
         raise CurveError("points are all identical: a polygon needs non-zero extent")
 
     if iterations == 0:
-        return CCAResult(p, 0, 0, (), 0, 0, True, "0 CCA1 steps: input returned")
+        out = np.ldexp(p, exp2) if exp2 else p
+        return CCAResult(out, 0, 0, (), 0, 0, True, "0 CCA1 steps: input returned")
     # every step triples the vertex count (closed 3n, open 3n - 3, Fig. 11 edges one more)
     check_growth(p.shape[0], iterations, lambda n: 3 * n, limit=MAX_VERTICES)
     fixed_in = fixed
@@ -614,6 +623,8 @@ def smooth_with_info(
         out = stacked  # the last step added the origin on writing
     if fixed_in.any():
         out[fixed] = p[fixed_in]  # fixed vertices (ends, anchors) are returned bit-exact
+    if exp2:
+        np.ldexp(out, exp2, out=out)
     ok = unsat_total == 0
     msg = (
         f"{iterations} CCA1 step(s), {sum(red_steps)} local alpha reduction(s), "
@@ -713,11 +724,21 @@ def _anchor_indices(anchors, n: int) -> np.ndarray:
     return idx
 
 
+def _zero_gap(d: np.ndarray) -> np.ndarray:
+    """Rows of differences whose squared length is 0 as the steps compute it.
+
+    True for equal points and for points so close that every squared component
+    underflows (``|d| < 1.5e-162``): the step would see a zero-length edge, so
+    both count as duplicates (otherwise compacting could not remove the edge).
+    """
+    return ~np.any(d * d > 0, axis=1)
+
+
 def _dedupe(p: np.ndarray, fixed: np.ndarray, closed: bool) -> tuple[np.ndarray, np.ndarray]:
-    same = np.all(p[1:] == p[:-1], axis=1)
+    same = _zero_gap(p[1:] - p[:-1])
     if closed and p.shape[0] > 1:
         # drop trailing copies of the first vertex too
-        tail = np.all(p == p[0], axis=1)
+        tail = _zero_gap(p - p[0])
         tail[0] = False
         k = p.shape[0]
         while k > 1 and tail[k - 1]:
@@ -768,6 +789,8 @@ def _step_cols(*args, stacked=None, workers=1):
 
 
 _SHRINK = 1.0 - 8.0 * np.finfo(float).eps
+#: Coordinates outside (_TINY, _HUGE) in absolute value are rescaled by a power of two.
+_TINY, _HUGE = 2.0**-400, 2.0**400
 
 
 def _roll_m1(a: np.ndarray) -> np.ndarray:

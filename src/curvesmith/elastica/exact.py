@@ -329,7 +329,7 @@ def sample(params, n_points: int, *, case: str | None = None) -> np.ndarray:
     """
     p = _as_params(params, case=case)
     n = as_int(n_points, name="n_points", minimum=2)
-    return _positions(p, n)
+    return _positions(p, n).copy()  # an array of its own, not a view of the complex walk
 
 
 def exact_curvature(params, n_points: int, *, case: str | None = None) -> np.ndarray:
