@@ -1789,7 +1789,14 @@ def write_svg(
             )
     allpts = np.concatenate([c.points for c in curves])
     lo, hi = allpts.min(axis=0), allpts.max(axis=0)
-    size = float(max(hi - lo))
+    with np.errstate(over="ignore"):
+        size = float(max(hi - lo))
+    if not math.isfinite(size):
+        raise CurveFormatError(
+            f"the coordinates span more than the largest float (from {lo.min():.3g} to "
+            f"{hi.max():.3g}): the extent overflows, so no SVG viewBox can hold them; scale "
+            "them down"
+        )
     if size == 0.0:
         size = max(1.0, float(np.abs(lo).max()))
     pad = 0.02 * size
