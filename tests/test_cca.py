@@ -942,6 +942,22 @@ def test_blocked_step_runs_in_blocks_and_falls_back_on_zero_length_edges(monkeyp
         np.testing.assert_array_equal(ty, wy)
 
 
+def test_threads_run_blocks_under_the_callers_errstate(monkeypatch):
+    # numpy's errstate is a context variable; plain worker threads would not see it
+    seen = []
+    step2 = cca._step2
+
+    def spy(*args):
+        seen.append(np.geterr()["over"])
+        return step2(*args)
+
+    monkeypatch.setattr(cca, "_step2", spy)
+    monkeypatch.setattr(cca, "_BLOCK", 128)
+    with np.errstate(over="ignore"):
+        cca.smooth(_jagged_ring(700, 29), closed=True, workers=2)
+    assert len(seen) == 6 and set(seen) == {"ignore"}  # ceil(700 / 128) blocks
+
+
 def test_workers_is_validated():
     with pytest.raises(CurveError, match="workers must be an integer >= 1, got 0"):
         cca.smooth(regular(5), closed=True, workers=0)

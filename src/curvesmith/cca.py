@@ -144,6 +144,7 @@ Paper typos found while verifying (scratch scripts, then the tests)
 
 from __future__ import annotations
 
+import contextvars
 import math
 import os
 from collections import deque
@@ -1299,14 +1300,22 @@ def _has_zero_edges(x: np.ndarray, y: np.ndarray, closed: bool) -> bool:
 
 
 def _in_order(pool, fn, items, ahead: int):
-    """``fn`` over `items` in `pool`, results in order, at most `ahead` in flight."""
+    """``fn`` over `items` in `pool`, results in order, at most `ahead` in flight.
+
+    Each call runs in a copy of the caller's context, so that numpy's floating-point
+    error state (``np.errstate``, a context variable) holds in the worker threads too.
+    """
+
+    def submit(item):
+        return pool.submit(contextvars.copy_context().run, fn, item)
+
     items = iter(items)
-    futures = deque(pool.submit(fn, item) for item in islice(items, ahead))
+    futures = deque(submit(item) for item in islice(items, ahead))
     try:
         while futures:
             result = futures.popleft().result()
             for item in islice(items, 1):
-                futures.append(pool.submit(fn, item))
+                futures.append(submit(item))
             yield result
     finally:
         for future in futures:  # an error (or a zero-length edge) stops the rest
