@@ -919,12 +919,13 @@ def test_blocked_step_runs_in_blocks_and_falls_back_on_zero_length_edges(monkeyp
     np.testing.assert_array_equal(by, wy)
     np.testing.assert_array_equal(bfixed, wfixed)
     assert counts == wcounts
-    # a zero-length edge (a step can create one on real data): removed first, still in blocks
+    # a zero-length edge (a step can create one on real data): the third block meets it, the
+    # edge is removed and the step starts again in blocks (5 of the compacted ring)
     x2, y2 = np.insert(x, 300, x[300]), np.insert(y, 300, y[300])
     fixed2 = np.zeros(601, dtype=bool)
     calls.clear()
     bx, by, *_ = cca._step2_blocked(x2, y2, fixed2, True, *args, stacked=None)
-    assert calls == [True] * 5
+    assert calls == [True] * 8
     wx, wy, *_ = step2(x2, y2, fixed2, True, *args, None)
     np.testing.assert_array_equal(bx, wx)
     np.testing.assert_array_equal(by, wy)

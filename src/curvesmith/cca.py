@@ -1248,19 +1248,17 @@ def _step2_blocked(x, y, fixed, closed, *args, stacked, workers=1):
     are in flight and their outputs are copied in order, so the result does
     not depend on the number of threads.
 
-    Zero-length edges (which a step can create on real data) are removed first,
-    as :func:`_step2` does. Short curves, a halo too long for the block (a
-    large ``max_passes``) and a block whose own wrap edge has zero length take
-    the one-piece step.
+    A block that meets a zero-length edge stops the blocked step: if the curve
+    has one (a step can create them on real data), it is removed, as
+    :func:`_step2` does, and the blocked step starts again; if only the block's
+    own wrap edge has zero length, the one-piece step runs. Short curves and a
+    halo too long for the block (a large ``max_passes``) take the one-piece step.
     """
     n = x.shape[0]
     halo = args[-1][0] + 8  # limits = (max_passes, min_factor)
     block = _BLOCK
     if n < 2 * block or 4 * halo > block:
         return _step2(x, y, fixed, closed, *args, stacked)[:7]
-    if _has_zero_edges(x, y, closed):
-        (x, y), fixed = _compact([x, y], fixed, closed)
-        return _step2_blocked(x, y, fixed, closed, *args, stacked=stacked, workers=workers)
 
     def run(s: int):
         e = min(n, s + block)
@@ -1283,6 +1281,9 @@ def _step2_blocked(x, y, fixed, closed, *args, stacked, workers=1):
                 return _gather_blocks(n, _in_order(pool, run, starts, 2 * workers), stacked)
         return _gather_blocks(n, map(run, starts), stacked)
     except _NeedsWholeStep:
+        if _has_zero_edges(x, y, closed):
+            (x, y), fixed = _compact([x, y], fixed, closed)
+            return _step2_blocked(x, y, fixed, closed, *args, stacked=stacked, workers=workers)
         return _step2(x, y, fixed, closed, *args, stacked)[:7]
 
 

@@ -1697,7 +1697,7 @@ def _nested_rings(subpaths, evenodd: bool) -> list[tuple]:
     one polygon gives a Polygon, several a MultiPolygon. Subpaths that merely overlap stay
     separate polygons (the SVG fill of overlaps is not a simple feature anyway).
     """
-    areas = [_shoelace(pts) for pts, _ in subpaths]
+    areas = [_signed_area(pts[:, :2]) for pts, _ in subpaths]
     n = len(subpaths)
     parent: list[int | None] = [None] * n
     for j, (pts, _) in enumerate(subpaths):
@@ -1733,10 +1733,6 @@ def _nested_rings(subpaths, evenodd: bool) -> list[tuple]:
         else:
             index.append((None, part_of[k], 0, kind))
     return index
-
-
-def _shoelace(pts: np.ndarray) -> float:
-    return _signed_area(pts[:, :2])
 
 
 def _num(v: float) -> str:

@@ -301,10 +301,6 @@ def prepare(geoms: np.ndarray, *, make_valid: bool, what: str = "geometry") -> n
 # the smoothing itself
 
 
-def _ring_area(xy: np.ndarray) -> float:
-    return _signed_area(xy)  # about the first vertex, without cancellation
-
-
 def _signed_areas(rings: list[np.ndarray]) -> np.ndarray:
     """Signed areas of many rings (listed without the closing vertex), vectorized."""
     if not rings:
@@ -315,13 +311,9 @@ def _signed_areas(rings: list[np.ndarray]) -> np.ndarray:
     xy = xy - np.repeat(xy[start], lens, axis=0)  # local origin: no cancellation
     nxt = np.arange(len(xy)) + 1
     nxt[start + lens - 1] = start  # wrap around within each ring
-    terms = xy[:, 0] * xy[nxt, 1] - xy[nxt, 0] * xy[:, 1]
+    # the trapezoid form of geometry.signed_area, ring by ring
+    terms = (xy[:, 0] - xy[nxt, 0]) * (xy[:, 1] + xy[nxt, 1])
     return 0.5 * np.add.reduceat(terms, start)
-
-
-def _chord_area(xy: np.ndarray) -> float:
-    # area between an open polyline and its chord = area of the closed polygon it makes
-    return _ring_area(xy)
 
 
 def _rel(a: float, b: float, scale: float) -> float:
@@ -368,18 +360,13 @@ def _smooth_feature_array(
     ring = ~empty & (types == T.LINEARRING)
     coll = ~empty & (types == T.GEOMETRYCOLLECTION)
 
-    if poly.any():
-        res, red, n, ch = _smooth_polygonal(g[poly], idx[poly], smoother, levels)
-        out[idx[poly]] = res
-        reductions += red
-        n_curves += n
-        max_change = max(max_change, ch)
-    if line.any():
-        res, red, n, ch = _smooth_lineal(g[line], idx[line], smoother, levels)
-        out[idx[line]] = res
-        reductions += red
-        n_curves += n
-        max_change = max(max_change, ch)
+    for mask, smooth_kind in ((poly, _smooth_polygonal), (line, _smooth_lineal)):
+        if mask.any():
+            res, red, n, ch = smooth_kind(g[mask], idx[mask], smoother, levels)
+            out[idx[mask]] = res
+            reductions += red
+            n_curves += n
+            max_change = max(max_change, ch)
     for k in idx[ring]:
         res, red, n, ch = _smooth_linearring(geoms[k], int(k), smoother, levels)
         out[k] = res
@@ -530,9 +517,9 @@ def _smooth_lineal(g, feat_index, smoother, levels):
     res[was_line] = shapely.get_geometry(ml[was_line], 0)
     change = 0.0
     for a, b in zip(lines, new, strict=True):
-        area = abs(_chord_area(a))
+        area = abs(_signed_area(a))  # between the polyline and its chord
         scale = max(area, 1e-12 * max(float(np.ptp(a, axis=0).max()), 1e-300) ** 2)
-        change = max(change, _rel(_chord_area(a), _chord_area(b), scale))
+        change = max(change, _rel(_signed_area(a), _signed_area(b), scale))
     return res, reductions, n_lines, change
 
 
@@ -552,7 +539,8 @@ def _smooth_linearring(geom, k, smoother, levels):
     reductions = [
         GeometryReduction(k, 0, r.start, r.stop, r.iterations, r.alpha_scale) for r in red
     ]
-    change = _rel(_ring_area(xy), _ring_area(fixed[0]), abs(_ring_area(xy)))
+    area = _signed_area(xy)
+    change = _rel(area, _signed_area(fixed[0]), abs(area))
     return out, reductions, 1, change
 
 
