@@ -9,6 +9,7 @@ from curvesmith.cli import main
 from curvesmith.cli.affine import affine_command
 from curvesmith.data import load_points
 from curvesmith.io import Curve, read_curves, write_curves
+from curvesmith.io.svg import read_quadratic_path
 
 if "affine" not in main.commands:  # registered by the lead in cli/__init__.py
     main.add_command(affine_command)
@@ -42,7 +43,7 @@ def test_affine_command_writes_control_polygons_and_svg(inputs, tmp_path):
         affine.coordinates(ring.points, closed=True)[0][0]
     )
     assert ring.properties["affine_closing_error"] < 1e-6
-    back, closed = affine.read_svg_path(svg)  # first path: the closed ring
+    back, closed = read_quadratic_path(svg)  # first path: the closed ring
     assert closed
     np.testing.assert_allclose(back, ring.points, atol=1e-9)
 

@@ -7,6 +7,7 @@ from hypothesis import strategies as st
 
 from curvesmith import affine
 from curvesmith.errors import CurveError, CurveFormatError
+from curvesmith.io.svg import quadratic_path_data, read_quadratic_path
 
 
 def naive_basis(j, k, t):
@@ -146,29 +147,29 @@ def test_theorem4_in_r4():
 
 def test_bezier_segments_and_svg_round_trip(tmp_path):
     x = aal_polyline([0.3, 0.5, 0.1, 0.4])
-    d = affine.svg_path(x)
+    d = quadratic_path_data(x)
     assert d.startswith("M ") and d.count("Q") == x.shape[0] - 2
-    back, closed = affine.read_svg_path(d)
+    back, closed = read_quadratic_path(d)
     assert not closed
     np.testing.assert_allclose(back, x, atol=1e-13)
     f = tmp_path / "s.svg"
     f.write_text(f'<svg xmlns="http://www.w3.org/2000/svg"><path d="{d}"/></svg>', encoding="utf-8")
-    back, _ = affine.read_svg_path(f)
+    back, _ = read_quadratic_path(f)
     np.testing.assert_allclose(back, x, atol=1e-12)
     t = np.arange(7) * 2 * np.pi / 7
     ring = np.c_[np.cos(t), 2 * np.sin(t)]
-    dc = affine.svg_path(ring, closed=True)
+    dc = quadratic_path_data(ring, closed=True)
     assert dc.endswith("Z")
-    back, closed = affine.read_svg_path(dc)
+    back, closed = read_quadratic_path(dc)
     assert closed
     np.testing.assert_allclose(back, ring, atol=1e-13)
 
 
 def test_svg_read_rejects_non_bspline_paths():
     with pytest.raises(CurveFormatError, match="quadratic Bezier"):
-        affine.read_svg_path("M 0 0 L 1 1")
+        read_quadratic_path("M 0 0 L 1 1")
     with pytest.raises(CurveFormatError, match="not a uniform quadratic B-spline"):
-        affine.read_svg_path("M 0 0 Q 1 0 1 1 Q 5 5 6 6")
+        read_quadratic_path("M 0 0 Q 1 0 1 1 Q 5 5 6 6")
 
 
 def test_spline_curvature_matches_formula_on_segments():

@@ -1187,7 +1187,7 @@ def _svg_doc(d: str, transform: str = "") -> str:
 def test_svg_long_polyline_fast_path_equals_svgelements(monkeypatch, d, transform):
     # Regression: a 10^6-vertex SVG path took minutes (one svgelements object per segment);
     # long absolute M/L/Z data are now parsed directly and must give the same curves.
-    import curvesmith.io as cio
+    import curvesmith.io.svg as cio
 
     text = _svg_doc(d, transform)
     fast = read_svg(io.StringIO(text))
@@ -1248,3 +1248,27 @@ def _geojson_text(curves) -> str:
     buf = io.StringIO()
     write_geojson(curves, buf)
     return buf.getvalue()
+
+
+def test_format_registry_adds_a_format_in_one_registration(tmp_path, monkeypatch):
+    import curvesmith.io._core as core
+    from curvesmith.io import Format, formats, register
+
+    monkeypatch.setattr(core, "_REGISTRY", dict(core._REGISTRY))
+    assert formats() == ("csv", "geojson", "svg")
+
+    def read_pts(source):
+        rows = Path(source).read_text().split()
+        return [Curve([[float(v) for v in r.split(";")] for r in rows], closed=False)]
+
+    def write_pts(curves, dest):
+        Path(dest).write_text("\n".join(";".join(map(str, p.tolist())) for p in curves[0].points))
+
+    register(Format("pts", "PTS", (".pts",), read_pts, write_pts))
+    assert formats()[-1] == "pts" and detect_format("a.PTS") == "pts"
+    write_curves([Curve([[0, 0], [1.5, 2]], closed=False)], tmp_path / "a.pts")
+    assert read_curves(tmp_path / "a.pts")[0].points.tolist() == [[0, 0], [1.5, 2]]
+    with pytest.raises(CurveError, match=r"\['.csv'\] already belong to 'csv'"):
+        register(Format("other", "Other", (".csv",), read_pts, write_pts))
+    with pytest.raises(CurveFormatError, match="supported suffixes are .csv, .txt \\(CSV\\)"):
+        detect_format("a.xyz")

@@ -11,6 +11,7 @@ import pytest
 from click.testing import CliRunner
 
 from curvesmith import io as cio
+from curvesmith import signed_area
 from curvesmith.cli import main
 
 GEOJSON = {
@@ -96,7 +97,7 @@ def test_geojson_smoothing_keeps_structure_orientation_and_properties(runner, tm
         assert lake["id"] == 17 and lake["properties"] == GEOJSON["features"][0]["properties"]
         rings = [np.array(r) for r in lake["geometry"]["coordinates"]]
         assert [r[0].tolist() == r[-1].tolist() for r in rings] == [True, True]
-        areas = [cio._area_sign(r[:-1]) for r in rings]
+        areas = [int(np.sign(signed_area(r[:-1]))) for r in rings]
         assert areas == [1, -1]  # RFC 7946: exterior CCW, hole CW
         assert islands["geometry"]["type"] == "MultiPolygon"
         assert len(islands["geometry"]["coordinates"]) == 2

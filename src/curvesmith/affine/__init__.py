@@ -7,7 +7,7 @@ uniform B-splines*:
   affine lengths ``L_2``, ``L_n`` (eq. 3, 8), affine normals, curvatures (eq. 4),
   evolute (eq. 5), osculating conics (Theorem 2, eq. 7);
 * :mod:`~curvesmith.affine.spline` — uniform B-splines of control polylines,
-  quadratic Bézier segments, SVG ``Q`` paths, curvature at the joints
+  quadratic Bézier segments, curvature at the joints (SVG ``Q`` paths: :mod:`curvesmith.io.svg`)
   (section 2.5, Theorem 4);
 * :mod:`~curvesmith.affine.approximation` — :func:`approximate`: a curve from
   dense samples to an affine arc length polyline with smooth affine curvatures
@@ -74,9 +74,7 @@ from .spline import (
     bezier_segments,
     bspline,
     joint_curvatures,
-    read_svg_path,
     spline_curvature,
-    svg_path,
 )
 
 __all__ = [
@@ -100,9 +98,7 @@ __all__ = [
     "osculating_conic",
     "osculating_curvatures",
     "parametric_affine_curvature",
-    "read_svg_path",
     "reconstruct",
     "replacement_curve",
     "spline_curvature",
-    "svg_path",
 ]

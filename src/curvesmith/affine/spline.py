@@ -5,27 +5,23 @@ polyline is an affine arc length polyline; in ``R^n`` the uniform B-spline of
 degree ``n`` has all Frenet curvatures continuous exactly when the control
 polyline satisfies eq. (9) (Theorem 4). This module evaluates such splines with
 :class:`scipy.interpolate.BSpline`, splits quadratic ones into Bézier
-segments, writes and reads them as SVG paths of ``Q`` commands, and measures
-their curvature on both sides of every joint.
+segments (written and read as SVG ``Q`` paths by :mod:`curvesmith.io.svg`), and
+measures their curvature on both sides of every joint.
 """
 
 from __future__ import annotations
-
-import re
 
 import numpy as np
 from scipy.interpolate import BSpline, PPoly
 
 from .._validate import as_int, as_points
-from ..errors import CurveError, CurveFormatError
+from ..errors import CurveError
 
 __all__ = [
     "bezier_segments",
     "bspline",
     "joint_curvatures",
-    "read_svg_path",
     "spline_curvature",
-    "svg_path",
 ]
 
 
@@ -99,130 +95,6 @@ def bezier_segments(points, *, closed: bool = False) -> np.ndarray:
         p = np.concatenate([p, p[:2]])
     mid = 0.5 * (p[:-1] + p[1:])
     return np.stack([mid[:-1], p[1:-1], mid[1:]], axis=1)
-
-
-def _fmt(x: float) -> str:
-    return f"{x:.17g}"
-
-
-def svg_path(points, *, closed: bool = False) -> str:
-    """The uniform quadratic B-spline of a control polygon as SVG path data of ``Q`` commands.
-
-    Parameters
-    ----------
-    points : (N, 2) array_like
-        Control polygon, ``N >= 3``.
-    closed : bool, optional
-        Closed control polygon; the path ends with ``Z``.
-
-    Returns
-    -------
-    str
-        ``"M x y Q cx cy x y Q ..."`` (17 significant digits, round-trips exactly).
-
-    Examples
-    --------
-    >>> svg_path([[0, 0], [2, 0], [2, 2]])
-    'M 1 0 Q 2 0 2 1'
-    """
-    seg = bezier_segments(points, closed=closed)
-    parts = [f"M {_fmt(seg[0, 0, 0])} {_fmt(seg[0, 0, 1])}"]
-    parts += [
-        f"Q {_fmt(c[0])} {_fmt(c[1])} {_fmt(e[0])} {_fmt(e[1])}"
-        for c, e in zip(seg[:, 1], seg[:, 2], strict=True)
-    ]
-    if closed:
-        parts.append("Z")
-    return " ".join(parts)
-
-
-def read_svg_path(source) -> tuple[np.ndarray, bool]:
-    """Recover the control polygon from an SVG path of quadratic Bézier segments.
-
-    Accepts path data (``"M ... Q ..."``), or an SVG document / file path whose
-    first ``<path>`` is read with svgelements (its ``d`` data as written: the
-    viewBox and transforms are not applied). The segments must join with
-    ``C^1`` continuity as those of a uniform quadratic B-spline do; then the
-    control polygon is the list of ``Q`` control points, extended by the
-    reflected end points for an open path.
-
-    Parameters
-    ----------
-    source : str or os.PathLike
-        Path data, SVG text, or the path of an ``.svg`` file.
-
-    Returns
-    -------
-    points : (N, 2) ndarray
-        Control polygon.
-    closed : bool
-        Whether the path was closed (``Z``).
-
-    Raises
-    ------
-    CurveFormatError
-        If there is no path, a segment is not quadratic, or the segments are not
-        joined like those of a uniform quadratic B-spline.
-
-    Examples
-    --------
-    >>> pts, closed = read_svg_path("M 1 0 Q 2 0 2 1")
-    >>> pts.tolist(), closed
-    ([[0.0, 0.0], [2.0, 0.0], [2.0, 2.0]], False)
-    """
-    import svgelements
-
-    text = str(source)
-    if re.match(r"^\s*[Mm]", text):
-        path = svgelements.Path(text)
-    else:
-        if "<svg" not in text:
-            with open(text, encoding="utf-8") as fh:
-                text = fh.read()
-        import io
-
-        doc = svgelements.SVG.parse(io.StringIO(text), reify=False)
-        paths = [e for e in doc.elements() if isinstance(e, svgelements.Path)]
-        if not paths:
-            raise CurveFormatError("SVG contains no <path> element")
-        # the path data in user coordinates: viewBox and transforms are not applied
-        path = svgelements.Path(paths[0].values["d"])
-    quads = []
-    closed = False
-    for seg in path:
-        if isinstance(seg, svgelements.Move):
-            continue
-        if isinstance(seg, svgelements.Close):
-            closed = True
-            continue
-        if not isinstance(seg, svgelements.QuadraticBezier):
-            raise CurveFormatError(
-                f"path segment must be a quadratic Bezier (Q), got {type(seg).__name__}"
-            )
-        quads.append(
-            [[seg.start.x, seg.start.y], [seg.control.x, seg.control.y], [seg.end.x, seg.end.y]]
-        )
-    if not quads:
-        raise CurveFormatError("path has no quadratic Bezier segments")
-    q = np.array(quads, dtype=float)
-    ctrl = q[:, 1]
-    scale = max(1.0, float(np.max(np.abs(q))))
-    mids = 0.5 * (ctrl[:-1] + ctrl[1:])
-    if closed:
-        mids = np.concatenate([mids, [0.5 * (ctrl[-1] + ctrl[0])]])
-        starts = np.roll(q[:, 0], -1, axis=0)
-    else:
-        starts = q[1:, 0]
-    if np.max(np.abs(mids - starts), initial=0.0) > 1e-9 * scale:
-        raise CurveFormatError(
-            "segments do not join at the midpoints of their control points "
-            "(not a uniform quadratic B-spline)"
-        )
-    if closed:
-        return np.roll(ctrl, 1, axis=0), True
-    first = 2.0 * q[0, 0] - ctrl[0]
-    last = 2.0 * q[-1, 2] - ctrl[-1]
-    return np.concatenate([[first], ctrl, [last]]), False
 
 
 def _ppoly(s: BSpline) -> PPoly:

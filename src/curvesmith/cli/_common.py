@@ -10,7 +10,7 @@ from pathlib import Path
 import click
 
 from ..errors import CurveError, CurveFormatError
-from ..io import Curve, detect_format
+from ..io import Curve, detect_format, formats
 from ..io import read_curves as _read
 from ..io import write_curves as _write
 
@@ -19,7 +19,7 @@ __all__ = ["FORMAT_OPTION", "parse_floats", "parse_indices", "read_curves", "wri
 FORMAT_OPTION = click.option(
     "--format",
     "fmt",
-    type=click.Choice(["csv", "geojson", "svg"]),
+    type=click.Choice(list(formats())),
     default=None,
     help="File format (default: from the suffix; required with - for stdin/stdout).",
 )

@@ -3,11 +3,11 @@
 from __future__ import annotations
 
 from pathlib import Path
-from xml.sax.saxutils import quoteattr
 
 import click
 
 from ..errors import CurveError
+from ..io.svg import path_document, quadratic_path_data
 from ._common import FORMAT_OPTION, read_curves, write_curves
 
 __all__ = ["affine_command"]
@@ -32,21 +32,6 @@ def _with_results(pairs: list) -> list:
             props.update({key: [r[key] for r in group] for key in group[0]})
         out.append(curve.replace(properties=props))
     return out
-
-
-def _svg_document(paths: list[str], bounds) -> str:
-    (x0, y0), (x1, y1) = bounds
-    pad = 0.02 * max(x1 - x0, y1 - y0, 1e-12)
-    view = f"{x0 - pad:.17g} {y0 - pad:.17g} {x1 - x0 + 2 * pad:.17g} {y1 - y0 + 2 * pad:.17g}"
-    body = "\n".join(
-        f'  <path id={quoteattr(f"spline{i}")} d={quoteattr(d)} fill="none" stroke="black" '
-        'stroke-width="0.5" vector-effect="non-scaling-stroke"/>'
-        for i, d in enumerate(paths)
-    )
-    return (
-        '<?xml version="1.0" encoding="UTF-8"?>\n'
-        f'<svg xmlns="http://www.w3.org/2000/svg" viewBox="{view}">\n{body}\n</svg>\n'
-    )
 
 
 @click.command("affine")
@@ -125,7 +110,7 @@ def affine_command(
             kind = "MultiLineString" if opened > 1 else "LineString"
             changes.update(kind=kind, part=part if opened > 1 else 0, ring=0)
         out.append((curve.replace(res.points, closed=is_closed, **changes), results))
-        paths.append(affine.svg_path(res.points, closed=is_closed))
+        paths.append(quadratic_path_data(res.points, closed=is_closed))
         pmin, pmax = res.points.min(axis=0), res.points.max(axis=0)
         lo = pmin if lo is None else lo.clip(max=pmin)
         hi = pmax if hi is None else hi.clip(min=pmax)
@@ -133,4 +118,4 @@ def affine_command(
     out = _with_results(out)
     write_curves(out, dest, fmt)
     if spline_svg is not None:
-        Path(spline_svg).write_text(_svg_document(paths, (lo, hi)), encoding="utf-8")
+        Path(spline_svg).write_text(path_document(paths, (lo, hi)), encoding="utf-8")

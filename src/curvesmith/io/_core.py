@@ -1,0 +1,450 @@
+"""The data model of curvesmith's file formats and the registry that dispatches on them.
+
+:class:`Curve` is what every reader returns and every writer takes. :class:`Format` describes one
+file format (its name, suffixes, reader and writer); each format module registers one with
+:func:`register`, and :func:`read_curves`, :func:`write_curves` and :func:`detect_format` (and the
+CLI's ``--format`` choices) are driven by the registry, so adding a format is one module that
+calls :func:`register` and one import in ``curvesmith/io/__init__.py``.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import inspect
+import os
+from collections.abc import Callable, Iterable, Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, TextIO
+
+import numpy as np
+
+from .._validate import as_points
+from ..errors import CurveError, CurveFormatError
+
+__all__ = [
+    "KINDS",
+    "Curve",
+    "Format",
+    "detect_format",
+    "formats",
+    "read_curves",
+    "register",
+    "write_curves",
+]
+
+KINDS = ("LineString", "Polygon", "MultiLineString", "MultiPolygon")
+"""Geometry kinds a :class:`Curve` can come from (GeoJSON geometry type names)."""
+
+_POLYGON_KINDS = ("Polygon", "MultiPolygon")
+_STREAM = "<stream>"
+
+Source = str | os.PathLike | TextIO
+
+
+@dataclass(frozen=True, eq=False)
+class Curve:
+    """One polyline or polygon ring read from (or to be written to) a file.
+
+    Parameters
+    ----------
+    points : (N, 2) or (N, 3) array_like
+        Vertices as rows. Stored as a new read-only float64 array. With
+        ``closed=True`` a repeated closing vertex is dropped once.
+    closed : bool
+        Whether the curve is a closed ring (an edge joins the last vertex to
+        the first). Closed curves need at least 3 distinct-ring vertices, open
+        ones at least 2.
+    properties : Mapping[str, Any], optional
+        Feature properties (GeoJSON), per-curve constant columns and the id
+        (CSV), the element ``id`` (SVG). Stored as a new dict.
+    feature : int, optional
+        Index of the source feature (GeoJSON), id group (CSV) or element (SVG).
+    part : int, optional
+        Index inside a MultiLineString or MultiPolygon.
+    ring : int, optional
+        0 for a line or an exterior ring, k >= 1 for the k-th hole of a polygon.
+    kind : str, optional
+        Source geometry type, one of :data:`KINDS`. Polygon kinds require
+        ``closed=True``.
+    member : int or None, optional
+        Index of the geometry inside a GeoJSON GeometryCollection, None when
+        the feature's geometry is not a collection.
+    feature_id : str or int or None, optional
+        The GeoJSON Feature ``id`` member, None when absent.
+
+    Notes
+    -----
+    Curves are frozen; derive new ones with :meth:`replace`. They compare by
+    identity (an array has no single truth value): compare ``points`` with
+    :func:`numpy.array_equal` and the other fields directly.
+
+    Examples
+    --------
+    >>> c = Curve([[0, 0], [1, 0], [0, 1], [0, 0]], closed=True, kind="Polygon")
+    >>> c.points.shape
+    (3, 2)
+    >>> c.replace([[0, 0], [2, 0], [0, 2]]).points[1].tolist()
+    [2.0, 0.0]
+    """
+
+    points: np.ndarray
+    closed: bool
+    properties: Mapping[str, Any] = field(default_factory=dict)
+    feature: int = 0
+    part: int = 0
+    ring: int = 0
+    kind: str = "LineString"
+    member: int | None = None
+    feature_id: str | int | None = None
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.closed, bool | np.bool_):
+            raise CurveError(f"closed must be True or False, got {self.closed!r}")
+        closed = bool(self.closed)
+        points = as_points(self.points, closed=closed, min_points=3 if closed else 2, dim=(2, 3))
+        points.setflags(write=False)
+        object.__setattr__(self, "points", points)
+        object.__setattr__(self, "closed", closed)
+        if not isinstance(self.properties, Mapping):
+            raise CurveError(f"properties must be a mapping, got {type(self.properties).__name__}")
+        object.__setattr__(self, "properties", dict(self.properties))
+        for name in ("feature", "part", "ring"):
+            value = getattr(self, name)
+            if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < 0:
+                raise CurveError(f"{name} must be an integer >= 0, got {value!r}")
+            object.__setattr__(self, name, int(value))
+        if self.member is not None:
+            m = self.member
+            if isinstance(m, bool) or not isinstance(m, int | np.integer) or m < 0:
+                raise CurveError(f"member must be None or an integer >= 0, got {m!r}")
+            object.__setattr__(self, "member", int(m))
+        if self.kind not in KINDS:
+            raise CurveError(f"kind must be one of {', '.join(KINDS)}, got {self.kind!r}")
+        if self.kind in _POLYGON_KINDS and not closed:
+            raise CurveError(f"a {self.kind} ring must be closed, got closed=False")
+        if self.kind in ("LineString", "Polygon") and self.part != 0:
+            raise CurveError(f"part must be 0 for a {self.kind}, got {self.part}")
+        if self.kind in ("LineString", "MultiLineString") and self.ring != 0:
+            raise CurveError(f"ring must be 0 for a {self.kind}, got {self.ring}")
+
+    @property
+    def dim(self) -> int:
+        """Number of coordinates per vertex, 2 or 3."""
+        return int(self.points.shape[1])
+
+    def replace(self, points=None, *, closed: bool | None = None, **changes: Any) -> Curve:
+        """Return a new curve with other points (and optionally other fields).
+
+        Parameters
+        ----------
+        points : (M, 2) or (M, 3) array_like, optional
+            New vertices; default: the current ones.
+        closed : bool, optional
+            New closedness; default: unchanged. Turning a Polygon ring open
+            also needs ``kind=`` a line kind.
+        **changes
+            Other fields to change (``properties``, ``feature``, ...), as in
+            :func:`dataclasses.replace`.
+
+        Returns
+        -------
+        Curve
+            The new curve; this one is unchanged.
+        """
+        if points is not None:
+            changes["points"] = points
+        if closed is not None:
+            changes["closed"] = closed
+        return dataclasses.replace(self, **changes)
+
+
+# ----------------------------------------------------------------------------------------------
+# sources, destinations, dispatch
+
+
+@dataclass(frozen=True)
+class Format:
+    """One file format of :func:`read_curves` / :func:`write_curves`.
+
+    Parameters
+    ----------
+    name : str
+        The name accepted by ``format=`` (and the CLI's ``--format``).
+    label : str
+        How messages name the format (``"CSV"``).
+    suffixes : tuple of str
+        File suffixes, lower case with the dot (``(".csv", ".txt")``).
+    read : callable
+        ``read(source, **options) -> list[Curve]``.
+    write : callable
+        ``write(curves, dest, **options) -> None``.
+    aliases : tuple of str, optional
+        Other names accepted by ``format=`` (``"json"`` for GeoJSON).
+    """
+
+    name: str
+    label: str
+    suffixes: tuple[str, ...]
+    read: Callable[..., list[Curve]]
+    write: Callable[..., None]
+    aliases: tuple[str, ...] = ()
+
+    @property
+    def read_options(self) -> frozenset[str]:
+        """Keyword options the reader takes."""
+        params = inspect.signature(self.read).parameters.values()
+        return frozenset(p.name for p in params if p.kind is inspect.Parameter.KEYWORD_ONLY)
+
+
+_REGISTRY: dict[str, Format] = {}
+
+
+def register(fmt: Format) -> Format:
+    """Add a file format to the registry (returns it, so a module can keep it as a constant).
+
+    Raises
+    ------
+    CurveError
+        If the name, an alias or a suffix is taken by another format.
+    """
+    if not isinstance(fmt, Format):
+        raise CurveError(f"fmt must be a Format, got {type(fmt).__name__}")
+    for other in _REGISTRY.values():
+        if other.name == fmt.name:
+            continue
+        taken = ({other.name, *other.aliases} & {fmt.name, *fmt.aliases}) or (
+            set(other.suffixes) & set(fmt.suffixes)
+        )
+        if taken:
+            raise CurveError(
+                f"format {fmt.name!r}: {sorted(taken)} already belong to {other.name!r}"
+            )
+    _REGISTRY[fmt.name] = fmt
+    return fmt
+
+
+def formats() -> tuple[str, ...]:
+    """Names of the registered formats, in registration order."""
+    return tuple(_REGISTRY)
+
+
+def _format_named(name: str) -> Format:
+    key = str(name).lower()
+    for fmt in _REGISTRY.values():
+        if key == fmt.name or key in fmt.aliases:
+            return fmt
+    raise CurveFormatError(f"format must be one of {', '.join(_REGISTRY)}, got {name!r}")
+
+
+def _suffix_text() -> str:
+    return ", ".join(f"{', '.join(f.suffixes)} ({f.label})" for f in _REGISTRY.values())
+
+
+def _name_of(source) -> str:
+    if isinstance(source, str | os.PathLike):
+        return os.fspath(source)
+    name = getattr(source, "name", None)
+    return name if isinstance(name, str) else _STREAM
+
+
+def _read_text(source: Source) -> tuple[str, str]:
+    """Return the whole text of `source` and the name used in messages."""
+    name = _name_of(source)
+    if isinstance(source, str | os.PathLike):
+        path = Path(source)
+        try:
+            data = path.read_bytes()
+        except FileNotFoundError:
+            raise CurveFormatError(f"{name}: no such file") from None
+        except IsADirectoryError:
+            raise CurveFormatError(f"{name}: is a directory, not a file") from None
+        except OSError as exc:
+            raise CurveFormatError(f"{name}: cannot read the file: {exc.strerror}") from None
+    elif hasattr(source, "read"):
+        data = source.read()
+    else:
+        raise CurveFormatError(
+            f"source must be a path or a text file object, got {type(source).__name__}"
+        )
+    if isinstance(data, bytes | bytearray):
+        try:
+            text = bytes(data).decode("utf-8-sig")
+        except UnicodeDecodeError as exc:
+            raise CurveFormatError(
+                f"{name}: not UTF-8 text ({exc.reason} at byte {exc.start})"
+            ) from None
+    elif isinstance(data, str):
+        text = data.removeprefix("\ufeff")
+    else:
+        raise CurveFormatError(f"{name}: read() returned {type(data).__name__}, not text")
+    if not text.strip():
+        raise CurveFormatError(f"{name}: the file is empty")
+    return text, name
+
+
+def _write_text(dest: Source, text: str) -> None:
+    if isinstance(dest, str | os.PathLike):
+        path = Path(dest)
+        try:
+            path.write_text(text, encoding="utf-8", newline="\n")
+        except FileNotFoundError:
+            raise CurveFormatError(
+                f"{os.fspath(dest)}: cannot write the file: the directory "
+                f"{os.fspath(path.parent)!r} does not exist"
+            ) from None
+        except IsADirectoryError:
+            raise CurveFormatError(f"{os.fspath(dest)}: is a directory, not a file") from None
+        except OSError as exc:
+            raise CurveFormatError(
+                f"{os.fspath(dest)}: cannot write the file: {exc.strerror or exc}"
+            ) from None
+    elif hasattr(dest, "write"):
+        dest.write(text)
+    else:
+        raise CurveFormatError(
+            f"dest must be a path or a text file object, got {type(dest).__name__}"
+        )
+
+
+def detect_format(path: str | os.PathLike | None, format: str | None = None) -> str:
+    """Return the format name of a file, from `format` if given, else from the suffix.
+
+    Parameters
+    ----------
+    path : str or path-like or None
+        File name; only its suffix is used (``.csv``/``.txt`` -> ``"csv"``,
+        ``.geojson``/``.json`` -> ``"geojson"``, ``.svg`` -> ``"svg"``,
+        case-insensitive).
+    format : str, optional
+        Explicit format, one of :data:`FORMATS` (``"json"`` is accepted for
+        ``"geojson"``); it wins over the suffix.
+
+    Returns
+    -------
+    str
+        One of :data:`FORMATS`.
+
+    Raises
+    ------
+    CurveFormatError
+        For an unknown format name or suffix; the message lists the supported ones.
+
+    Examples
+    --------
+    >>> detect_format("lake.GeoJSON")
+    'geojson'
+    >>> detect_format("curve.dat")
+    Traceback (most recent call last):
+    ...
+    curvesmith.errors.CurveFormatError: curve.dat: unknown file suffix '.dat'; supported suffixes are .csv, .txt (CSV), .geojson, .json (GeoJSON), .svg (SVG), or pass format= one of csv, geojson, svg
+    """  # noqa: E501
+    if format is not None:
+        return _format_named(format).name
+    names = ", ".join(_REGISTRY)
+    if path is None:
+        raise CurveFormatError(
+            f"cannot detect the format without a file name; pass format= one of {names}"
+        )
+    suffix = Path(path).suffix.lower()
+    for fmt in _REGISTRY.values():
+        if suffix in fmt.suffixes:
+            return fmt.name
+    what = f"unknown file suffix {suffix!r}" if suffix else "no file suffix"
+    raise CurveFormatError(
+        f"{os.fspath(path)}: {what}; supported suffixes are {_suffix_text()}, "
+        f"or pass format= one of {names}"
+    )
+
+
+def _format_for(obj, format: str | None) -> str:
+    if format is not None:
+        return detect_format(None, format)
+    name = _name_of(obj)
+    if name == _STREAM or (not isinstance(obj, str | os.PathLike) and name.startswith("<")):
+        raise CurveFormatError(
+            f"cannot detect the format of a stream; pass format= one of {', '.join(_REGISTRY)}"
+        )
+    return detect_format(name)
+
+
+def read_curves(
+    source: Source, *, format: str | None = None, tolerance: float | None = None
+) -> list[Curve]:
+    """Read all curves of a CSV, GeoJSON or SVG file.
+
+    Parameters
+    ----------
+    source : str or path-like or text file object
+        The file. A file object must be opened in text mode (bytes are
+        decoded as UTF-8).
+    format : str, optional
+        One of :data:`FORMATS`; default: from the file name's suffix (see
+        :func:`detect_format`). Required for streams without a name.
+    tolerance : float, optional
+        SVG flattening tolerance in user units (see :func:`read_svg`); not used
+        by the polyline formats CSV and GeoJSON.
+
+    Returns
+    -------
+    list of Curve
+        At least one curve, in file order.
+
+    Raises
+    ------
+    CurveFormatError
+        If the file is missing, empty or malformed; the message names the file.
+    """
+    fmt = _REGISTRY[_format_for(source, format)]
+    options = {"tolerance": tolerance} if "tolerance" in fmt.read_options else {}
+    return fmt.read(source, **options)
+
+
+def write_curves(
+    curves: Iterable[Curve], dest: Source, *, format: str | None = None, **options: Any
+) -> None:
+    """Write curves to a CSV, GeoJSON or SVG file.
+
+    Parameters
+    ----------
+    curves : iterable of Curve
+        Curves to write (at least one).
+    dest : str or path-like or text file object
+        The file, overwritten if it exists.
+    format : str, optional
+        One of :data:`FORMATS`; default: from the file name's suffix.
+    **options
+        Passed to the format's writer (:func:`write_geojson` ``orient``,
+        :func:`write_svg` ``stroke``, ``stroke_width``, ``fill``).
+
+    Raises
+    ------
+    CurveFormatError
+        If the curves cannot be written in this format (3D curves to SVG,
+        inconsistent structure) or the file cannot be written.
+    """
+    _REGISTRY[_format_for(dest, format)].write(curves, dest, **options)
+
+
+def _check_curves(curves: Iterable[Curve]) -> list[Curve]:
+    if isinstance(curves, Curve):
+        curves = [curves]
+    out = list(curves)
+    for i, c in enumerate(out):
+        if not isinstance(c, Curve):
+            raise CurveError(f"curves must hold Curve objects, got {type(c).__name__} at index {i}")
+    if not out:
+        raise CurveFormatError("nothing to write: curves is empty")
+    return out
+
+
+def _json_default(value):
+    if isinstance(value, np.generic):
+        return value.item()
+    if isinstance(value, np.ndarray):
+        return value.tolist()
+    if isinstance(value, Mapping):
+        return dict(value)
+    if isinstance(value, tuple | set | frozenset):
+        return list(value)
+    raise TypeError(f"{type(value).__name__} is not JSON serializable")

@@ -1,0 +1,441 @@
+"""GeoJSON (RFC 7946) curves: LineString, Polygon, Multi* and GeometryCollections of them.
+
+See :mod:`curvesmith.io` for the format's conventions.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import warnings
+from collections.abc import Iterable
+from typing import Any
+
+import numpy as np
+
+from ..errors import CurveError, CurveFormatError
+from ._core import (
+    Curve,
+    Format,
+    Source,
+    _check_curves,
+    _json_default,
+    _read_text,
+    _write_text,
+    register,
+)
+
+__all__ = ["read_geojson", "write_geojson"]
+
+_CURVE_TYPES = ("LineString", "Polygon", "MultiLineString", "MultiPolygon", "GeometryCollection")
+_GEOMETRY_TYPES = (*_CURVE_TYPES, "Point", "MultiPoint")
+
+
+def _describe(obj) -> str:
+    if isinstance(obj, dict):
+        if "type" in obj:
+            return f"an object of type {obj['type']!r}"
+        return f"an object with keys {sorted(obj)[:6]} and no 'type'"
+    if isinstance(obj, list):
+        return f"an array of {len(obj)} values"
+    return f"a {type(obj).__name__} ({obj!r:.40})"
+
+
+def _reject_constant(token: str):
+    raise CurveFormatError(f"{token} is not valid JSON (numbers must be finite)")
+
+
+class _GeoJSONReader:
+    def __init__(self, name: str):
+        self.name = name
+        self.curves: list[Curve] = []
+
+    def fail(self, where: str, message: str) -> CurveFormatError:
+        return CurveFormatError(
+            f"{self.name}: {where}: {message}" if where else f"{self.name}: {message}"
+        )
+
+    def top(self, obj) -> None:
+        if not isinstance(obj, dict) or "type" not in obj:
+            raise self.fail(
+                "", f"expected a GeoJSON object with a 'type' member, found {_describe(obj)}"
+            )
+        kind = obj["type"]
+        crs = obj.get("crs")
+        props = crs.get("properties") if isinstance(crs, dict) else None
+        label = props.get("name") if isinstance(props, dict) else None
+        if crs is not None and not (isinstance(label, str) and label.endswith("CRS84")):
+            warnings.warn(
+                f"{self.name}: the 'crs' member ({label or crs!r}) is not kept; files written "
+                "from these curves have none, and RFC 7946 readers will take the coordinates as "
+                "WGS 84 longitude/latitude",
+                UserWarning,
+                stacklevel=4,
+            )
+        if kind == "FeatureCollection":
+            features = obj.get("features")
+            if not isinstance(features, list):
+                raise self.fail(
+                    "",
+                    "the FeatureCollection's 'features' must be an array, "
+                    f"found {_describe(features)}",
+                )
+            for i, feat in enumerate(features):
+                self.feature(feat, i)
+            if not features:
+                raise self.fail("", "the FeatureCollection has no features, so no curves")
+        elif kind == "Feature":
+            self.feature(obj, 0)
+        elif kind in _GEOMETRY_TYPES:
+            self.geometry(obj, "geometry", 0, {}, None, None)
+        else:
+            raise self.fail(
+                "",
+                f"unknown GeoJSON type {kind!r}; expected FeatureCollection, Feature or one of "
+                f"{', '.join(_GEOMETRY_TYPES)}",
+            )
+
+    def feature(self, feat, i: int) -> None:
+        where = f"feature {i}"
+        if not isinstance(feat, dict) or feat.get("type") != "Feature":
+            raise self.fail(where, f"expected a Feature object, found {_describe(feat)}")
+        props = feat.get("properties")
+        if props is None:
+            props = {}
+        if not isinstance(props, dict):
+            raise self.fail(
+                where, f"properties must be an object or null, found {_describe(props)}"
+            )
+        geom = feat.get("geometry")
+        if geom is None:
+            raise self.fail(
+                where,
+                "the geometry is null; curvesmith reads only curves (LineString, Polygon, "
+                "MultiLineString, MultiPolygon)",
+            )
+        fid = feat.get("id")
+        if fid is not None and (isinstance(fid, bool) or not isinstance(fid, str | int | float)):
+            raise self.fail(where, f"id must be a string or a number, found {_describe(fid)}")
+        self.geometry(geom, where, i, props, fid, None)
+
+    def positions(self, coords, where: str) -> np.ndarray:
+        if not isinstance(coords, list) or not all(isinstance(p, list) for p in coords):
+            raise self.fail(
+                where, f"coordinates must be an array of positions, found {_describe(coords)}"
+            )
+        sizes = {len(p) for p in coords}
+        if sizes - {2, 3}:
+            raise self.fail(
+                where,
+                f"positions must have 2 or 3 numbers (x, y[, z]), found {sorted(sizes)}",
+            )
+        if len(sizes) > 1:
+            raise self.fail(where, "positions mix 2 and 3 coordinates")
+        if not all(
+            isinstance(v, int | float) and not isinstance(v, bool) for p in coords for v in p
+        ):
+            raise self.fail(where, "coordinates must be numbers")
+        return np.array(coords, dtype=np.float64).reshape(len(coords), -1)
+
+    def add(self, where: str, pts: np.ndarray, closed: bool, **fields) -> None:
+        try:
+            self.curves.append(Curve(pts, closed=closed, **fields))
+        except CurveError as exc:
+            raise self.fail(where, str(exc)) from None
+
+    def array(self, coords, where: str, what: str) -> list:
+        if not isinstance(coords, list):
+            raise self.fail(
+                where, f"coordinates must be an array of {what}, found {_describe(coords)}"
+            )
+        if not coords:
+            raise self.fail(where, f"the geometry is empty (no {what}), so it has no curves")
+        return coords
+
+    def geometry(self, geom, where, feature, props, fid, member) -> None:
+        if not isinstance(geom, dict) or "type" not in geom:
+            raise self.fail(where, f"expected a geometry object, found {_describe(geom)}")
+        kind = geom["type"]
+        common = {"properties": props, "feature": feature, "feature_id": fid, "member": member}
+        coords = geom.get("coordinates")
+        if kind in ("Point", "MultiPoint"):
+            raise self.fail(
+                where,
+                f"a {kind} is not a curve; curvesmith reads LineString, Polygon, MultiLineString, "
+                "MultiPolygon (and GeometryCollections of them)",
+            )
+        if kind == "GeometryCollection":
+            if member is not None:
+                raise self.fail(
+                    where, "nested GeometryCollections are not supported (RFC 7946 3.1.8)"
+                )
+            members = self.array(geom.get("geometries"), where, "geometries")
+            for j, g in enumerate(members):
+                self.geometry(g, f"{where}, member {j}", feature, props, fid, j)
+            return
+        if kind == "LineString":
+            pts = self.positions(self.array(coords, where, "positions"), where)
+            closed = len(pts) >= 4 and bool(np.array_equal(pts[0], pts[-1]))
+            self.add(where, pts, closed, kind=kind, **common)
+        elif kind == "MultiLineString":
+            for k, line in enumerate(self.array(coords, where, "lines")):
+                w = f"{where} (MultiLineString part {k})"
+                pts = self.positions(self.array(line, w, "positions"), w)
+                closed = len(pts) >= 4 and bool(np.array_equal(pts[0], pts[-1]))
+                self.add(w, pts, closed, kind=kind, part=k, **common)
+        elif kind == "Polygon":
+            self.polygon(self.array(coords, where, "rings"), where, kind, 0, common)
+        elif kind == "MultiPolygon":
+            for k, poly in enumerate(self.array(coords, where, "polygons")):
+                w = f"{where} (MultiPolygon part {k})"
+                self.polygon(self.array(poly, w, "rings"), w, kind, k, common)
+        else:
+            raise self.fail(
+                where,
+                f"unknown geometry type {kind!r}; expected one of {', '.join(_GEOMETRY_TYPES)}",
+            )
+
+    def polygon(self, rings, where, kind, part, common) -> None:
+        for r, ring in enumerate(rings):
+            w = f"{where} ring {r}" + (" (exterior)" if r == 0 else " (hole)")
+            pts = self.positions(self.array(ring, w, "positions"), w)
+            self.add(w, pts, True, kind=kind, part=part, ring=r, **common)
+
+
+def read_geojson(source: Source) -> list[Curve]:
+    """Read curves from a GeoJSON file (RFC 7946).
+
+    Parameters
+    ----------
+    source : str or path-like or text file object
+        A FeatureCollection, a Feature or a bare geometry.
+
+    Returns
+    -------
+    list of Curve
+        One curve per line and per ring, in file order, with ``feature``,
+        ``part``, ``ring``, ``member``, ``kind``, ``properties`` and
+        ``feature_id`` describing where it came from (see the module docstring).
+
+    Raises
+    ------
+    CurveFormatError
+        For malformed JSON (with line and column), a structure that is not
+        GeoJSON (naming what was found), Point/MultiPoint, null or empty
+        geometries, and curves with too few points.
+
+    Examples
+    --------
+    >>> import io
+    >>> text = '''{"type": "Polygon", "coordinates": [
+    ...     [[0, 0], [4, 0], [4, 4], [0, 4], [0, 0]],
+    ...     [[1, 1], [1, 2], [2, 2], [2, 1], [1, 1]]]}'''
+    >>> [(c.ring, len(c.points), c.closed) for c in read_geojson(io.StringIO(text))]
+    [(0, 4, True), (1, 4, True)]
+    """
+    text, name = _read_text(source)
+    try:
+        obj = json.loads(text, parse_constant=_reject_constant)
+    except json.JSONDecodeError as exc:
+        raise CurveFormatError(
+            f"{name}: malformed JSON at line {exc.lineno}, column {exc.colno}: {exc.msg}"
+        ) from None
+    except CurveFormatError as exc:
+        raise CurveFormatError(f"{name}: {exc}") from None
+    reader = _GeoJSONReader(name)
+    reader.top(obj)
+    return reader.curves
+
+
+def _area_sign(points: np.ndarray) -> int:
+    """Sign of the signed area of a closed ring (x, y), exact also for extreme coordinates.
+
+    The shoelace sum is evaluated in floating point after an exact power-of-two
+    scaling (no overflow) with ``math.fsum``; when its magnitude is below the
+    rounding error bound, the sign is recomputed exactly with fractions.
+    """
+    p = points[:, :2]
+    top = float(np.abs(p).max())
+    if top == 0.0:
+        return 0
+    q = np.ldexp(p, -math.frexp(top)[1])
+    x, y = q[:, 0], q[:, 1]
+    xn, yn = np.roll(x, -1), np.roll(y, -1)
+    a, b = x * yn, xn * y
+    total = math.fsum(a) - math.fsum(b)
+    bound = 4.0 * np.finfo(np.float64).eps * float(np.sum(np.abs(a) + np.abs(b))) + len(p) * 1e-300
+    if abs(total) > bound:
+        return 1 if total > 0 else -1
+    from fractions import Fraction
+
+    xs = [Fraction(v) for v in p[:, 0].tolist()]
+    ys = [Fraction(v) for v in p[:, 1].tolist()]
+    exact = sum(xs[i - 1] * ys[i] - xs[i] * ys[i - 1] for i in range(len(xs)))
+    return (exact > 0) - (exact < 0)
+
+
+def _oriented_ring(points: np.ndarray, ccw: bool, orient: bool) -> list:
+    pts = points
+    if orient:
+        sign = _area_sign(points)
+        if (sign < 0 and ccw) or (sign > 0 and not ccw):
+            pts = np.concatenate([points[:1], points[:0:-1]])
+    out = pts.tolist()
+    out.append(out[0])
+    return out
+
+
+def _line_coords(c: Curve) -> list:
+    out = c.points.tolist()
+    if c.closed:
+        out.append(out[0])
+    elif len(out) >= 4 and out[0] == out[-1]:
+        # GeoJSON has no closedness flag for LineStrings: such a line reads back as a ring.
+        warnings.warn(
+            f"an open curve of feature {c.feature} ends where it starts; GeoJSON readers "
+            "(curvesmith included) will read it back as a closed ring",
+            UserWarning,
+            stacklevel=4,
+        )
+    return out
+
+
+def _polygon_coords(rings: list[Curve], where: str, orient: bool) -> list:
+    rings = sorted(rings, key=lambda c: c.ring)
+    if rings[0].ring != 0:
+        raise CurveFormatError(f"{where}: the polygon has holes but no exterior ring (ring 0)")
+    return [_oriented_ring(c.points, c.ring == 0, orient) for c in rings]
+
+
+def _unique(curves: list[Curve], key, where: str) -> None:
+    seen = set()
+    for c in curves:
+        k = key(c)
+        if k in seen:
+            raise CurveFormatError(
+                f"{where}: two curves have the same (member, part, ring) {k}; give curves of "
+                "different geometries distinct feature indices, e.g. curve.replace(feature=i)"
+            )
+        seen.add(k)
+
+
+def _geometry(curves: list[Curve], where: str, orient: bool) -> dict:
+    kinds = {c.kind for c in curves}
+    if len(kinds) > 1:
+        raise CurveFormatError(
+            f"{where}: curves of one geometry have different kinds {sorted(kinds)}; set "
+            "member= to make a GeometryCollection or give them distinct features"
+        )
+    kind = kinds.pop()
+    if kind == "LineString":
+        if len(curves) > 1:
+            raise CurveFormatError(
+                f"{where}: {len(curves)} curves of kind LineString in one geometry"
+            )
+        return {"type": kind, "coordinates": _line_coords(curves[0])}
+    if kind == "MultiLineString":
+        return {
+            "type": kind,
+            "coordinates": [_line_coords(c) for c in sorted(curves, key=lambda c: c.part)],
+        }
+    if kind == "Polygon":
+        return {"type": kind, "coordinates": _polygon_coords(curves, where, orient)}
+    parts: dict[int, list[Curve]] = {}
+    for c in curves:
+        parts.setdefault(c.part, []).append(c)
+    return {
+        "type": kind,
+        "coordinates": [
+            _polygon_coords(parts[k], f"{where} part {k}", orient) for k in sorted(parts)
+        ],
+    }
+
+
+def _features(curves: list[Curve], orient: bool) -> list[dict]:
+    groups: dict[int, list[Curve]] = {}
+    for c in curves:
+        groups.setdefault(c.feature, []).append(c)
+    features = []
+    for feature, group in groups.items():
+        where = f"feature {feature}"
+        first = group[0]
+        for c in group[1:]:
+            if c.properties != first.properties or c.feature_id != first.feature_id:
+                raise CurveFormatError(
+                    f"{where}: its curves have different properties or feature ids; give them "
+                    "distinct feature indices to write them as separate features"
+                )
+        _unique(group, lambda c: (c.member, c.part, c.ring), where)
+        members = {c.member for c in group}
+        if None in members and len(members) > 1:
+            raise CurveFormatError(
+                f"{where}: some curves are members of a GeometryCollection and some are not"
+            )
+        if None in members:
+            geometry = _geometry(group, where, orient)
+        else:
+            by_member: dict[int, list[Curve]] = {}
+            for c in group:
+                by_member.setdefault(c.member, []).append(c)
+            geometry = {
+                "type": "GeometryCollection",
+                "geometries": [
+                    _geometry(by_member[m], f"{where} member {m}", orient)
+                    for m in sorted(by_member)
+                ],
+            }
+        feat: dict[str, Any] = {"type": "Feature"}
+        if first.feature_id is not None:
+            feat["id"] = first.feature_id
+        feat["properties"] = first.properties
+        feat["geometry"] = geometry
+        features.append(feat)
+    return features
+
+
+def write_geojson(curves: Iterable[Curve], dest: Source, *, orient: bool = True) -> None:
+    """Write curves as a GeoJSON FeatureCollection (RFC 7946).
+
+    Parameters
+    ----------
+    curves : iterable of Curve
+        Curves; their ``feature``, ``member``, ``part``, ``ring`` and ``kind``
+        say which geometry of which feature they belong to.
+    dest : str or path-like or text file object
+        The file.
+    orient : bool, optional
+        Write exterior rings counter-clockwise and holes clockwise (RFC 7946
+        section 3.1.6), reversing rings as needed while keeping their first
+        vertex. With False rings keep their vertex order.
+
+    Raises
+    ------
+    CurveFormatError
+        If curves of one feature disagree (properties, kinds, duplicate
+        (member, part, ring), a polygon without exterior ring) or a property
+        cannot be written as JSON (NaN, unknown objects).
+
+    Examples
+    --------
+    >>> import io
+    >>> cw = Curve([[0, 0], [0, 1], [1, 1], [1, 0]], closed=True, kind="Polygon")
+    >>> buf = io.StringIO()
+    >>> write_geojson([cw], buf)
+    >>> json.loads(buf.getvalue())["features"][0]["geometry"]["coordinates"][0]
+    [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0], [0.0, 0.0]]
+    """
+    curves = _check_curves(curves)
+    features = _features(curves, bool(orient))
+    try:
+        body = ",\n".join(
+            json.dumps(f, allow_nan=False, ensure_ascii=False, default=_json_default)
+            for f in features
+        )
+    except (TypeError, ValueError) as exc:
+        raise CurveFormatError(f"cannot write the properties as JSON: {exc}") from None
+    _write_text(dest, '{"type": "FeatureCollection", "features": [\n' + body + "\n]}\n")
+
+
+FORMAT = register(
+    Format("geojson", "GeoJSON", (".geojson", ".json"), read_geojson, write_geojson, ("json",))
+)

@@ -1,0 +1,732 @@
+"""SVG curves: paths (every command, arcs, transforms) and basic shapes in, ``<path>`` out.
+
+See :mod:`curvesmith.io` for the format's conventions.
+"""
+
+from __future__ import annotations
+
+import io as _stdio
+import json
+import math
+import re
+from collections.abc import Iterable
+from typing import Any
+from xml.sax.saxutils import escape, quoteattr
+
+import numpy as np
+
+from .._validate import as_float
+from ..errors import CurveError, CurveFormatError
+from ..geometry import _signed_area
+from ._core import (
+    _POLYGON_KINDS,
+    KINDS,
+    Curve,
+    Format,
+    Source,
+    _check_curves,
+    _json_default,
+    _read_text,
+    _write_text,
+    register,
+)
+
+__all__ = ["path_document", "quadratic_path_data", "read_quadratic_path", "read_svg", "write_svg"]
+
+_META = "data-curvesmith"
+_NUMBER = r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?"
+_SEP = r"(?:\s*,\s*|\s+)"
+_PAIR = rf"{_NUMBER}{_SEP}{_NUMBER}"
+# Path data made only of moveto/lineto/closepath with separated coordinates (what write_svg
+# writes): svgelements parses it completely, so the slow strict re-parse is not needed.
+_POLYLINE_D = re.compile(
+    rf"\s*[Mm]\s*{_PAIR}(?:{_SEP}{_PAIR})*(?:\s*(?:[MmLl]\s*{_PAIR}(?:{_SEP}{_PAIR})*|[Zz]))*\s*"
+)
+_MAX_CHORDS = 1_000_000
+_DEFAULT_RELATIVE_TOLERANCE = 1e-4
+
+
+def _bezier_points(ctrl: np.ndarray, n: int) -> np.ndarray:
+    """Points at t = k/n, k = 1..n, of the Bézier curve with control points `ctrl`."""
+    t = np.arange(1, n + 1, dtype=np.float64)[:, None] / n
+    s = 1.0 - t
+    if len(ctrl) == 3:
+        pts = s * s * ctrl[0] + 2 * s * t * ctrl[1] + t * t * ctrl[2]
+    else:
+        pts = s**3 * ctrl[0] + 3 * s * s * t * ctrl[1] + 3 * s * t * t * ctrl[2] + t**3 * ctrl[3]
+    pts[-1] = ctrl[-1]
+    return pts
+
+
+def _chords(second_derivative_bound: float, tol: float) -> int:
+    """Number of equal parameter steps so that h**2/8 * max|c''| <= tol on [0, 1]."""
+    n = max(1, math.ceil(math.sqrt(second_derivative_bound / (8.0 * tol))))
+    if n > _MAX_CHORDS:
+        raise CurveFormatError(
+            f"tolerance {tol:g} is too small for this drawing: one segment would need {n} chords"
+        )
+    return n
+
+
+def _xy(p) -> list[float]:
+    return [float(p[0]), float(p[1])]
+
+
+def _flatten(segments, tol: float) -> list[tuple[np.ndarray, bool]]:
+    """Flatten svgelements path segments into (points, closed) subpaths."""
+    import svgelements as se
+
+    subpaths: list[tuple[list, bool]] = []
+    current: list | None = None
+
+    def finish(closed: bool) -> None:
+        nonlocal current
+        if current is not None:
+            subpaths.append((current, closed))
+        current = None
+
+    for seg in segments:
+        if isinstance(seg, se.Move):
+            finish(False)
+            current = [np.array([_xy(seg.end)])]
+            continue
+        if isinstance(seg, se.Close):
+            finish(True)
+            continue
+        if current is None:
+            current = [np.array([_xy(seg.start)])]
+        if isinstance(seg, se.Line):
+            current.append(np.array([_xy(seg.end)]))
+        elif isinstance(seg, se.QuadraticBezier):
+            ctrl = np.array([_xy(seg.start), _xy(seg.control), _xy(seg.end)])
+            bound = 2.0 * float(np.hypot(*(ctrl[0] - 2 * ctrl[1] + ctrl[2])))
+            current.append(_bezier_points(ctrl, _chords(bound, tol)))
+        elif isinstance(seg, se.CubicBezier):
+            ctrl = np.array([_xy(seg.start), _xy(seg.control1), _xy(seg.control2), _xy(seg.end)])
+            d0 = np.hypot(*(ctrl[0] - 2 * ctrl[1] + ctrl[2]))
+            d1 = np.hypot(*(ctrl[1] - 2 * ctrl[2] + ctrl[3]))
+            current.append(_bezier_points(ctrl, _chords(6.0 * float(max(d0, d1)), tol)))
+        elif isinstance(seg, se.Arc):
+            if seg.start == seg.end and seg.sweep == 0:
+                continue
+            radius = max(abs(float(seg.rx)), abs(float(seg.ry)))
+            n = _chords(float(seg.sweep) ** 2 * radius, tol)
+            positions = np.arange(1, n + 1, dtype=np.float64) / n
+            current.append(np.asarray(seg.npoint(positions), dtype=np.float64))
+        else:  # pragma: no cover - svgelements has no other segment types
+            raise CurveFormatError(f"unsupported SVG path segment {type(seg).__name__}")
+    finish(False)
+    return _clean_subpaths([(np.concatenate(chunks), closed) for chunks, closed in subpaths], tol)
+
+
+def _clean_subpaths(subpaths, tol: float) -> list[tuple[np.ndarray, bool]]:
+    """Drop repeated vertices, a closing vertex equal to the start and empty subpaths."""
+    out = []
+    for pts, closed in subpaths:
+        keep = np.ones(len(pts), dtype=bool)
+        keep[1:] = np.any(pts[1:] != pts[:-1], axis=1)
+        pts = pts[keep]
+        if closed and len(pts) > 1 and np.hypot(*(pts[-1] - pts[0])) <= 1e-9 * tol:
+            pts = pts[:-1]
+        if len(pts) < 2:
+            continue
+        if closed and len(pts) < 3:
+            closed = False
+        out.append((pts, closed))
+    return out
+
+
+_ABSOLUTE_POLYLINE_D = re.compile(
+    rf"\s*M\s*{_PAIR}(?:{_SEP}{_PAIR})*(?:\s*(?:[ML]\s*{_PAIR}(?:{_SEP}{_PAIR})*|Z))*\s*"
+)
+_D_ATTRIBUTE = re.compile(r'(\sd\s*=\s*)"([^"]*)"')
+_FAST_D_MIN = 2000
+
+
+def _polyline_subpaths(d: str) -> list[tuple[np.ndarray, bool]] | None:
+    """Subpaths of path data made of absolute M, L and Z only (what :func:`write_svg` writes).
+
+    Parsed with one split instead of one svgelements object per segment (a 10^6-vertex path
+    took minutes). None when the data need the general parser: relative commands, or a Z
+    that is not the end of its subpath.
+    """
+    if not _ABSOLUTE_POLYLINE_D.fullmatch(d):
+        return None
+    out = []
+    for chunk in d.split("M")[1:]:
+        body = chunk.rstrip()
+        closed = body.endswith("Z")
+        if closed:
+            body = body[:-1]
+        if "Z" in body:
+            return None  # segments after a closepath start at the subpath's first point
+        values = np.array(body.replace("L", " ").replace(",", " ").split(), dtype=np.float64)
+        out.append((values.reshape(-1, 2), closed))
+    return out
+
+
+def _stash_polylines(text: str) -> tuple[str, dict[str, list]]:
+    """Replace long plain polyline path data by short placeholders before svgelements parses.
+
+    Returns the new text and a map from placeholder to the parsed subpaths.
+    """
+    stash: dict[str, list] = {}
+
+    def replace(match):
+        d = match.group(2)
+        if len(d) < _FAST_D_MIN:
+            return match.group(0)
+        subpaths = _polyline_subpaths(d)
+        if subpaths is None:
+            return match.group(0)
+        key = f"M 0,0 L 0,{len(stash)}.5e-300"
+        stash[key] = subpaths
+        return f'{match.group(1)}"{key}"'
+
+    if len(text) < _FAST_D_MIN:
+        return text, stash
+    return _D_ATTRIBUTE.sub(replace, text), stash
+
+
+def _own_transform(element, viewport: str):
+    """The element's transform without the root viewBox-to-viewport mapping."""
+    import svgelements as se
+
+    text = element.values.get("transform", "") or ""
+    if viewport and viewport in text:
+        text = text.replace(viewport, " ", 1)
+        return se.Matrix(text)
+    if viewport:
+        return ~se.Matrix(viewport) * se.Matrix(text)
+    return se.Matrix(text)
+
+
+def _label(element, k: int) -> str:
+    tag = element.values.get("tag", type(element).__name__.lower())
+    ident = f' id="{element.id}"' if element.id else ""
+    return f"<{tag}{ident}> (drawable element {k})"
+
+
+def read_svg(source: Source, *, tolerance: float | None = None) -> list[Curve]:
+    """Read the drawable shapes of an SVG file as polylines.
+
+    Parameters
+    ----------
+    source : str or path-like or text file object
+        The SVG document.
+    tolerance : float, optional
+        Maximal distance between a flattened curved segment and the exact
+        curve, in user units of the outermost ``svg`` element; default
+        ``1e-4`` times the diagonal of the bounding box of all control points.
+
+    Returns
+    -------
+    list of Curve
+        One curve per subpath, ``feature`` the index of the element (among
+        those that gave curves), ``part`` the subpath index; ``kind`` is
+        LineString/Polygon for single subpaths, MultiLineString/MultiPolygon
+        when all subpaths of an element are open/closed, and mixed elements
+        get one ``member`` per subpath. Closed subpaths inside another one
+        that the fill leaves empty (any odd depth with
+        ``fill-rule="evenodd"``; opposite winding with the default
+        ``nonzero``) are holes: ``ring`` k >= 1 of the polygon (``part``) of
+        their container, as in a GeoJSON Polygon. Files written by
+        :func:`write_svg` restore the written structure and properties
+        instead.
+
+    Raises
+    ------
+    CurveFormatError
+        For malformed XML (with line and column), a root that is not ``svg``,
+        malformed path data, or a document without drawable elements.
+
+    Examples
+    --------
+    >>> import io
+    >>> svg = '''<svg xmlns="http://www.w3.org/2000/svg">
+    ...   <path d="M 0 0 h 10 v 10 z"/><circle cx="0" cy="0" r="1"/></svg>'''
+    >>> curves = read_svg(io.StringIO(svg), tolerance=1e-3)
+    >>> [(c.kind, c.closed, len(c.points)) for c in curves]
+    [('Polygon', True, 3), ('Polygon', True, 72)]
+    """
+    import xml.etree.ElementTree as ET
+
+    import svgelements as se
+
+    text, name = _read_text(source)
+    if tolerance is not None:
+        tolerance = as_float(tolerance, name="tolerance", low=0.0)
+    text, stash = _stash_polylines(text)
+    try:
+        doc = se.SVG.parse(_stdio.StringIO(text), reify=False)
+    except ET.ParseError as exc:
+        line, col = exc.position
+        raise CurveFormatError(
+            f"{name}: malformed XML at line {line}, column {col + 1}: {str(exc).split(':')[0]}"
+        ) from None
+    if not isinstance(doc, se.SVG):
+        raise CurveFormatError(f"{name}: the root element is not <svg>, so this is not an SVG file")
+    viewport = doc.values.get("viewport_transform", "") or ""
+    if not viewport:
+        viewport = str(doc.viewbox_transform or "")
+    items = []
+    for element in doc.elements():
+        if not isinstance(element, se.Shape):
+            continue
+        k = len(items)
+        d = element.values.get("d") if isinstance(element, se.Path) else None
+        if d in stash:
+            matrix = _own_transform(element, viewport)
+            linear = np.array([[matrix.a, matrix.c], [matrix.b, matrix.d]], dtype=np.float64)
+            items.append((element, stash[d], matrix, linear))
+            continue
+        if d and not _POLYLINE_D.fullmatch(d):
+            try:
+                se.Path(d)  # strict: svgelements' document parser drops bad path data silently
+            except ValueError:
+                raise CurveFormatError(
+                    f"{name}: {_label(element, k)}: malformed path data {d[:60]!r}"
+                ) from None
+        segments = list(se.Path(element).segments(transformed=False))
+        matrix = _own_transform(element, viewport)
+        linear = np.array([[matrix.a, matrix.c], [matrix.b, matrix.d]], dtype=np.float64)
+        items.append((element, segments, matrix, linear))
+    if tolerance is None:
+        tolerance = _default_tolerance(items)
+    curves: list[Curve] = []
+    feature = 0
+    for element, segments, matrix, linear in items:
+        scale = float(np.linalg.norm(linear, 2))
+        if not segments or scale == 0.0 or not math.isfinite(scale):
+            continue
+        if segments and isinstance(segments[0], tuple):  # parsed polyline data
+            subpaths = _clean_subpaths(segments, tolerance / scale)
+        else:
+            subpaths = _flatten(segments, tolerance / scale)
+        if not subpaths:
+            continue
+        if not (matrix.is_identity()):
+            offset = np.array([matrix.e, matrix.f], dtype=np.float64)
+            subpaths = [(pts @ linear.T + offset, closed) for pts, closed in subpaths]
+        curves.extend(_svg_curves(element, subpaths, feature, name))
+        feature += 1
+    if not curves:
+        raise CurveFormatError(f"{name}: contains no drawable path, polyline or polygon")
+    return curves
+
+
+def _default_tolerance(items) -> float:
+    boxes = []
+    for _, segments, matrix, linear in items:
+        pts = []
+        if segments and isinstance(segments[0], tuple):  # parsed polyline data
+            segments, pts = (), np.concatenate([sub for sub, _ in segments])
+        for seg in segments:
+            for attr in ("start", "end", "control", "control1", "control2"):
+                p = getattr(seg, attr, None)
+                if p is not None:
+                    pts.append(_xy(p))
+            if hasattr(seg, "rx") and getattr(seg, "center", None) is not None:
+                r = max(abs(float(seg.rx)), abs(float(seg.ry)))
+                cx, cy = _xy(seg.center)
+                pts += [[cx - r, cy - r], [cx + r, cy + r]]
+        if len(pts):
+            arr = np.asarray(pts) @ linear.T + [matrix.e, matrix.f]
+            boxes.append(arr[np.all(np.isfinite(arr), axis=1)])
+    if not boxes:
+        return 1.0
+    arr = np.concatenate(boxes)
+    if len(arr) == 0:
+        return 1.0
+    with np.errstate(over="ignore"):
+        diagonal = float(np.hypot(*(arr.max(axis=0) - arr.min(axis=0))))
+    if not math.isfinite(diagonal):  # coordinates near the float range: the span overflows
+        diagonal = float(np.finfo(np.float64).max)
+    return _DEFAULT_RELATIVE_TOLERANCE * diagonal if diagonal > 0 else 1.0
+
+
+def _svg_curves(element, subpaths, feature: int, name: str) -> list[Curve]:
+    props: dict[str, Any] = {"id": element.id} if element.id else {}
+    index = None
+    fid = None
+    meta = element.values.get(_META)
+    if meta:
+        try:
+            meta = json.loads(meta)
+            props = dict(meta["properties"])
+            fid = meta.get("feature_id")
+            index = [tuple(entry) for entry in meta["index"]]
+        except (ValueError, KeyError, TypeError) as exc:
+            raise CurveFormatError(
+                f"{name}: element {element.id or feature}: malformed {_META} attribute: {exc}"
+            ) from None
+        if len(index) != len(subpaths) or any(
+            kind not in KINDS or (kind in _POLYGON_KINDS and not closed)
+            for (_, _, _, kind), (_, closed) in zip(index, subpaths, strict=True)
+        ):
+            index = None  # the path was edited: fall back to the plain SVG structure
+    if index is None:
+        n = len(subpaths)
+        flags = {closed for _, closed in subpaths}
+        if n == 1:
+            kind = "Polygon" if subpaths[0][1] else "LineString"
+            index = [(None, 0, 0, kind)]
+        elif flags == {True}:
+            index = _nested_rings(subpaths, element.values.get("fill-rule") == "evenodd")
+        elif flags == {False}:
+            index = [(None, k, 0, "MultiLineString") for k in range(n)]
+        else:
+            index = [
+                (k, 0, 0, "Polygon" if c else "LineString") for k, (_, c) in enumerate(subpaths)
+            ]
+    out = []
+    for (member, part, ring, kind), (pts, closed) in zip(index, subpaths, strict=True):
+        try:
+            out.append(
+                Curve(
+                    pts,
+                    closed=closed,
+                    properties=props,
+                    feature=feature,
+                    part=part,
+                    ring=ring,
+                    kind=kind,
+                    member=member,
+                    feature_id=fid,
+                )
+            )
+        except CurveError as exc:
+            raise CurveFormatError(f"{name}: element {feature}: {exc}") from None
+    return out
+
+
+def _inside(point: np.ndarray, ring: np.ndarray) -> bool:
+    """Return whether `point` is inside the closed `ring` (even-odd ray casting)."""
+    x, y = point
+    xa, ya = ring[:, 0], ring[:, 1]
+    xb, yb = np.roll(xa, -1), np.roll(ya, -1)
+    crosses = (ya > y) != (yb > y)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        xs = xa + (y - ya) * (xb - xa) / (yb - ya)
+    return bool(np.count_nonzero(crosses & (x < xs)) % 2)
+
+
+def _nested_rings(subpaths, evenodd: bool) -> list[tuple]:
+    """(member, part, ring, kind) of closed subpaths: rings inside others become holes.
+
+    A subpath inside another (its first vertex inside and its area smaller) is a hole of
+    the smallest one containing it when the fill leaves it empty: always with
+    ``fill-rule="evenodd"`` at odd depth, with the default ``nonzero`` rule when it winds the
+    other way round than its container. Outer rings (and filled islands) become polygons;
+    one polygon gives a Polygon, several a MultiPolygon. Subpaths that merely overlap stay
+    separate polygons (the SVG fill of overlaps is not a simple feature anyway).
+    """
+    areas = [_signed_area(pts[:, :2]) for pts, _ in subpaths]
+    n = len(subpaths)
+    parent: list[int | None] = [None] * n
+    for j, (pts, _) in enumerate(subpaths):
+        best = None
+        for i, (outer, _) in enumerate(subpaths):
+            if i == j or abs(areas[i]) <= abs(areas[j]) or not _inside(pts[0], outer):
+                continue
+            if best is None or abs(areas[i]) < abs(areas[best]):
+                best = i
+        parent[j] = best
+    hole = [False] * n
+    owner: list[int] = list(range(n))
+    for j in sorted(range(n), key=lambda k: -abs(areas[k])):  # containers first
+        i = parent[j]
+        if i is None:
+            continue
+        if evenodd:
+            hole[j] = not hole[i]
+        else:
+            hole[j] = not hole[i] and (areas[i] > 0) != (areas[j] > 0)
+        owner[j] = owner[i] if hole[j] else j
+    exteriors = [k for k in range(n) if not hole[k]]
+    if len(exteriors) == n:
+        return [(None, k, 0, "MultiPolygon") for k in range(n)]
+    kind = "Polygon" if len(exteriors) == 1 else "MultiPolygon"
+    part_of = {k: p for p, k in enumerate(exteriors)}
+    rings: dict[int, int] = {}
+    index = []
+    for k in range(n):
+        if hole[k]:
+            rings[owner[k]] = rings.get(owner[k], 0) + 1
+            index.append((None, part_of[owner[k]], rings[owner[k]], kind))
+        else:
+            index.append((None, part_of[k], 0, kind))
+    return index
+
+
+def _num(v: float) -> str:
+    return repr(float(v))
+
+
+def write_svg(
+    curves: Iterable[Curve],
+    dest: Source,
+    *,
+    stroke: str = "black",
+    stroke_width: float | None = None,
+    fill: str | None = None,
+) -> None:
+    """Write 2D curves as an SVG drawing, one ``<path>`` per feature.
+
+    Parameters
+    ----------
+    curves : iterable of Curve
+        2D curves, in SVG user coordinates (y axis down, nothing is flipped).
+    dest : str or path-like or text file object
+        The file.
+    stroke : str, optional
+        Stroke colour (any SVG paint).
+    stroke_width : float, optional
+        Stroke width in user units; default 1/400 of the larger side of the
+        data's bounding box.
+    fill : str, optional
+        Fill paint for features whose curves are all closed (``fill-rule``
+        evenodd, so holes stay empty); default: no fill.
+
+    Raises
+    ------
+    CurveFormatError
+        If a curve is 3D.
+
+    Examples
+    --------
+    >>> import io
+    >>> buf = io.StringIO()
+    >>> write_svg([Curve([[0, 0], [1, 0], [0, 1]], closed=True)], buf)
+    >>> [c.points.tolist() for c in read_svg(io.StringIO(buf.getvalue()))]
+    [[[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]]
+    """
+    curves = _check_curves(curves)
+    for i, c in enumerate(curves):
+        if c.dim != 2:
+            raise CurveFormatError(
+                f"SVG is planar: curve {i} has 3D points; drop or project the z coordinate first"
+            )
+    allpts = np.concatenate([c.points for c in curves])
+    lo, hi = allpts.min(axis=0), allpts.max(axis=0)
+    with np.errstate(over="ignore"):
+        size = float(max(hi - lo))
+    if not math.isfinite(size):
+        raise CurveFormatError(
+            f"the coordinates span more than the largest float (from {lo.min():.3g} to "
+            f"{hi.max():.3g}): the extent overflows, so no SVG viewBox can hold them; scale "
+            "them down"
+        )
+    if size == 0.0:
+        size = max(1.0, float(np.abs(lo).max()))
+    pad = 0.02 * size
+    x0, y0 = lo - pad
+    w, h = hi - lo + 2 * pad
+    if stroke_width is None:
+        stroke_width = size / 400.0
+    stroke_width = as_float(stroke_width, name="stroke_width", low=0.0)
+    pixels = 800.0 / max(w, h)
+    lines = [
+        '<?xml version="1.0" encoding="UTF-8"?>',
+        "<!-- written by curvesmith: SVG user coordinates, y axis pointing down -->",
+        f'<svg xmlns="http://www.w3.org/2000/svg" version="1.1" width="{w * pixels:.6g}" '
+        f'height="{h * pixels:.6g}" viewBox="{_num(x0)} {_num(y0)} {_num(w)} {_num(h)}">',
+        f'<g stroke={quoteattr(stroke)} stroke-width="{_num(stroke_width)}" '
+        'stroke-linejoin="round" stroke-linecap="round" fill-rule="evenodd">',
+    ]
+    groups: dict[int, list[Curve]] = {}
+    for c in curves:
+        groups.setdefault(c.feature, []).append(c)
+    for group in groups.values():
+        first = group[0]
+        d = []
+        for c in group:
+            pts = c.points.tolist()
+            cmd = "M " + _num(pts[0][0]) + "," + _num(pts[0][1]) + " L"
+            cmd += "".join(" " + _num(x) + "," + _num(y) for x, y in pts[1:])
+            d.append(cmd + (" Z" if c.closed else ""))
+        meta = {
+            "properties": dict(first.properties),
+            "feature_id": first.feature_id,
+            "index": [[c.member, c.part, c.ring, c.kind] for c in group],
+        }
+        try:
+            meta_text = json.dumps(meta, allow_nan=False, ensure_ascii=False, default=_json_default)
+        except (TypeError, ValueError) as exc:
+            raise CurveFormatError(f"cannot write the properties as JSON: {exc}") from None
+        attrs = []
+        ident = first.properties.get("id")
+        if isinstance(ident, str | int) and not isinstance(ident, bool):
+            attrs.append(f"id={quoteattr(str(ident))}")
+        paint = fill if fill is not None and all(c.closed for c in group) else "none"
+        attrs.append(f"fill={quoteattr(paint)}")
+        attrs.append(f"{_META}={quoteattr(meta_text)}")
+        attrs.append(f'd="{escape(" ".join(d))}"')
+        lines.append("<path " + " ".join(attrs) + "/>")
+    lines += ["</g>", "</svg>", ""]
+    _write_text(dest, "\n".join(lines))
+
+
+FORMAT = register(Format("svg", "SVG", (".svg",), read_svg, write_svg))
+
+
+# ----------------------------------------------------------------------------------------------
+# quadratic B-spline paths (affine control polygons)
+
+
+def _fmt(x: float) -> str:
+    return f"{x:.17g}"
+
+
+def quadratic_path_data(points, *, closed: bool = False) -> str:
+    """The uniform quadratic B-spline of a control polygon as SVG path data of ``Q`` commands.
+
+    Parameters
+    ----------
+    points : (N, 2) array_like
+        Control polygon, ``N >= 3``.
+    closed : bool, optional
+        Closed control polygon; the path ends with ``Z``.
+
+    Returns
+    -------
+    str
+        ``"M x y Q cx cy x y Q ..."`` (17 significant digits, round-trips exactly).
+
+    Examples
+    --------
+    >>> quadratic_path_data([[0, 0], [2, 0], [2, 2]])
+    'M 1 0 Q 2 0 2 1'
+    """
+    from ..affine.spline import bezier_segments
+
+    seg = bezier_segments(points, closed=closed)
+    parts = [f"M {_fmt(seg[0, 0, 0])} {_fmt(seg[0, 0, 1])}"]
+    parts += [
+        f"Q {_fmt(c[0])} {_fmt(c[1])} {_fmt(e[0])} {_fmt(e[1])}"
+        for c, e in zip(seg[:, 1], seg[:, 2], strict=True)
+    ]
+    if closed:
+        parts.append("Z")
+    return " ".join(parts)
+
+
+def read_quadratic_path(source) -> tuple[np.ndarray, bool]:
+    """Recover the control polygon from an SVG path of quadratic Bézier segments.
+
+    Accepts path data (``"M ... Q ..."``), or an SVG document / file path whose
+    first ``<path>`` is read with svgelements (its ``d`` data as written: the
+    viewBox and transforms are not applied). The segments must join with
+    ``C^1`` continuity as those of a uniform quadratic B-spline do; then the
+    control polygon is the list of ``Q`` control points, extended by the
+    reflected end points for an open path.
+
+    Parameters
+    ----------
+    source : str or os.PathLike
+        Path data, SVG text, or the path of an ``.svg`` file.
+
+    Returns
+    -------
+    points : (N, 2) ndarray
+        Control polygon.
+    closed : bool
+        Whether the path was closed (``Z``).
+
+    Raises
+    ------
+    CurveFormatError
+        If there is no path, a segment is not quadratic, or the segments are not
+        joined like those of a uniform quadratic B-spline.
+
+    Examples
+    --------
+    >>> pts, closed = read_quadratic_path("M 1 0 Q 2 0 2 1")
+    >>> pts.tolist(), closed
+    ([[0.0, 0.0], [2.0, 0.0], [2.0, 2.0]], False)
+    """
+    import svgelements
+
+    text = str(source)
+    if re.match(r"^\s*[Mm]", text):
+        path = svgelements.Path(text)
+    else:
+        if "<svg" not in text:
+            with open(text, encoding="utf-8") as fh:
+                text = fh.read()
+        doc = svgelements.SVG.parse(_stdio.StringIO(text), reify=False)
+        paths = [e for e in doc.elements() if isinstance(e, svgelements.Path)]
+        if not paths:
+            raise CurveFormatError("SVG contains no <path> element")
+        # the path data in user coordinates: viewBox and transforms are not applied
+        path = svgelements.Path(paths[0].values["d"])
+    quads = []
+    closed = False
+    for seg in path:
+        if isinstance(seg, svgelements.Move):
+            continue
+        if isinstance(seg, svgelements.Close):
+            closed = True
+            continue
+        if not isinstance(seg, svgelements.QuadraticBezier):
+            raise CurveFormatError(
+                f"path segment must be a quadratic Bezier (Q), got {type(seg).__name__}"
+            )
+        quads.append(
+            [[seg.start.x, seg.start.y], [seg.control.x, seg.control.y], [seg.end.x, seg.end.y]]
+        )
+    if not quads:
+        raise CurveFormatError("path has no quadratic Bezier segments")
+    q = np.array(quads, dtype=float)
+    ctrl = q[:, 1]
+    scale = max(1.0, float(np.max(np.abs(q))))
+    mids = 0.5 * (ctrl[:-1] + ctrl[1:])
+    if closed:
+        mids = np.concatenate([mids, [0.5 * (ctrl[-1] + ctrl[0])]])
+        starts = np.roll(q[:, 0], -1, axis=0)
+    else:
+        starts = q[1:, 0]
+    if np.max(np.abs(mids - starts), initial=0.0) > 1e-9 * scale:
+        raise CurveFormatError(
+            "segments do not join at the midpoints of their control points "
+            "(not a uniform quadratic B-spline)"
+        )
+    if closed:
+        return np.roll(ctrl, 1, axis=0), True
+    first = 2.0 * q[0, 0] - ctrl[0]
+    last = 2.0 * q[-1, 2] - ctrl[-1]
+    return np.concatenate([[first], ctrl, [last]]), False
+
+
+def path_document(paths: list[str], bounds) -> str:
+    """An SVG document of unfilled paths (given as path data) in a viewBox around `bounds`.
+
+    Parameters
+    ----------
+    paths : list of str
+        Path data, one ``<path id="spline{i}">`` each.
+    bounds : ((x0, y0), (x1, y1))
+        Lower-left and upper-right corner of the drawing; the viewBox adds a 2 % margin.
+
+    Returns
+    -------
+    str
+        The document's text.
+
+    Examples
+    --------
+    >>> path_document(["M 0 0 L 1 1"], ((0, 0), (1, 1))).splitlines()[2].split()[:3]
+    ['<path', 'id="spline0"', 'd="M']
+    """
+    (x0, y0), (x1, y1) = bounds
+    pad = 0.02 * max(x1 - x0, y1 - y0, 1e-12)
+    view = f"{x0 - pad:.17g} {y0 - pad:.17g} {x1 - x0 + 2 * pad:.17g} {y1 - y0 + 2 * pad:.17g}"
+    body = "\n".join(
+        f'  <path id={quoteattr(f"spline{i}")} d={quoteattr(d)} fill="none" stroke="black" '
+        'stroke-width="0.5" vector-effect="non-scaling-stroke"/>'
+        for i, d in enumerate(paths)
+    )
+    return (
+        '<?xml version="1.0" encoding="UTF-8"?>\n'
+        f'<svg xmlns="http://www.w3.org/2000/svg" viewBox="{view}">\n{body}\n</svg>\n'
+    )
