@@ -72,7 +72,7 @@ Prescribed length (sections 3-4)
     data) or 7 (random data) at 1e-9. For gamma != 2 the certificate needs one
     refinement to level 17..21 (0.05 to 0.4 s at tol 1e-12).
 
-Section 4 states the rule "choose n with (|AB| + |BC|) 0.25^n < eps / 2"; the
+Section 4 states the rule "choose n with ``(|AB| + |BC|) 0.25^n < eps / 2``"; the
 levels printed in the tables of section 5 (5, 8, 10) do not follow it (it gives
 5, 9, 11), so the tables are reproduced with the printed levels passed as
 ``length_level``.
@@ -251,7 +251,7 @@ def _check_polygon(points, gamma) -> tuple[np.ndarray, float]:
 
 
 def length_sequences(points, *, gamma: float, levels: int) -> tuple[np.ndarray, np.ndarray]:
-    """Lengths ``l^k`` and ``L^k`` for every level ``k = 0 .. levels`` (Merrien, section 2).
+    """Lengths ``l^k`` and ``L^k`` for every level ``k`` from 0 to ``levels`` (Merrien, section 2).
 
     Parameters
     ----------

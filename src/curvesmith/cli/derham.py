@@ -22,7 +22,7 @@ __all__ = ["derham_command"]
     "target",
     required=True,
     type=float,
-    help="Prescribed length, strictly between |AC| and |AB| + |BC|.",
+    help="Prescribed length, strictly between the chord AC and the polygon length AB + BC.",
 )
 @click.option(
     "--gamma", type=float, default=2.0, show_default=True, help="De Rham ratio 1:gamma:1, > 1."

@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-__all__ = ["SECTIONS", "DemoContext", "run_demo"]
+__all__ = ["SECTIONS", "DemoContext", "run_demo", "show_section"]
 
 #: Section modules of this package, in the order they appear in the summary.
 SECTIONS: list[str] = ["subdivision", "cca", "derham", "affine", "elastica", "keyline", "geo"]
@@ -32,10 +32,14 @@ class DemoContext:
         Output directory (exists).
     section : str
         Name of the running section.
+    close : bool
+        Close each figure once saved (default); the documentation gallery keeps them open
+        so that sphinx-gallery can show them.
     """
 
     outdir: Path
     section: str = ""
+    close: bool = True
     figures: list[dict[str, str]] = field(default_factory=list)
     numbers: dict[str, Any] = field(default_factory=dict)
     texts: list[str] = field(default_factory=list)
@@ -56,7 +60,8 @@ class DemoContext:
 
         path = self.outdir / f"{name}.png"
         fig.savefig(path, dpi=150, bbox_inches="tight")
-        plt.close(fig)
+        if self.close:
+            plt.close(fig)
         self.figures.append({"file": path.name, "caption": caption})
         return path
 
@@ -159,3 +164,40 @@ def run_demo(outdir, *, sections: list[str] | None = None, progress=None) -> dic
     (outdir / "summary.md").write_text("\n".join(md), encoding="utf-8")
     (outdir / "summary.json").write_text(json.dumps(summary, indent=2), encoding="utf-8")
     return summary
+
+
+def show_section(name: str, outdir=None) -> DemoContext:
+    """Run one demo section with its figures left open, and print its numbers.
+
+    This is what the documentation gallery runs: each example script shows one section, and
+    sphinx-gallery collects the open matplotlib figures.
+
+    Parameters
+    ----------
+    name : str
+        One of :data:`SECTIONS`.
+    outdir : str or Path, optional
+        Where the PNGs go (default: a temporary directory).
+
+    Returns
+    -------
+    DemoContext
+        The section's figures, numbers and texts.
+    """
+    import tempfile
+
+    from ..errors import CurveError
+
+    if name not in SECTIONS:
+        raise CurveError(f"name must be one of {SECTIONS}, got {name!r}")
+    module = importlib.import_module(f"{__name__}.{name}")
+    folder = Path(tempfile.mkdtemp(prefix=f"curvesmith-{name}-")) if outdir is None else outdir
+    folder = Path(folder)
+    folder.mkdir(parents=True, exist_ok=True)
+    ctx = DemoContext(outdir=folder, section=name, close=False)
+    module.run(ctx)
+    for text in ctx.texts:
+        print(text)
+    for key, entry in ctx.numbers.items():
+        print(f"{key} = {_fmt(entry['value'])}  ({entry['description']})")
+    return ctx
