@@ -306,17 +306,14 @@ def _smooth_one(
         frame = plane_frame(q)
         if frame is not None:
             q = q @ frame.T  # (N, 2) coordinates in the plane
-    cols = [np.ascontiguousarray(q[:, k]) for k in range(q.shape[1])]
-
     prm = _Params(alpha_fn, restrict, c, C, tilt, balance_tol, max_passes, min_factor, workers)
     offsets = np.array([0, q.shape[0]], dtype=np.int64)
-    cols, fixed, _, steps = _iterate(
-        cols, fixed, offsets, np.array([closed]), iterations, prm, engine
+    out, fixed, _, steps = _iterate(
+        np.ascontiguousarray(q), fixed, offsets, np.array([closed]), iterations, prm, engine
     )
     red_steps = [int(nred[0]) for nred, _, _ in steps]
     fig11_total = sum(int(nfig[0]) for _, nfig, _ in steps)
     unsat_total = sum(int(nunsat[0]) for _, _, nunsat in steps)
-    out = np.column_stack(cols)
     if frame is not None:
         out = out @ frame
     out += origin
@@ -572,11 +569,9 @@ def smooth_ragged_with_info(
     cid = curve_ids(off)
     origin = p[starts]
     q = p - origin[cid]
-    cols = [np.ascontiguousarray(q[:, 0]), np.ascontiguousarray(q[:, 1])]
     prm = _Params(alpha_fn, restrict, c, C, tilt, balance_tol, max_passes, min_factor, workers)
-    cols, fixed, off_out, steps = _iterate(cols, fixed, off, cl, iterations, prm, "compiled")
+    out, fixed, off_out, steps = _iterate(q, fixed, off, cl, iterations, prm, "compiled")
     cid_out = curve_ids(off_out)
-    out = np.column_stack(cols)
     out += origin[cid_out]
     if fixed_in.any():
         _restore_fixed(out, fixed, cid_out, p, fixed_in, cid, off_out, off)
@@ -623,22 +618,23 @@ class _Params:
     workers: int
 
 
-def _iterate(cols, fixed, offsets, closed, iterations, prm: _Params, engine: str):
-    """``iterations`` CCA1 steps on a batch; returns cols, fixed, offsets and per-step counts."""
+def _iterate(P, fixed, offsets, closed, iterations, prm: _Params, engine: str):
+    """``iterations`` CCA1 steps on a batch of ``(N, d)`` points.
+
+    Returns the points, their fixed mask, the offsets and the per-step counts.
+    """
     steps = []
     for it in range(1, iterations + 1):
         tilt_n = prm.tilt / 2.0**it
-        if len(cols) != 2 or engine == "numpy":
-            cols, fixed, offsets, counts = _step_numpy(cols, fixed, offsets, closed, prm, tilt_n)
+        if P.shape[1] != 2 or engine == "numpy":
+            P, fixed, offsets, counts = _step_numpy(P, fixed, offsets, closed, prm, tilt_n)
         else:
-            cols, fixed, offsets, counts = _step_compiled(
-                cols[0], cols[1], fixed, offsets, closed, prm, tilt_n
-            )
+            P, fixed, offsets, counts = _step_compiled(P, fixed, offsets, closed, prm, tilt_n)
         steps.append(counts)
-    return cols, fixed, offsets, steps
+    return P, fixed, offsets, steps
 
 
-def _step_numpy(cols, fixed, offsets, closed, prm: _Params, tilt_n):
+def _step_numpy(P, fixed, offsets, closed, prm: _Params, tilt_n):
     """The reference: the N-d numpy step curve by curve."""
     m = offsets.size - 1
     outs, fixes, lens = [], [], []
@@ -647,7 +643,7 @@ def _step_numpy(cols, fixed, offsets, closed, prm: _Params, tilt_n):
         for k in range(m):
             a, b = offsets[k], offsets[k + 1]
             piece, f, nred, nfig, nunsat = _stepnd.step(
-                [col[a:b] for col in cols],
+                [np.ascontiguousarray(P[a:b, d]) for d in range(P.shape[1])],
                 fixed[a:b],
                 bool(closed[k]),
                 prm.alpha_fn,
@@ -658,14 +654,13 @@ def _step_numpy(cols, fixed, offsets, closed, prm: _Params, tilt_n):
                 prm.balance_tol,
                 (prm.max_passes, prm.min_factor),
             )
-            outs.append(piece)
+            outs.append(np.column_stack(piece))
             fixes.append(f)
             lens.append(f.size)
             counts[:, k] = nred, nfig, nunsat
-    new_cols = [np.concatenate([o[d] for o in outs]) for d in range(len(cols))]
     new_off = np.zeros(m + 1, dtype=np.int64)
     np.cumsum(lens, out=new_off[1:])
-    return new_cols, np.concatenate(fixes), new_off, tuple(counts)
+    return np.concatenate(outs), np.concatenate(fixes), new_off, tuple(counts)
 
 
 def _kernel():
@@ -674,7 +669,7 @@ def _kernel():
     return kernel
 
 
-def _step_compiled(x, y, fixed, offsets, closed, prm: _Params, tilt_n):
+def _step_compiled(P, fixed, offsets, closed, prm: _Params, tilt_n):
     kernel = _kernel()
     brk, coef = profile_tables()
     constant = getattr(prm.alpha_fn, "constant", None)
@@ -685,14 +680,15 @@ def _step_compiled(x, y, fixed, offsets, closed, prm: _Params, tilt_n):
         mode, const = kernel.MODE_CONSTANT, float(constant)
     else:  # a user callable: the angles of the compacted curves, evaluated in one call
         mode, const = kernel.MODE_GIVEN, 0.0
-        x, y, fixed, offsets = kernel.compact_ragged(x, y, fixed, offsets, closed)
-        theta = kernel.angles_ragged(x, y, offsets, closed)
+        if kernel.any_zero_edge(P, offsets, closed):
+            P, fixed, offsets = kernel.compact_ragged(P, fixed, offsets, closed)
+        theta = kernel.angles_ragged(P, offsets, closed)
         free = ~fixed
         lengths = np.diff(offsets)
         opened = ~closed & (lengths > 0)
         free[offsets[:-1][opened]] = False
         free[offsets[1:][opened] - 1] = False
-        alpha_in = np.zeros(x.shape[0])
+        alpha_in = np.zeros(P.shape[0])
         alpha_in[free] = prm.alpha_fn(theta[free])
     args = (
         closed, mode, const, brk, coef, alpha_in, prm.restrict, prm.c, prm.C, tilt_n,
@@ -700,27 +696,26 @@ def _step_compiled(x, y, fixed, offsets, closed, prm: _Params, tilt_n):
     )  # fmt: skip
     chunks = _chunks(offsets, prm.workers)
     if len(chunks) == 1:
-        ox, oy, of, oo, nred, nfig, nunsat = kernel.step_ragged(x, y, fixed, offsets, *args)
-        return [ox, oy], of, oo, (nred, nfig, nunsat)
+        OUT, of, m, oo, nred, nfig, nunsat = kernel.step_ragged(P, fixed, offsets, *args)
+        return OUT[:m], of[:m], oo, (nred, nfig, nunsat)
 
     def run(ab):
         a, b = ab
         s, e = offsets[a], offsets[b]
         sub = (closed[a:b], *args[1:5], alpha_in[s:e] if alpha_in.size else alpha_in, *args[6:])
-        return kernel.step_ragged(x[s:e], y[s:e], fixed[s:e], offsets[a : b + 1] - s, *sub)
+        return kernel.step_ragged(P[s:e], fixed[s:e], offsets[a : b + 1] - s, *sub)
 
     with ThreadPoolExecutor(len(chunks)) as pool:
         parts = list(pool.map(run, chunks))
-    ox = np.concatenate([r[0] for r in parts])
-    oy = np.concatenate([r[1] for r in parts])
-    of = np.concatenate([r[2] for r in parts])
+    OUT = np.concatenate([r[0][: r[2]] for r in parts])
+    of = np.concatenate([r[1][: r[2]] for r in parts])
     oo = [np.zeros(1, dtype=np.int64)]
     base = 0
     for r in parts:
         oo.append(r[3][1:] + base)
-        base += r[3][-1]
+        base += r[2]
     counts = tuple(np.concatenate([r[k] for r in parts]) for k in (4, 5, 6))
-    return [ox, oy], of, np.concatenate(oo), counts
+    return OUT, of, np.concatenate(oo), counts
 
 
 def _chunks(offsets: np.ndarray, workers: int) -> list[tuple[int, int]]:

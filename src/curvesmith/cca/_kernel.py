@@ -74,20 +74,20 @@ def _zero_gap(dx, dy):
 
 
 @njit(cache=True, nogil=True)
-def _has_zero_edge(x, y, s, n, closed):
+def _has_zero_edge(P, s, n, closed):
     last = n if closed else n - 1
     for i in range(last):
         j = s + i + 1 if i + 1 < n else s
-        ex = x[j] - x[s + i]
-        ey = y[j] - y[s + i]
+        ex = P[j, 0] - P[s + i, 0]
+        ey = P[j, 1] - P[s + i, 1]
         if math.sqrt(ex * ex + ey * ey) == 0.0:
             return True
     return False
 
 
 @njit(cache=True, nogil=True)
-def _dedupe(x, y, fixed, s, n, closed, cx, cy, cf):
-    """Copy curve ``s .. s + n - 1`` into ``cx, cy, cf`` without duplicates; return the count.
+def _dedupe(P, fixed, s, n, closed, Q, qf):
+    """Copy curve ``s .. s + n - 1`` of ``P`` into ``Q, qf`` without duplicates; return the count.
 
     The rules of :func:`curvesmith.cca._input.dedupe`: trailing copies of the first
     vertex of a ring go first (their fixed flags move to vertex 0), then every vertex
@@ -96,65 +96,83 @@ def _dedupe(x, y, fixed, s, n, closed, cx, cy, cf):
     k = n
     f0 = fixed[s]
     if closed and n > 1:
-        while k > 1 and _zero_gap(x[s + k - 1] - x[s], y[s + k - 1] - y[s]):
+        while k > 1 and _zero_gap(P[s + k - 1, 0] - P[s, 0], P[s + k - 1, 1] - P[s, 1]):
             k -= 1
         for t in range(k, n):
             f0 = f0 or fixed[s + t]
     m = 0
     for t in range(k):
         f = f0 if t == 0 else fixed[s + t]
-        if t > 0 and _zero_gap(x[s + t] - x[s + t - 1], y[s + t] - y[s + t - 1]):
-            cf[m - 1] = cf[m - 1] or f
+        if t > 0 and _zero_gap(P[s + t, 0] - P[s + t - 1, 0], P[s + t, 1] - P[s + t - 1, 1]):
+            qf[m - 1] = qf[m - 1] or f
             continue
-        cx[m] = x[s + t]
-        cy[m] = y[s + t]
-        cf[m] = f
+        Q[m, 0] = P[s + t, 0]
+        Q[m, 1] = P[s + t, 1]
+        qf[m] = f
         m += 1
     return m
 
 
 @njit(cache=True, nogil=True)
-def compact_ragged(x, y, fixed, offsets, closed):
+def _compact_curve(P, fixed, s, n, closed, Q, qf):
+    """The curve without zero-length edges in ``Q, qf`` (repeated until none is left)."""
+    m = _dedupe(P, fixed, s, n, closed, Q, qf)
+    while m > 1 and _has_zero_edge(Q, 0, m, closed):
+        m = _dedupe(Q.copy(), qf.copy(), 0, m, closed, Q, qf)
+    return m
+
+
+@njit(cache=True, nogil=True)
+def compact_ragged(P, fixed, offsets, closed):
     """Remove zero-length edges of every curve (as the step does before cutting)."""
     ncurves = offsets.shape[0] - 1
     nmax = 1
     for k in range(ncurves):
         nmax = max(nmax, offsets[k + 1] - offsets[k])
-    cx, cy = np.empty(nmax), np.empty(nmax)
-    cf = np.empty(nmax, dtype=np.bool_)
-    ox, oy = np.empty(x.shape[0]), np.empty(x.shape[0])
-    of = np.empty(x.shape[0], dtype=np.bool_)
+    Q = np.empty((nmax, 2))
+    qf = np.empty(nmax, dtype=np.bool_)
+    OUT = np.empty((P.shape[0], 2))
+    of = np.empty(P.shape[0], dtype=np.bool_)
     oo = np.empty(ncurves + 1, dtype=np.int64)
     oo[0] = 0
     pos = 0
     for k in range(ncurves):
         s, n = offsets[k], offsets[k + 1] - offsets[k]
-        if n > 0 and _has_zero_edge(x, y, s, n, closed[k]):
-            m = _dedupe(x, y, fixed, s, n, closed[k], cx, cy, cf)
-            while m > 1 and _has_zero_edge(cx, cy, 0, m, closed[k]):
-                m = _dedupe(cx.copy(), cy.copy(), cf.copy(), 0, m, closed[k], cx, cy, cf)
+        if n > 0 and _has_zero_edge(P, s, n, closed[k]):
+            m = _compact_curve(P, fixed, s, n, closed[k], Q, qf)
             for t in range(m):
-                ox[pos + t], oy[pos + t], of[pos + t] = cx[t], cy[t], cf[t]
+                OUT[pos + t, 0], OUT[pos + t, 1], of[pos + t] = Q[t, 0], Q[t, 1], qf[t]
         else:
             m = n
             for t in range(n):
-                ox[pos + t], oy[pos + t], of[pos + t] = x[s + t], y[s + t], fixed[s + t]
+                OUT[pos + t, 0], OUT[pos + t, 1] = P[s + t, 0], P[s + t, 1]
+                of[pos + t] = fixed[s + t]
         pos += m
         oo[k + 1] = pos
-    return ox[:pos].copy(), oy[:pos].copy(), of[:pos].copy(), oo
+    return OUT[:pos].copy(), of[:pos].copy(), oo
 
 
 @njit(cache=True, nogil=True)
-def angles_ragged(x, y, offsets, closed):
+def any_zero_edge(P, offsets, closed):
+    """Whether some curve has a zero-length edge."""
+    for k in range(offsets.shape[0] - 1):
+        s, n = offsets[k], offsets[k + 1] - offsets[k]
+        if n > 0 and _has_zero_edge(P, s, n, closed[k]):
+            return True
+    return False
+
+
+@njit(cache=True, nogil=True)
+def angles_ragged(P, offsets, closed):
     """Interior angle ``atan2(|cross|, -dot)`` at every vertex (for a callable alpha)."""
-    theta = np.zeros(x.shape[0])
+    theta = np.zeros(P.shape[0])
     for k in range(offsets.shape[0] - 1):
         s, n = offsets[k], offsets[k + 1] - offsets[k]
         for i in range(n):
             h = s + (i - 1 if i > 0 else n - 1)
             j = s + (i + 1 if i + 1 < n else 0)
-            upx, upy = _unit(x[s + i] - x[h], y[s + i] - y[h])
-            ux, uy = _unit(x[j] - x[s + i], y[j] - y[s + i])
+            upx, upy = _unit(P[s + i, 0] - P[h, 0], P[s + i, 1] - P[h, 1])
+            ux, uy = _unit(P[j, 0] - P[s + i, 0], P[j, 1] - P[s + i, 1])
             cr = upx * uy - upy * ux
             dot = 0.0 + upx * ux + upy * uy
             theta[s + i] = math.atan2(abs(cr), -dot)
@@ -170,8 +188,7 @@ def _unit(ex, ey):
 
 @njit(cache=True, nogil=True)
 def step_ragged(
-    x,
-    y,
+    P,
     fixed,
     offsets,
     closed,
@@ -188,29 +205,30 @@ def step_ragged(
     max_passes,
     min_factor,
 ):
-    """One CCA1 step on every curve of a ragged batch.
+    """One CCA1 step on every curve of a ragged batch of ``(N, 2)`` points.
 
-    Returns ``ox, oy, ofixed, ooffsets, nred, nfig, nunsat``: the new columns, the
-    fixed mask of the output (each fixed vertex is emitted once, as itself), the
-    offsets of the output curves and, per curve, the number of local alpha
+    Returns ``OUT, ofixed, m, ooffsets, nred, nfig, nunsat``: the new points in
+    ``OUT[:m]`` and the fixed mask of the output in ``ofixed[:m]`` (each fixed vertex
+    is emitted once, as itself; the buffers hold up to 4 points per input vertex and
+    are returned whole, so the caller takes views, not copies), the offsets of the
+    output curves and, per curve, the number of local alpha
     decreases, of Fig. 11 edges and of edges left violating a restriction.
     """
     ncurves = offsets.shape[0] - 1
     nmax = 1
     for k in range(ncurves):
         nmax = max(nmax, offsets[k + 1] - offsets[k])
-    total = x.shape[0]
-    ox = np.empty(4 * total)
-    oy = np.empty(4 * total)
-    of = np.zeros(4 * total, dtype=np.bool_)
+    total = P.shape[0]
+    OUT = np.empty((4 * total, 2))
+    of = np.empty(4 * total, dtype=np.bool_)
     oo = np.empty(ncurves + 1, dtype=np.int64)
     nred = np.zeros(ncurves, dtype=np.int64)
     nfig = np.zeros(ncurves, dtype=np.int64)
     nunsat = np.zeros(ncurves, dtype=np.int64)
     # scratch, sized for the largest curve
     m1 = nmax + 1
-    cx, cy = np.empty(m1), np.empty(m1)
-    cf = np.empty(m1, dtype=np.bool_)
+    Q = np.empty((m1, 2))
+    qf = np.empty(m1, dtype=np.bool_)
     length, ux, uy = np.empty(m1), np.empty(m1), np.empty(m1)
     cr, dot, scross = np.empty(m1), np.empty(m1), np.empty(m1)
     alpha, alpha0, short, half = np.empty(m1), np.empty(m1), np.empty(m1), np.empty(m1)
@@ -222,6 +240,9 @@ def step_ragged(
     fx = np.empty(m1, dtype=np.bool_)
     cand = np.empty(2 * m1, dtype=np.int64)
     edges = np.empty(m1, dtype=np.int64)
+    edges2 = np.empty(m1, dtype=np.int64)
+    fv[:] = 1.0
+    check[:] = False
     pos = 0
     oo[0] = 0
     for k in range(ncurves):
@@ -230,79 +251,94 @@ def step_ragged(
         if n == 0:
             oo[k + 1] = pos
             continue
-        # the curve in the scratch columns, zero-length edges removed
-        if _has_zero_edge(x, y, s, n, cl):
-            n = _dedupe(x, y, fixed, s, n, cl, cx, cy, cf)
-            while n > 1 and _has_zero_edge(cx, cy, 0, n, cl):
-                n = _dedupe(cx.copy(), cy.copy(), cf.copy(), 0, n, cl, cx, cy, cf)
-        else:
+        # the curve: rows b .. b + n - 1 of V (the input, or its copy without zero edges)
+        if _has_zero_edge(P, s, n, cl):
+            n = _compact_curve(P, fixed, s, n, cl, Q, qf)
+            V, b = Q, 0
             for t in range(n):
-                cx[t], cy[t], cf[t] = x[s + t], y[s + t], fixed[s + t]
-        for t in range(n):
-            fx[t] = cf[t]
+                fx[t] = qf[t]
+        else:
+            V, b = P, s
+            for t in range(n):
+                fx[t] = fixed[s + t]
         if not cl:
             fx[0] = True
             fx[n - 1] = True
-        # edges, unit vectors, turn at every vertex
+        anyfix = False
+        # edges and unit vectors; the turn at every vertex, from the edge before it
+        ex = V[b, 0] - V[b + n - 1, 0]
+        ey = V[b, 1] - V[b + n - 1, 1]
+        le = math.sqrt(0.0 + ex * ex + ey * ey)
+        inv = 1.0 / le if le > 0.0 else 0.0
+        length[n - 1], ux[n - 1], uy[n - 1] = le, ex * inv, ey * inv
         for i in range(n):
-            j = i + 1 if i + 1 < n else 0
-            ex = cx[j] - cx[i]
-            ey = cy[j] - cy[i]
-            le = math.sqrt(0.0 + ex * ex + ey * ey)
-            length[i] = le
-            inv = 1.0 / le if le > 0.0 else 0.0
-            ux[i] = ex * inv
-            uy[i] = ey * inv
-        for i in range(n):
+            if i < n - 1:
+                ex = V[b + i + 1, 0] - V[b + i, 0]
+                ey = V[b + i + 1, 1] - V[b + i, 1]
+                le = math.sqrt(0.0 + ex * ex + ey * ey)
+                inv = 1.0 / le if le > 0.0 else 0.0
+                length[i], ux[i], uy[i] = le, ex * inv, ey * inv
             h = i - 1 if i > 0 else n - 1
-            cr[i] = ux[h] * uy[i] - uy[h] * ux[i]
-            dot[i] = 0.0 + ux[h] * ux[i] + uy[h] * uy[i]
-            scross[i] = abs(cr[i])
-            short[i] = min(length[i], length[h])
-            half[i] = 0.5 * short[i] * short[i]
+            cri = ux[h] * uy[i] - uy[h] * ux[i]
+            doti = 0.0 + ux[h] * ux[i] + uy[h] * uy[i]
+            cr[i] = cri
+            dot[i] = doti
+            scross[i] = abs(cri)
+            sh = min(length[i], length[h])
+            short[i] = sh
+            half[i] = 0.5 * sh * sh
             if fx[i]:
-                alpha[i] = 0.0
+                al = 0.0
+                anyfix = True
             elif mode == MODE_REGULAR:
-                alpha[i] = _profile(math.atan2(scross[i], -dot[i]), brk, coef)
+                al = _profile(math.atan2(abs(cri), -doti), brk, coef)
             elif mode == MODE_CONSTANT:
-                alpha[i] = const
+                al = const
             else:
-                alpha[i] = alpha_in[s + i]
+                al = alpha_in[s + i]
+            alpha[i] = al
+            # cut length and signed cut area (kept current by the restriction passes)
+            a[i] = al * sh
+            K[i] = al * al * half[i] * cri
+            if restrict:
+                alpha0[i] = al
+                turning[i] = (not fx[i]) and abs(cri) > 0.0
+                tanb[i] = (1.0 + doti) / abs(cri) if turning[i] else 0.0
         if restrict:
             r = _restrict(
-                n, cl, alpha, alpha0, half, cr, scross, dot, short, length, fx, c, C,
+                n, cl, anyfix, alpha, alpha0, half, cr, scross, dot, short, length, fx, c, C,
                 max_passes, min_factor, a, K, tanb, fv, turning, endish, pending, check,
-                cand, edges,
+                cand, edges, edges2,
             )  # fmt: skip
             nred[k], nunsat[k] = r
-        # cut lengths and cut areas of the final alphas
-        for i in range(n):
-            a[i] = alpha[i] * short[i]
-            K[i] = alpha[i] * alpha[i] * half[i] * cr[i]
         # emit: vertex i -> [L_i, R_i] or [V_i]; edge i -> [G_i] or the Fig. 11 pair
         nf = 0
         for i in range(n):
             h = i - 1 if i > 0 else n - 1
             j = i + 1 if i + 1 < n else 0
-            if fx[i] or a[i] == 0.0:
-                ox[pos], oy[pos] = cx[i], cy[i]
+            vx, vy = V[b + i, 0], V[b + i, 1]
+            ai = a[i]
+            rx = vx + ai * ux[i]
+            ry = vy + ai * uy[i]
+            if fx[i] or ai == 0.0:
+                OUT[pos, 0], OUT[pos, 1] = vx, vy
                 of[pos] = fx[i]
                 pos += 1
             else:
-                ox[pos] = cx[i] - a[i] * ux[h]
-                oy[pos] = cy[i] - a[i] * uy[h]
-                ox[pos + 1] = cx[i] + a[i] * ux[i]
-                oy[pos + 1] = cy[i] + a[i] * uy[i]
+                OUT[pos, 0] = vx - ai * ux[h]
+                OUT[pos, 1] = vy - ai * uy[h]
+                OUT[pos + 1, 0] = rx
+                OUT[pos + 1, 1] = ry
+                of[pos] = False
+                of[pos + 1] = False
                 pos += 2
             if not cl and i == n - 1:
                 continue  # no wrap edge on an open curve
             A = 0.5 * (K[i] + K[j])
-            w = 0.5 * (length[i] - a[i] - a[j])
+            w = 0.5 * (length[i] - ai - a[j])
             winv = 1.0 / w if w > 0.0 else 0.0
-            rx = cx[i] + a[i] * ux[i]
-            ry = cy[i] + a[i] * uy[i]
-            lx = cx[j] - a[j] * ux[i]
-            ly = cy[j] - a[j] * uy[i]
+            lx = V[b + j, 0] - a[j] * ux[i]
+            ly = V[b + j, 1] - a[j] * uy[i]
             mx = 0.5 * (rx + lx)
             my = 0.5 * (ry + ly)
             k1, k2 = K[i], K[j]
@@ -313,8 +349,9 @@ def step_ragged(
             )
             if not fig:
                 sv = A * winv
-                ox[pos] = mx + sv * uy[i]
-                oy[pos] = my - sv * ux[i]
+                OUT[pos, 0] = mx + sv * uy[i]
+                OUT[pos, 1] = my - sv * ux[i]
+                of[pos] = False
                 pos += 1
                 continue
             # Fig. 11: two congruent triangles on the halves, on opposite sides
@@ -330,37 +367,36 @@ def step_ragged(
             h1, h2 = hb + carry, hb - carry
             q1x, q1y = 0.5 * (rx + mx), 0.5 * (ry + my)
             q2x, q2y = 0.5 * (mx + lx), 0.5 * (my + ly)
-            ox[pos] = q1x + s1 * h1 * uy[i]
-            oy[pos] = q1y - s1 * h1 * ux[i]
-            ox[pos + 1] = q2x - s1 * h2 * uy[i]
-            oy[pos + 1] = q2y + s1 * h2 * ux[i]
+            OUT[pos, 0] = q1x + s1 * h1 * uy[i]
+            OUT[pos, 1] = q1y - s1 * h1 * ux[i]
+            OUT[pos + 1, 0] = q2x - s1 * h2 * uy[i]
+            OUT[pos + 1, 1] = q2y + s1 * h2 * ux[i]
+            of[pos] = False
+            of[pos + 1] = False
             pos += 2
         nfig[k] = nf
         oo[k + 1] = pos
-    return ox[:pos].copy(), oy[:pos].copy(), of[:pos].copy(), oo, nred, nfig, nunsat
+    return OUT, of, pos, oo, nred, nfig, nunsat
 
 
 @njit(cache=True, nogil=True)
 def _restrict(
-    n, cl, alpha, alpha0, half, cr, scross, dot, short, length, fx, c, C, max_passes,
-    min_factor, a, K, tanb, fv, turning, endish, pending, check, cand, edges,
+    n, cl, anyfix, alpha, alpha0, half, cr, scross, dot, short, length, fx, c, C, max_passes,
+    min_factor, a, K, tanb, fv, turning, endish, pending, check, cand, edges, edges2,
 ):  # fmt: skip
     """Local alpha decrease of one curve; the rules and schedule of ``restrict_passes``.
 
-    Returns ``(nred, nunsat)``; ``alpha`` is decreased in place.
+    On entry ``alpha0 = alpha``, ``a``, ``K``, ``turning`` and ``tanb`` hold the
+    profile's values, ``fv`` is all 1 and ``check`` all False (both are left so).
+    ``alpha``, ``a`` and ``K`` are decreased in place. Returns ``(nred, nunsat)``.
     """
     for i in range(n):
-        alpha0[i] = alpha[i]
-        turning[i] = (not fx[i]) and scross[i] > 0.0
-        tanb[i] = (1.0 + dot[i]) / scross[i] if turning[i] else 0.0
-        a[i] = alpha[i] * short[i]
-        K[i] = alpha[i] * alpha[i] * half[i] * cr[i]
-        fv[i] = 1.0
         pending[i] = False
-        check[i] = False
-    for i in range(n):
-        j = i + 1 if i + 1 < n else 0
-        endish[i] = (fx[i] and turning[j]) or (fx[j] and turning[i])
+        if anyfix:
+            j = i + 1 if i + 1 < n else 0
+            endish[i] = (fx[i] and turning[j]) or (fx[j] and turning[i])
+        else:
+            endish[i] = False
     nlast = n if cl else n - 1  # edges that exist
     ne = nlast
     for i in range(ne):
@@ -417,8 +453,10 @@ def _restrict(
             for t in range(nc):
                 fv[cand[t]] = 1.0
             break
-        # apply the smallest factor of every vertex, from the state before the pass
-        nmoved = 0
+        # apply the smallest factor of every vertex, from the state before the pass; the
+        # next pass checks the edges next to the vertices that moved (the order of the
+        # edges does not matter: every edge's decision reads the state before the pass)
+        ne2 = 0
         for t in range(nc):
             v = cand[t]
             f = fv[v]
@@ -433,19 +471,21 @@ def _restrict(
             alpha[v] = new
             a[v] = new * short[v]
             K[v] = alpha[v] * alpha[v] * half[v] * cr[v]
-            check[v] = True
-            check[v - 1 if v > 0 else n - 1] = True  # the edge ending at v
-            nmoved += 1
-        if nmoved == 0:
+            e = v - 1 if v > 0 else n - 1  # the edge ending at v
+            if v < nlast and not check[v]:
+                check[v] = True
+                edges2[ne2] = v
+                ne2 += 1
+            if e < nlast and not check[e]:
+                check[e] = True
+                edges2[ne2] = e
+                ne2 += 1
+        if ne2 == 0:
             break  # every violation sits at the floor
-        ne = 0
-        for i in range(nlast):
-            if check[i]:
-                edges[ne] = i
-                ne += 1
-                check[i] = False
-        for i in range(nlast, n):
-            check[i] = False
+        for t in range(ne2):
+            check[edges2[t]] = False
+        edges, edges2 = edges2, edges
+        ne = ne2
     nred = 0
     nunsat = 0
     for i in range(n):
@@ -463,12 +503,19 @@ def restrict_curve(alpha, half, cr, scross, dot, short, length, fixed, closed, c
     """
     n = alpha.shape[0]
     alpha = np.array(alpha, dtype=float)
-    scratch = [np.empty(n + 1) for _ in range(5)]
-    flags = [np.empty(n + 1, dtype=np.bool_) for _ in range(4)]
-    ints = [np.empty(2 * n + 2, dtype=np.int64), np.empty(n + 1, dtype=np.int64)]
+    fixed = np.asarray(fixed, dtype=np.bool_)
+    turning = ~fixed & (scross > 0)
+    tanb = np.zeros(n + 1)
+    np.divide(1.0 + dot, scross, out=tanb[:n], where=turning)
+    a = np.append(alpha * short, 0.0)
+    K = np.append(alpha * alpha * half * cr, 0.0)
+    fv = np.ones(n + 1)
+    flags = [np.zeros(n + 1, dtype=np.bool_) for _ in range(3)]
+    ints = [np.empty(2 * n + 2, dtype=np.int64), np.empty(n + 1), np.empty(n + 1)]
+    ints[1:] = [np.empty(n + 1, dtype=np.int64), np.empty(n + 1, dtype=np.int64)]
     nred, nunsat = _restrict(
-        n, closed, alpha, scratch[0], half, cr, scross, dot, short, length,
-        np.asarray(fixed, dtype=np.bool_), c, C, limits[0], limits[1], *scratch[1:],
+        n, closed, bool(fixed.any()), alpha, alpha.copy(), half, cr, scross, dot, short,
+        length, fixed, c, C, limits[0], limits[1], a, K, tanb, fv, np.append(turning, False),
         *flags, *ints,
     )  # fmt: skip
     return alpha, int(nred), int(nunsat)
