@@ -499,22 +499,27 @@ def _smooth_polygonal(g, feat_index, smoother, levels, batch):
     fmask = fixed.mask(coords) if fixed is not None else None
     new_xy, new_off = smooth_batch(method, alpha, coords, ring_off, True, full, fmask)
 
-    def build(xy, off):
+    def build(xy, off, r_off, p_off, g_off, was_poly):
         cxy, coff = _close_rings(xy, off)
-        mp = shapely.from_ragged_array(T.MULTIPOLYGON, cxy, (coff, poly_off, geom_off))
+        if was_poly.all() and len(r_off) == len(g_off):  # Polygons, one part each
+            return shapely.from_ragged_array(T.POLYGON, cxy, (coff, g_off))
+        mp = shapely.from_ragged_array(T.MULTIPOLYGON, cxy, (coff, p_off, g_off))
         res = mp.copy()
-        res[was_polygon] = shapely.get_geometry(mp[was_polygon], 0)
+        res[was_poly] = shapely.get_geometry(mp[was_poly], 0)
         return res
 
-    res = build(new_xy, new_off)
+    res = build(new_xy, new_off, ring_off, poly_off, geom_off, was_polygon)
     rings_per_geom = np.bincount(ring_geom, minlength=len(g))
     hard = (rings_per_geom > 1) | ~shapely.is_valid(res)
     reductions: list[GeometryReduction] = []
     rings = _RaggedView(coords, ring_off, drop_last=True)
+    a1 = signed_areas_ragged(new_xy, new_off)
     if hard.any():
+        # only the features with holes or parts, or with an invalid output, are checked
+        # for conflicts and re-smoothed locally; their full-strength rings are reused
         sel = np.nonzero(hard[ring_geom])[0]
         new = _RaggedView(new_xy, new_off)
-        repl: dict[int, np.ndarray] = {int(r): new[r] for r in sel}
+        repl: dict[int, np.ndarray] = {}
         reductions += _resolve_parts(
             rings,
             repl,
@@ -526,11 +531,20 @@ def _smooth_polygonal(g, feat_index, smoother, levels, batch):
             feat_index=feat_index,
             smoother=smoother,
             levels=levels,
+            initial=[new[r] for r in sel],
         )
         sub = [repl[int(r)] for r in sel]
-        sub_off = np.concatenate([[0], np.cumsum([len(x) for x in sub])]).astype(np.int64)
-        new_xy, new_off = _put(new_xy, new_off, sel, np.concatenate(sub), sub_off)
-        res = build(new_xy, new_off)
+        sub_off = np.zeros(len(sub) + 1, dtype=np.int64)
+        np.cumsum([len(x) for x in sub], out=sub_off[1:])
+        sub_xy = np.concatenate(sub)
+        a1[sel] = signed_areas_ragged(sub_xy, sub_off)
+        # the hard features alone, renumbered: their rings, polygons and geometries
+        hard_idx = np.flatnonzero(hard)
+        polys = np.unique(ring_poly[sel])
+        p_off = np.append(np.searchsorted(ring_poly[sel], polys), len(sel))
+        poly_geom = np.searchsorted(geom_off, polys, side="right") - 1
+        g_off = np.append(np.searchsorted(poly_geom, hard_idx), len(polys))
+        res[hard_idx] = build(sub_xy, sub_off, sub_off, p_off, g_off, was_polygon[hard_idx])
     # the input rings without their closing vertex, for the areas
     lens_in = np.diff(ring_off) - 1
     rows = np.repeat(ring_off[:-1] - (np.cumsum(lens_in) - lens_in), lens_in) + np.arange(
@@ -538,16 +552,29 @@ def _smooth_polygonal(g, feat_index, smoother, levels, batch):
     )
     off0 = np.concatenate([[0], np.cumsum(lens_in)]).astype(np.int64)
     a0 = signed_areas_ragged(coords[rows], off0)
-    a1 = signed_areas_ragged(new_xy, new_off)
     scale = np.where(a0 != 0, np.abs(a0), 1.0)
     change = float(np.max(np.abs(a1 - a0) / scale)) if len(a0) else 0.0
     return res, reductions, n_rings, change
 
 
 def _resolve_parts(
-    parts, new, sel, *, loops, groups, part_geom, first_part, feat_index, smoother, levels
+    parts,
+    new,
+    sel,
+    *,
+    loops,
+    groups,
+    part_geom,
+    first_part,
+    feat_index,
+    smoother,
+    levels,
+    initial=None,
 ) -> list[GeometryReduction]:
-    """Re-smooth the conflicting parts ``sel`` less (in place in `new`); return the reductions."""
+    """Re-smooth the conflicting parts ``sel`` less (into `new`); return the reductions.
+
+    ``initial``: the parts already smoothed at full strength (reused as is).
+    """
     fixed, red = resolve_arcs(
         [parts[r] for r in sel],
         loops=np.full(len(sel), loops, dtype=bool),
@@ -555,6 +582,7 @@ def _resolve_parts(
         frozen=np.zeros(len(sel), dtype=bool),
         smoother=smoother,
         levels=levels,
+        initial=initial,
     )
     for k, r in enumerate(sel):
         new[int(r)] = fixed[k]
