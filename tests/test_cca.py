@@ -10,7 +10,9 @@ from hypothesis import given
 from hypothesis import strategies as st
 from scipy.interpolate import PchipInterpolator
 
+import curvesmith._validate
 from curvesmith import cca
+from curvesmith.cca import _input, _kernel, _restrict  # noqa: F401  (cca._kernel, ...)
 from curvesmith.errors import CurveError
 from curvesmith.geometry import interior_angles, is_convex
 
@@ -105,6 +107,49 @@ def reference_step(p, alpha, closed):
     if not closed:
         out.append(p[-1])
     return np.array(out)
+
+
+class _LibmTrig:
+    """numpy, except arctan2 and tan from the C library (the functions the kernel calls)."""
+
+    arctan2 = staticmethod(np.vectorize(math.atan2, otypes=[float]))
+    tan = staticmethod(np.vectorize(math.tan, otypes=[float]))
+
+    def __getattr__(self, name):
+        return getattr(np, name)
+
+
+def numpy_reference(points, *, closed, iterations=1, libm=False, **kwargs):
+    """The reference engine: cca's N-d numpy step, curve by curve (not the compiled kernel).
+
+    numpy's arctan2 and tan (SIMD) may differ from the C library's in the last ulp; with
+    ``libm=True`` the reference takes the C library's, and the compiled kernel must then
+    give the same bits.
+    """
+    from curvesmith.cca import _api, _stepnd
+
+    if libm:
+        saved = _stepnd.np, _restrict.np
+        _stepnd.np = _restrict.np = _LibmTrig()
+        try:
+            return numpy_reference(points, closed=closed, iterations=iterations, **kwargs)
+        finally:
+            _stepnd.np, _restrict.np = saved
+
+    args = {
+        "alpha": "regular",
+        "anchors": None,
+        "c": 2.0,
+        "C": 0.5,
+        "restrict": True,
+        "tilt": np.pi / 8,
+        "balance_tol": 1e-9,
+        "max_passes": 16,
+        "min_factor": 0.0,
+        "workers": 1,
+    }
+    args.update(kwargs)
+    return _api._smooth_one(points, closed=closed, iterations=iterations, engine="numpy", **args)
 
 
 # --------------------------------------------------------------------------- strategies
@@ -676,10 +721,9 @@ def test_zero_iterations_and_input_untouched():
         (np.array([[0, 0], [4, 0], [4, 1], [2, 1.002], [0, 1]]), True, {"alpha": 0.3}),
     ],
 )
-def test_lean_2d_step_matches_generic_step(monkeypatch, points, closed, kwargs):
+def test_compiled_2d_kernel_matches_numpy_step(points, closed, kwargs):
     lean = cca.smooth_with_info(points, closed=closed, iterations=3, **kwargs)
-    monkeypatch.setattr(cca, "_FORCE_GENERIC", True)
-    generic = cca.smooth_with_info(points, closed=closed, iterations=3, **kwargs)
+    generic = numpy_reference(points, closed=closed, iterations=3, **kwargs)
     np.testing.assert_allclose(lean.points, generic.points, rtol=0, atol=1e-13)
     assert lean.reductions == generic.reductions
     assert lean.fig11_edges == generic.fig11_edges
@@ -814,14 +858,14 @@ def _jagged_ring(n, seed, spikes=0):
         (_jagged_ring(2000, 13), True, {"max_passes": 2}),
     ],
 )
-def test_lean_2d_step_matches_generic_step_large(monkeypatch, points, closed, kwargs):
-    # the lean 2D restriction pass takes other code paths for large arrays; the generic
-    # step is the reference (same arithmetic: the same result to the last bit expected)
+def test_compiled_2d_kernel_matches_numpy_step_large(points, closed, kwargs):
+    # the compiled kernel against the whole-array numpy step: the same arithmetic, so with
+    # the same atan2 and tan the same bits (numpy's SIMD atan2 may differ in the last ulp,
+    # which the ill-conditioned decrease of an inflection edge can amplify to 1e-12)
     lean = cca.smooth_with_info(points, closed=closed, iterations=3, **kwargs)
-    monkeypatch.setattr(cca, "_FORCE_GENERIC", True)
-    generic = cca.smooth_with_info(points, closed=closed, iterations=3, **kwargs)
+    generic = numpy_reference(points, closed=closed, iterations=3, libm=True, **kwargs)
     assert lean.points.shape == generic.points.shape
-    np.testing.assert_allclose(lean.points, generic.points, rtol=0, atol=1e-13)
+    np.testing.assert_array_equal(lean.points, generic.points)
     assert lean.reductions_per_step == generic.reductions_per_step
     assert lean.fig11_edges == generic.fig11_edges
     assert lean.unsatisfied == generic.unsatisfied
@@ -848,13 +892,13 @@ def test_closed_must_be_a_bool_and_iterations_are_capped(monkeypatch):
     for bad in ("no", None, 1):
         with pytest.raises(CurveError, match="closed must be True or False"):
             cca.smooth(p, closed=bad)
-    monkeypatch.setattr(cca, "MAX_VERTICES", 100)
+    monkeypatch.setattr(curvesmith._validate, "MAX_VERTICES", 100)
     assert cca.smooth(p, closed=True, iterations=2).shape[0] <= 100
     with pytest.raises(CurveError, match=r"at most 100 output vertices, got 3 \(step 3"):
         cca.smooth(p, closed=True, iterations=3)
 
 
-# --------------------------------------------------------------------------- blocked step
+# --------------------------------------------------------------------------- long curves, threads
 
 
 def _noisy_line(n, seed):
@@ -878,85 +922,37 @@ def _noisy_line(n, seed):
         (np.column_stack([np.arange(1000.0), np.arange(1000) % 2]), True, {}),
     ],
 )
-def test_blocked_step_is_bit_identical_to_one_piece_step(monkeypatch, points, closed, kwargs):
-    # Blocks of 128 core vertices (halos of max_passes + 8) instead of the default 32768:
-    # the same arithmetic element by element, so the same bits and the same counts.
-    # Threads run the blocks in any order; the outputs are gathered in order.
-    monkeypatch.setattr(cca, "_BLOCK", 128)
-    blocked = cca.smooth_with_info(points, closed=closed, iterations=3, workers=1, **kwargs)
-    threads = cca.smooth_with_info(points, closed=closed, iterations=3, workers=3, **kwargs)
-    monkeypatch.setattr(cca, "_BLOCK", 10**9)
-    whole = cca.smooth_with_info(points, closed=closed, iterations=3, **kwargs)
-    for res in (blocked, threads):
-        np.testing.assert_array_equal(res.points, whole.points)
-        assert res.reductions_per_step == whole.reductions_per_step
-        assert res.fig11_edges == whole.fig11_edges
-        assert res.unsatisfied == whole.unsatisfied
+def test_kernel_matches_numpy_step_on_long_curves(points, closed, kwargs):
+    # compiled kernel against the numpy reference on long curves with floors, pass limits,
+    # anchors and Fig. 11 edges: the same counts and (with the same trig) the same bits
+    res = cca.smooth_with_info(points, closed=closed, iterations=3, workers=1, **kwargs)
+    ref = numpy_reference(points, closed=closed, iterations=3, libm=True, **kwargs)
+    assert res.points.shape == ref.points.shape
+    np.testing.assert_array_equal(res.points, ref.points)
+    assert res.reductions_per_step == ref.reductions_per_step
+    assert res.fig11_edges == ref.fig11_edges
+    assert res.unsatisfied == ref.unsatisfied
     if "min_factor" in kwargs:
-        assert blocked.unsatisfied > 0
+        assert res.unsatisfied > 0
     if "alpha" not in kwargs and "anchors" not in kwargs:
-        assert blocked.reductions > 0 or blocked.fig11_edges > 0
+        assert res.reductions > 0 or res.fig11_edges > 0
 
 
-def test_blocked_step_runs_in_blocks_and_falls_back_on_zero_length_edges(monkeypatch):
-    calls = []
-    step2 = cca._step2
+def test_thread_groups_are_bit_identical(monkeypatch):
+    # a batch split into groups of whole curves, one per thread: the same bits and counts
+    from curvesmith.cca import _api
 
-    def spy(*args):
-        calls.append(len(args) > 12 and args[12] is not None)
-        return step2(*args)
-
-    monkeypatch.setattr(cca, "_step2", spy)
-    monkeypatch.setattr(cca, "_BLOCK", 128)
-    p = _jagged_ring(600, 28)
-    x, y = np.ascontiguousarray(p[:, 0]), np.ascontiguousarray(p[:, 1])
-    args = (cca._alpha_function("regular"), True, 2.0, 0.5, np.pi / 16, 1e-9, (16, 0.0))
-    fixed = np.zeros(600, dtype=bool)
-    bx, by, bfixed, *counts = cca._step2_blocked(x, y, fixed, True, *args, stacked=None)
-    assert sum(calls) == 5 and not any(calls[5:])  # ceil(600 / 128) blocks
-    wx, wy, wfixed, *wcounts = step2(x, y, fixed, True, *args, None)[:7]
-    np.testing.assert_array_equal(bx, wx)
-    np.testing.assert_array_equal(by, wy)
-    np.testing.assert_array_equal(bfixed, wfixed)
-    assert counts == wcounts
-    # a zero-length edge (a step can create one on real data): the third block meets it, the
-    # edge is removed and the step starts again in blocks (5 of the compacted ring)
-    x2, y2 = np.insert(x, 300, x[300]), np.insert(y, 300, y[300])
-    fixed2 = np.zeros(601, dtype=bool)
-    calls.clear()
-    bx, by, *_ = cca._step2_blocked(x2, y2, fixed2, True, *args, stacked=None)
-    assert calls == [True] * 8
-    wx, wy, *_ = step2(x2, y2, fixed2, True, *args, None)
-    np.testing.assert_array_equal(bx, wx)
-    np.testing.assert_array_equal(by, wy)
-    assert bx.shape == (1800,)
-    # a block whose own wrap edge has zero length (the ring passes twice through a point):
-    # that block raises, the blocks in flight are dropped and the one-piece step runs
-    x3, y3 = x.copy(), y.copy()
-    x3[279], y3[279] = x3[104], y3[104]  # block 2 covers 104 .. 279 with its halos
-    wx, wy, *_ = step2(x3, y3, fixed, True, *args, None)
-    for workers in (1, 2):
-        calls.clear()
-        tx, ty, *_ = cca._step2_blocked(x3, y3, fixed, True, *args, stacked=None, workers=workers)
-        assert calls[-1] is False
-        np.testing.assert_array_equal(tx, wx)
-        np.testing.assert_array_equal(ty, wy)
-
-
-def test_threads_run_blocks_under_the_callers_errstate(monkeypatch):
-    # numpy's errstate is a context variable; plain worker threads would not see it
-    seen = []
-    step2 = cca._step2
-
-    def spy(*args):
-        seen.append(np.geterr()["over"])
-        return step2(*args)
-
-    monkeypatch.setattr(cca, "_step2", spy)
-    monkeypatch.setattr(cca, "_BLOCK", 128)
-    with np.errstate(over="ignore"):
-        cca.smooth(_jagged_ring(700, 29), closed=True, workers=2)
-    assert len(seen) == 6 and set(seen) == {"ignore"}  # ceil(700 / 128) blocks
+    curves = [_jagged_ring(300 + 7 * k, 40 + k, spikes=2) for k in range(9)]
+    xy = np.concatenate(curves)
+    off = np.concatenate([[0], np.cumsum([len(c) for c in curves])])
+    one = cca.smooth_ragged_with_info(xy, off, closed=True, iterations=2, workers=1)
+    monkeypatch.setattr(_api, "_THREAD_MIN", 100)
+    assert len(_api._chunks(off, 3)) == 3
+    three = cca.smooth_ragged_with_info(xy, off, closed=True, iterations=2, workers=3)
+    np.testing.assert_array_equal(three.coords, one.coords)
+    np.testing.assert_array_equal(three.offsets, one.offsets)
+    np.testing.assert_array_equal(three.reductions, one.reductions)
+    assert one.reductions.sum() > 0
 
 
 def test_workers_is_validated():
@@ -964,16 +960,16 @@ def test_workers_is_validated():
         cca.smooth(regular(5), closed=True, workers=0)
     with pytest.raises(CurveError, match="workers must be an integer"):
         cca.smooth(regular(5), closed=True, workers=1.5)
-    assert 1 <= cca._default_workers() <= 4
+    assert 1 <= cca._input.default_workers() <= 4
 
 
 def test_default_workers_respects_omp_num_threads(monkeypatch):
     monkeypatch.setenv("OMP_NUM_THREADS", "1")
-    assert cca._default_workers() == 1
+    assert cca._input.default_workers() == 1
     monkeypatch.setenv("OMP_NUM_THREADS", "64")
-    assert cca._default_workers() == min(4, len(os.sched_getaffinity(0)))
+    assert cca._input.default_workers() == min(4, len(os.sched_getaffinity(0)))
     monkeypatch.setenv("OMP_NUM_THREADS", "auto")  # not a count: ignored
-    assert cca._default_workers() == min(4, len(os.sched_getaffinity(0)))
+    assert cca._input.default_workers() == min(4, len(os.sched_getaffinity(0)))
 
 
 def _restriction_inputs(p):
@@ -1023,10 +1019,10 @@ def test_unsatisfied_counts_every_violated_edge(seed):
     fixed = np.zeros(167, dtype=bool)
     on, limits = np.ones(167, dtype=bool), (16, 0.95)
     with np.errstate(all="ignore"):
-        alpha, _, generic, _, _ = cca._restrict_passes(
+        alpha, _, generic, _, _ = cca._restrict.restrict_passes(
             inputs[0], inputs[1], [inputs[2]], *inputs[3:], fixed, on, 2.0, 0.5, limits
         )
-    lean = cca._restrict2(*inputs, fixed, False, None, 2.0, 0.5, limits, None)
+    lean = cca._kernel.restrict_curve(*inputs, fixed, True, 2.0, 0.5, limits)
     np.testing.assert_array_equal(lean[0], alpha)
     strict = _violated_edges(alpha, *inputs[1:], 2.0, 0.5, rtol=1e-9)
     loose = _violated_edges(alpha, *inputs[1:], 2.0, 0.5, rtol=-1e-9)

@@ -34,7 +34,15 @@ import numpy as np
 from ._validate import MAX_VERTICES, as_bool, as_float, as_int, as_points, check_growth
 from .errors import CurveError
 
-__all__ = ["MAX_VERTICES", "chaikin", "de_rham", "lane_riesenfeld"]
+__all__ = [
+    "MAX_VERTICES",
+    "chaikin",
+    "chaikin_ragged",
+    "de_rham",
+    "de_rham_ragged",
+    "lane_riesenfeld",
+    "lane_riesenfeld_ragged",
+]
 
 
 def _input_points(points, closed) -> tuple[np.ndarray, bool]:
@@ -264,3 +272,269 @@ def _lane_riesenfeld_step(p: np.ndarray, degree: int, closed: bool, keep_ends: b
     if keep_ends:
         q = np.concatenate([p[:1], q, p[-1:]])
     return q
+
+
+# --------------------------------------------------------------------------- ragged batches
+
+
+def _ragged_input(coords, offsets, closed, preserve_endpoints):
+    from ._ragged import as_ragged
+
+    rag = as_ragged(coords, offsets, closed=closed, dim=None)
+    if rag.points.ndim == 2 and rag.points.shape[1] == 0:
+        raise CurveError("coords must have at least one column")
+    preserve_endpoints = as_bool(preserve_endpoints, name="preserve_endpoints")
+    lengths = np.diff(rag.offsets)
+    need = np.where(rag.closed, 3, 2)
+    short = np.flatnonzero(lengths < need)
+    if short.size:
+        k = int(short[0])
+        ring = " distinct ring" if rag.closed[k] else ""
+        raise CurveError(
+            f"coords must have at least {need[k]}{ring} points per curve, "
+            f"got {int(lengths[k])} for curve {k}"
+        )
+    return rag.points, rag.offsets, rag.closed, preserve_endpoints
+
+
+def _edge_ends(offsets: np.ndarray, closed: np.ndarray):
+    """Start and end row of every edge of every curve, and the number of edges per curve."""
+    lengths = np.diff(offsets)
+    n_edges = np.where(closed, lengths, lengths - 1)
+    start = np.repeat(offsets[:-1], n_edges)
+    first_edge = np.zeros(lengths.size + 1, dtype=np.int64)
+    np.cumsum(n_edges, out=first_edge[1:])
+    local = np.arange(first_edge[-1]) - np.repeat(first_edge[:-1], n_edges)
+    a = start + local
+    b = a + 1
+    wrap = closed & (n_edges > 0)
+    b[first_edge[1:][wrap] - 1] = offsets[:-1][wrap]  # the closing edge of a ring
+    return a, b, n_edges
+
+
+def de_rham_ragged(
+    coords,
+    offsets,
+    *,
+    gamma: float,
+    closed=False,
+    iterations: int = 1,
+    preserve_endpoints: bool = False,
+) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`de_rham` on many curves in one call (one coordinate array plus offsets).
+
+    Every curve gets exactly (bit for bit) what :func:`de_rham` gives it alone; each
+    step is a few whole-array operations over all curves.
+
+    Parameters
+    ----------
+    coords : (N, d) array_like
+        All curves one after the other (the layout of :func:`shapely.to_ragged_array`).
+        A closed curve may repeat its first vertex at its end (dropped).
+    offsets : (M + 1,) array_like of int
+        Curve ``k`` is ``coords[offsets[k]:offsets[k + 1]]``.
+    gamma : float
+        Ratio parameter, ``gamma > 1``.
+    closed : bool or (M,) array_like of bool, optional
+        One flag for all curves or one per curve.
+    iterations : int, optional
+        Number of refinement steps, >= 0.
+    preserve_endpoints : bool, optional
+        For open curves, keep the first and last vertex.
+
+    Returns
+    -------
+    coords : (N', d) ndarray
+        The refined curves one after the other (rings without repeated vertex).
+    offsets : (M + 1,) int64 ndarray
+        The curves of the output.
+
+    Examples
+    --------
+    >>> xy = [[0, 0], [1, 1], [2, 0], [0, 0], [8, 8], [0, 16]]
+    >>> out, off = de_rham_ragged(xy, [0, 3, 6], gamma=3.0, closed=[False, True])
+    >>> off.tolist(), out[:4].tolist()
+    ([0, 4, 10], [[0.2, 0.2], [0.8, 0.8], [1.2, 0.8], [1.8, 0.2]])
+    """
+    gamma = as_float(gamma, name="gamma", low=1.0)
+    iterations = as_int(iterations, name="iterations", minimum=0)
+    p, off, cl, keep = _ragged_input(coords, offsets, closed, preserve_endpoints)
+    extra = 0 if keep else -2
+    check_growth(p.shape[0], iterations, lambda n: 2 * n + extra, limit=MAX_VERTICES)
+    beta = 1.0 / (gamma + 2.0)
+    for _ in range(iterations):
+        p, off = _de_rham_ragged_step(p, off, cl, beta, keep)
+    return p, off
+
+
+def chaikin_ragged(
+    coords,
+    offsets,
+    *,
+    closed,
+    iterations: int = 1,
+    preserve_endpoints: bool = False,
+) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`chaikin` on many curves in one call (one coordinate array plus offsets).
+
+    Parameters
+    ----------
+    coords, offsets, closed, iterations, preserve_endpoints
+        As in :func:`de_rham_ragged` (``gamma = 2``).
+
+    Returns
+    -------
+    coords : (N', d) ndarray
+    offsets : (M + 1,) int64 ndarray
+
+    Examples
+    --------
+    >>> out, off = chaikin_ragged([[0, 0], [8, 8], [0, 16]], [0, 3], closed=True)
+    >>> out.tolist() == chaikin([[0, 0], [8, 8], [0, 16]], closed=True).tolist()
+    True
+    """
+    return de_rham_ragged(
+        coords,
+        offsets,
+        gamma=2.0,
+        closed=closed,
+        iterations=iterations,
+        preserve_endpoints=preserve_endpoints,
+    )
+
+
+def _de_rham_ragged_step(p, off, closed, beta, keep_ends):
+    a, b, n_edges = _edge_ends(off, closed)
+    ends = keep_ends & ~closed
+    out_len = 2 * n_edges + 2 * ends
+    new_off = np.zeros(off.size, dtype=np.int64)
+    np.cumsum(out_len, out=new_off[1:])
+    out = np.empty((int(new_off[-1]), p.shape[1]))
+    # body rows: after the kept first point of an open curve
+    body_start = new_off[:-1] + ends
+    first_edge = np.zeros(off.size, dtype=np.int64)
+    np.cumsum(n_edges, out=first_edge[1:])
+    rows = np.repeat(body_start - 2 * first_edge[:-1], n_edges) + 2 * np.arange(first_edge[-1])
+    pa, pb = p[a], p[b]
+    step = np.subtract(pb, pa)
+    step *= beta
+    out[rows] = pa + step
+    out[rows + 1] = pb - step
+    if ends.any():
+        k = np.flatnonzero(ends)
+        out[new_off[k]] = p[off[k]]
+        out[new_off[k + 1] - 1] = p[off[k + 1] - 1]
+    return out, new_off
+
+
+def lane_riesenfeld_ragged(
+    coords,
+    offsets,
+    *,
+    degree: int,
+    closed=False,
+    iterations: int = 1,
+    preserve_endpoints: bool = False,
+) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`lane_riesenfeld` on many curves in one call (one coordinate array plus offsets).
+
+    Every curve gets exactly (bit for bit) what :func:`lane_riesenfeld` gives it alone.
+
+    Parameters
+    ----------
+    coords, offsets, closed, iterations, preserve_endpoints
+        As in :func:`de_rham_ragged`.
+    degree : int
+        B-spline degree ``n >= 1``.
+
+    Returns
+    -------
+    coords : (N', d) ndarray
+    offsets : (M + 1,) int64 ndarray
+
+    Raises
+    ------
+    CurveError
+        As :func:`lane_riesenfeld`, naming the curve (an open curve too short for the
+        degree).
+
+    Examples
+    --------
+    >>> xy = [[0, 0], [4, 0], [4, 4], [0, 0], [1, 0], [1, 1]]
+    >>> out, off = lane_riesenfeld_ragged(xy, [0, 3, 6], degree=2, closed=[False, True])
+    >>> out[:4].tolist()
+    [[1.0, 0.0], [3.0, 0.0], [4.0, 1.0], [4.0, 3.0]]
+    """
+    degree = as_int(degree, name="degree", minimum=1)
+    iterations = as_int(iterations, name="iterations", minimum=0)
+    p, off, cl, keep = _ragged_input(coords, offsets, closed, preserve_endpoints)
+    n = np.diff(off)
+    grow = 2 if keep else 0
+    for k in range(iterations):
+        bad = ~cl & (2 * n - degree < 2)
+        if bad.any():
+            c = int(np.flatnonzero(bad)[0])
+            if k == 0:
+                raise CurveError(
+                    f"coords must have at least {(degree + 3) // 2} points for an open "
+                    f"Lane-Riesenfeld step of degree {degree}, got {int(n[c])} for curve {c}"
+                )
+            raise CurveError(
+                f"iterations must be at most {k} for curve {c} of {int(np.diff(off)[c])} "
+                f"points and degree {degree} (a step turns n vertices into 2 n - {degree}), "
+                f"got {iterations}"
+            )
+        n = np.where(cl, 2 * n, 2 * n - degree + grow)
+        if n.sum() > MAX_VERTICES:
+            break  # reported below
+    extra = (2 if keep else 0) - degree
+    ext = 0 if cl.all() else extra
+    check_growth(p.shape[0], iterations, lambda m: 2 * m + ext, limit=MAX_VERTICES)
+    for _ in range(iterations):
+        p, off = _lane_riesenfeld_ragged_step(p, off, cl, degree, keep)
+    return p, off
+
+
+def _lane_riesenfeld_ragged_step(p, off, closed, degree, keep_ends):
+    q = np.repeat(p, 2, axis=0)
+    qoff = 2 * off
+    m = closed.size
+    lengths = np.diff(qoff)
+    ids = np.repeat(np.arange(m), lengths)
+    ring_rows = closed[ids]
+    for _ in range(degree):
+        # next row within the curve: cyclic for rings; for open curves the last row of
+        # every curve is dropped after the average (the open step shortens by one)
+        nxt = np.arange(1, q.shape[0] + 1)
+        last = qoff[1:] - 1
+        ring_last = last[closed & (lengths > 0)]
+        nxt[ring_last] = qoff[:-1][closed & (lengths > 0)]
+        if q.shape[0]:
+            nxt[-1] = min(nxt[-1], q.shape[0] - 1)
+        q = 0.5 * (q + q[nxt])
+        drop = np.zeros(q.shape[0], dtype=bool)
+        open_last = last[~closed & (lengths > 0)]
+        drop[open_last] = True
+        if drop.any():
+            q = q[~drop]
+            lengths = lengths - (~closed).astype(np.int64)
+            qoff = np.zeros(m + 1, dtype=np.int64)
+            np.cumsum(lengths, out=qoff[1:])
+            ids = np.repeat(np.arange(m), lengths)
+            ring_rows = closed[ids]
+    del ring_rows
+    ends = keep_ends & ~closed
+    if not ends.any():
+        return q, qoff
+    k = np.flatnonzero(ends)
+    new_len = lengths + 2 * ends
+    new_off = np.zeros(m + 1, dtype=np.int64)
+    np.cumsum(new_len, out=new_off[1:])
+    out = np.empty((int(new_off[-1]), p.shape[1]))
+    body = np.ones(out.shape[0], dtype=bool)
+    body[new_off[k]] = False
+    body[new_off[k + 1] - 1] = False
+    out[body] = q
+    out[new_off[k]] = p[off[k]]
+    out[new_off[k + 1] - 1] = p[off[k + 1] - 1]
+    return out, new_off

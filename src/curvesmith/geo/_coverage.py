@@ -11,11 +11,18 @@ import numpy as np
 
 from ..errors import CurveError
 from ._engine import levels_for, resolve_arcs
-from ._smooth import _shapely, as_geometry_array, check_method, make_smoother, prepare
+from ._smooth import (
+    FixedVertices,
+    _shapely,
+    as_geometry_array,
+    check_method,
+    make_smoother,
+    prepare,
+    smooth_batch,
+)
 
-#: Arcs are smoothed in fixed blocks of this many consecutive arcs (one chained CCA call
-#: per block, see :func:`curvesmith.geo._smooth.smooth_open_many`), the same blocks in one
-#: process and on Dask, so that both give bit-identical results.
+#: Arcs are handed to Dask workers in blocks of this many consecutive arcs. Every arc is
+#: smoothed as its own curve of a ragged batch, so the blocks do not change the result.
 ARC_BLOCK = 512
 
 __all__ = [
@@ -314,6 +321,7 @@ def smooth_coverage(
     validate: bool = True,
     full_output: bool = False,
     map_arcs: Callable[[Topology], list[np.ndarray]] | None = None,
+    fixed: Any = None,
 ) -> Any:
     """Smooth a polygonal coverage so that every polygon keeps its area and no gap opens.
 
@@ -356,7 +364,12 @@ def smooth_coverage(
     map_arcs : callable, optional
         ``map_arcs(topology) -> list of arrays``: the first, full-strength smoothing of
         every arc, e.g. run in parallel (:mod:`curvesmith.batch` passes a Dask map here).
-        Conflicts are then resolved here as usual.
+        Conflicts are then resolved here as usual. Not used with `fixed`.
+    fixed : (N,) bool array_like or callable, optional
+        Vertices that must not move, as in :func:`curvesmith.geo.smooth`: a mask over
+        ``shapely.get_coordinates(polygons)`` or a callable on ``(N, 2)`` coordinates.
+        Every arc through a fixed vertex is anchored there (the areas stay exact).
+        Needs ``method="cca"``.
 
     Returns
     -------
@@ -376,6 +389,14 @@ def smooth_coverage(
     shapely = _shapely()
     iterations = check_method(method, iterations, alpha)
     geoms, wrap = as_geometry_array(polygons)
+    fixed_spec = None
+    if fixed is not None:
+        if method != "cca":
+            raise CurveError(
+                f"fixed needs method='cca' (Chaikin moves every vertex), got {method!r}"
+            )
+        fixed_spec = FixedVertices(fixed, geoms)
+        map_arcs = None
     geoms = prepare(geoms, make_valid=make_valid, what="polygons")
     present = np.array([g is not None for g in geoms], dtype=bool)
     present[present] = ~shapely.is_empty(geoms[present])
@@ -416,7 +437,7 @@ def smooth_coverage(
     topo = coverage_topology(g, frozen_edges=invalid if bad.any() else None)
     initial = map_arcs(topo) if (map_arcs is not None and iterations > 0) else None
     smoothed, reductions = smooth_arcs(
-        topo, method=method, iterations=iterations, alpha=alpha, initial=initial
+        topo, method=method, iterations=iterations, alpha=alpha, initial=initial, fixed=fixed_spec
     )
     new = rebuild(topo, smoothed)
     out[idx] = new
@@ -444,51 +465,66 @@ def smooth_coverage(
 
 
 def smooth_arc_blocks(
-    arcs, loops, frozen, *, method: str, iterations: int, alpha: Any
+    arcs,
+    loops,
+    frozen,
+    *,
+    method: str,
+    iterations: int,
+    alpha: Any,
+    fixed: FixedVertices | None = None,
 ) -> tuple[list[np.ndarray], list[tuple[int, str]]]:
-    """Full-strength smoothing of consecutive arcs, block by block (:data:`ARC_BLOCK`).
+    """Full-strength smoothing of arcs: all of them in one call of the ragged engine.
 
-    Open arcs of a block are smoothed in one chained CCA call, loops one by one, frozen
-    arcs kept. An arc whose smoothing fails is kept unchanged and returned in the errors
-    list as ``(position in arcs, reason)``. ``arcs`` must start at a block boundary of the
-    topology for the results to be reproducible.
+    Open arcs keep their end nodes, loops are closed curves, frozen arcs are kept. Every
+    arc gets what the single-curve smoother gives it alone, whatever the other arcs of
+    the call (so Dask blocks and one process agree bit for bit). If the batch fails, the
+    arcs are smoothed one by one to isolate the failing ones: an arc whose smoothing
+    fails is kept unchanged and returned in the errors list as ``(position, reason)``.
     """
     from ._engine import Level
-    from ._smooth import smooth_open_many
 
-    smoother = make_smoother(method, alpha)
     level = Level(iterations)
     out: list[np.ndarray] = list(arcs)
     errors: list[tuple[int, str]] = []
-    for b0 in range(0, len(arcs), ARC_BLOCK):
-        block = range(b0, min(b0 + ARC_BLOCK, len(arcs)))
-        open_idx = [k for k in block if not loops[k] and not frozen[k]]
-        loop_idx = [k for k in block if loops[k] and not frozen[k]]
-        if method == "cca" and open_idx:
-            try:
-                res = smooth_open_many([arcs[k] for k in open_idx], alpha=alpha, level=level)
-                for k, xy in zip(open_idx, res, strict=True):
-                    out[k] = xy
-                open_idx = []
-            except Exception:  # retried one by one below, to isolate the failing arc
-                pass
-        for k in open_idx + loop_idx:
+    todo = np.flatnonzero(~np.asarray(frozen, dtype=bool))
+    if iterations == 0 or todo.size == 0:
+        return out, errors
+    xy = np.concatenate([arcs[k] for k in todo])
+    off = np.zeros(todo.size + 1, dtype=np.int64)
+    np.cumsum([len(arcs[k]) for k in todo], out=off[1:])
+    closed = np.asarray(loops, dtype=bool)[todo]
+    try:
+        fmask = fixed.mask(xy) if fixed is not None else None
+        new_xy, new_off = smooth_batch(method, alpha, xy, off, closed, level, fmask)
+    except Exception:  # isolate the failing arcs, one by one
+        smoother = make_smoother(method, alpha, fixed)
+        for k in todo:
             try:
                 out[k] = smoother(arcs[k], bool(loops[k]), level)
             except Exception as exc:  # the arc stays unchanged and is reported
-                errors.append((k, f"{type(exc).__name__}: {exc}"))
+                errors.append((int(k), f"{type(exc).__name__}: {exc}"))
+        return out, errors
+    for k, piece in zip(todo, np.split(new_xy, new_off[1:-1]), strict=True):
+        out[k] = piece
     return out, errors
 
 
-def smooth_arcs(topo: Topology, *, method, iterations, alpha, initial=None):
+def smooth_arcs(topo: Topology, *, method, iterations, alpha, initial=None, fixed=None):
     """Smooth the arcs of a topology with conflict resolution; returns (arcs, reductions)."""
-    smoother = make_smoother(method, alpha)
+    smoother = make_smoother(method, alpha, fixed)
     levels = levels_for(iterations, scalable=(method == "cca"))
     if iterations == 0:
         return list(topo.arcs), []
     if initial is None:
         initial, errors = smooth_arc_blocks(
-            topo.arcs, topo.loops, topo.frozen, method=method, iterations=iterations, alpha=alpha
+            topo.arcs,
+            topo.loops,
+            topo.frozen,
+            method=method,
+            iterations=iterations,
+            alpha=alpha,
+            fixed=fixed,
         )
         if errors:
             k, reason = errors[0]

@@ -75,17 +75,28 @@ def _shapely():
     return require("shapely", "geo", "geo.smooth")
 
 
-def make_smoother(method: str, alpha: Any) -> Callable[[np.ndarray, bool, Level], np.ndarray]:
-    """Return ``f(points, closed, level)`` smoothing one ring (closed) or piece (fixed ends)."""
+def make_smoother(
+    method: str, alpha: Any, fixed: FixedVertices | None = None
+) -> Callable[[np.ndarray, bool, Level], np.ndarray]:
+    """Return ``f(points, closed, level)`` smoothing one ring (closed) or piece (fixed ends).
+
+    With `fixed`, the vertices of the piece that are fixed (matched by their
+    coordinates) are CCA anchors.
+    """
     if method == "cca":
         from .. import cca
 
         def f(pts: np.ndarray, closed: bool, level: Level) -> np.ndarray:
+            anchors = None
+            if fixed is not None:
+                mask = fixed.mask(pts)
+                anchors = np.flatnonzero(mask) if mask.any() else None
             out = cca.smooth(
                 pts,
                 closed=closed,
                 iterations=level.iterations,
                 alpha=scale_alpha(alpha, level.alpha_scale),
+                anchors=anchors,
             )
             return out if closed else _pin_ends(out, pts)
 
@@ -101,71 +112,97 @@ def make_smoother(method: str, alpha: Any) -> Callable[[np.ndarray, bool, Level]
     return g
 
 
-def smooth_open_many(arcs: list[np.ndarray], *, alpha: Any, level: Level) -> list[np.ndarray]:
-    """CCA of many open polylines (fixed ends) in one call, chained with anchors.
+def smooth_batch(
+    method: str,
+    alpha: Any,
+    coords: np.ndarray,
+    offsets: np.ndarray,
+    closed,
+    level: Level,
+    fixed_mask: np.ndarray | None = None,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Smooth many rings/lines at one level in one call of the ragged engine.
 
-    The polylines are concatenated (a shared end vertex once) and every end vertex is an
-    anchor, so that each one is smoothed as its own polyline (Gordon 2010, section 5,
-    anchor points); an edge joining two consecutive polylines lies between two anchors and
-    is dropped again. This replaces thousands of small calls by one vectorized call. The
-    output of each polyline is located by its end anchors (returned exactly); should that
-    ever be ambiguous, the call falls back to one call per polyline.
-
-    ``cca.smooth`` computes relative to the first vertex of its input, so a polyline
-    chained with other neighbours is computed with other rounding, and where one of
-    CCA's discrete local decisions (a restriction of Definition 2, a balanced Fig. 11
-    edge) sits on its threshold the result can differ (measured on the US counties:
-    1e-11 relative typically, a visibly different cut on 20 of 1181 arcs when chaining
-    all of them). Callers therefore always chain the same groups
-    (:data:`curvesmith.geo._coverage.ARC_BLOCK` consecutive arcs), so that results are
-    reproducible in one process and on Dask alike. The areas are exact either way.
+    ``coords``/``offsets`` as in :func:`curvesmith.cca.smooth_ragged` (rings may repeat
+    their first vertex); open curves keep their ends. Returns the smoothed curves (rings
+    without repeated vertex) and their offsets; every curve is what the single-curve
+    smoother gives it.
     """
-    from scipy.spatial import cKDTree
+    if level.iterations == 0:
+        from .._ragged import as_ragged
 
-    from .. import cca
+        rag = as_ragged(coords, offsets, closed=closed, dim=2)
+        return rag.points, rag.offsets
+    if method == "cca":
+        from .. import cca
 
-    if not arcs:
-        return []
-    a = scale_alpha(alpha, level.alpha_scale)
-    return _open_chunk(arcs, a, level.iterations, cca, cKDTree)
+        anchors = fixed_mask if fixed_mask is not None and fixed_mask.any() else None
+        return cca.smooth_ragged(
+            coords,
+            offsets,
+            closed=closed,
+            iterations=level.iterations,
+            alpha=scale_alpha(alpha, level.alpha_scale),
+            anchors=anchors,
+        )
+    from .. import subdivision
+
+    return subdivision.chaikin_ragged(
+        coords, offsets, closed=closed, iterations=level.iterations, preserve_endpoints=True
+    )
 
 
-def _open_chunk(arcs, alpha, iterations, cca, kdtree) -> list[np.ndarray]:
-    parts, first, last = [], [], []
-    n = 0
-    prev_end = None
-    for xy in arcs:
-        if prev_end is not None and np.array_equal(xy[0], prev_end):
-            first.append(n - 1)
-            parts.append(xy[1:])
-        else:
-            first.append(n)
-            parts.append(xy)
-        n += len(parts[-1])
-        last.append(n - 1)
-        prev_end = xy[-1]
-    pts = np.concatenate(parts)
-    anchors = np.unique(np.concatenate([first, last]))
-    res = cca.smooth(pts, closed=False, iterations=iterations, alpha=alpha, anchors=anchors)
-    # locate the anchors (fixed points) in the output, in order
-    anc = pts[anchors]
-    tol = 64 * np.finfo(float).eps * (np.abs(anc).max(axis=1) + np.abs(pts[0]).max())
-    d, k = kdtree(anc).query(res, distance_upper_bound=float(tol.max()))
-    hit = np.isfinite(d)
-    hit[hit] = d[hit] <= tol[k[hit]]
-    pos = np.nonzero(hit)[0]
-    # the same node can be an anchor twice (an arc from a node back to it): compare points
-    if len(pos) != len(anchors) or np.any(np.abs(res[pos] - anc).max(axis=1) > tol):
-        return [
-            _pin_ends(cca.smooth(xy, closed=False, iterations=iterations, alpha=alpha), xy)
-            for xy in arcs
-        ]
-    where = np.empty(n, dtype=np.int64)
-    where[anchors] = pos
-    return [
-        _pin_ends(res[where[f] : where[e] + 1].copy(), xy)
-        for f, e, xy in zip(first, last, arcs, strict=True)
-    ]
+class FixedVertices:
+    """Vertices that smoothing must keep: given as a mask or as a function of coordinates.
+
+    ``spec`` is a boolean mask over ``shapely.get_coordinates(geometry)`` of the input,
+    or a callable taking an ``(N, 2)`` coordinate array and returning an ``(N,)``
+    boolean mask. A mask is turned into the set of fixed coordinate values (so that it
+    survives the removal of repeated points and ``make_valid``); every vertex at such a
+    coordinate is then fixed, wherever it is.
+    """
+
+    def __init__(self, spec: Any, geoms: np.ndarray):
+        self._fn = None
+        self._points = None
+        if callable(spec):
+            self._fn = spec
+            return
+        shapely = _shapely()
+        mask = np.asarray(spec)
+        present = np.array([g is not None for g in geoms], dtype=bool)
+        xy = shapely.get_coordinates(geoms[present]) if present.any() else np.zeros((0, 2))
+        if mask.dtype != np.bool_ or mask.shape != (xy.shape[0],):
+            raise CurveError(
+                f"fixed must be a boolean mask over shapely.get_coordinates(geometry) "
+                f"(shape ({xy.shape[0]},)) or a callable on (N, 2) coordinates, got "
+                f"{'an array of shape ' + str(mask.shape) + ' and dtype ' + str(mask.dtype)}"
+            )
+        self._points = np.unique(_as_complex(xy[mask]))
+
+    def mask(self, coords: np.ndarray) -> np.ndarray:
+        """``(N,)`` bool: which rows of ``coords`` (N, 2) are fixed."""
+        if coords.shape[0] == 0:
+            return np.zeros(0, dtype=bool)
+        if self._fn is not None:
+            try:
+                out = np.asarray(self._fn(np.array(coords, dtype=float)))
+            except Exception as exc:
+                raise CurveError(f"fixed callable failed: {type(exc).__name__}: {exc}") from None
+            if out.dtype != np.bool_ or out.shape != (coords.shape[0],):
+                raise CurveError(
+                    f"fixed callable must return a boolean mask of shape ({coords.shape[0]},), "
+                    f"got shape {out.shape} and dtype {out.dtype}"
+                )
+            return out
+        if self._points.size == 0:
+            return np.zeros(coords.shape[0], dtype=bool)
+        return np.isin(_as_complex(coords), self._points)
+
+
+def _as_complex(xy: np.ndarray) -> np.ndarray:
+    xy = np.ascontiguousarray(xy, dtype=float)
+    return xy[:, 0] + 1j * xy[:, 1] if xy.shape[0] else np.zeros(0, dtype=complex)
 
 
 def _pin_ends(out: np.ndarray, pts: np.ndarray) -> np.ndarray:
@@ -305,30 +342,83 @@ def _signed_areas(rings: list[np.ndarray]) -> np.ndarray:
     """Signed areas of many rings (listed without the closing vertex), vectorized."""
     if not rings:
         return np.zeros(0)
-    xy = np.concatenate(rings)
     lens = np.array([len(r) for r in rings])
-    start = np.concatenate([[0], np.cumsum(lens)[:-1]])
-    xy = xy - np.repeat(xy[start], lens, axis=0)  # local origin: no cancellation
+    off = np.concatenate([[0], np.cumsum(lens)])
+    return signed_areas_ragged(np.concatenate(rings), off)
+
+
+def signed_areas_ragged(xy: np.ndarray, off: np.ndarray) -> np.ndarray:
+    """Signed areas of ragged rings (without closing vertex; open lines: against the chord)."""
+    lens = np.diff(off)
+    out = np.zeros(lens.size)
+    ok = lens > 0
+    if not ok.any():
+        return out
+    start = off[:-1]
+    xy = xy - np.repeat(xy[start[ok]], lens[ok], axis=0)  # local origin: no cancellation
     nxt = np.arange(len(xy)) + 1
-    nxt[start + lens - 1] = start  # wrap around within each ring
+    nxt[off[1:][ok] - 1] = start[ok]  # wrap around within each ring
     # the trapezoid form of geometry.signed_area, ring by ring
     terms = (xy[:, 0] - xy[nxt, 0]) * (xy[:, 1] + xy[nxt, 1])
-    return 0.5 * np.add.reduceat(terms, start)
+    out[ok] = 0.5 * np.add.reduceat(terms, start[ok])
+    return out
 
 
 def _rel(a: float, b: float, scale: float) -> float:
     return abs(a - b) / scale if scale > 0 else 0.0
 
 
-class _Curves:
-    """All rings/lines of a set of features, in ragged form, to smooth them in one pass."""
+def _take(xy: np.ndarray, off: np.ndarray, idx: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Curves ``idx`` of a ragged batch, as a ragged batch (no loop per curve)."""
+    lens = np.diff(off)[idx]
+    new_off = np.zeros(idx.size + 1, dtype=np.int64)
+    np.cumsum(lens, out=new_off[1:])
+    rows = np.repeat(off[idx] - new_off[:-1], lens) + np.arange(new_off[-1])
+    return xy[rows], new_off
 
-    def __init__(self):
-        self.xy: list[np.ndarray] = []
-        self.closed: list[bool] = []
-        self.feature: list[int] = []
-        self.ring: list[int] = []
-        self.part_ring: list[bool] = []  # True for polygon rings (must stay disjoint)
+
+def _put(
+    xy: np.ndarray, off: np.ndarray, idx: np.ndarray, sub_xy: np.ndarray, sub_off: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """Replace the curves ``idx`` (sorted) of a ragged batch by the curves of ``sub``."""
+    lens = np.diff(off).copy()
+    lens[idx] = np.diff(sub_off)
+    new_off = np.zeros(off.size, dtype=np.int64)
+    np.cumsum(lens, out=new_off[1:])
+    out = np.empty((int(new_off[-1]), xy.shape[1]))
+    keep = np.ones(lens.size, dtype=bool)
+    keep[idx] = False
+    k = np.flatnonzero(keep)
+    if k.size:
+        kl = np.diff(off)[k]
+        src = np.repeat(off[k], kl) + np.arange(kl.sum()) - np.repeat(np.cumsum(kl) - kl, kl)
+        dst = np.repeat(new_off[k], kl) + np.arange(kl.sum()) - np.repeat(np.cumsum(kl) - kl, kl)
+        out[dst] = xy[src]
+    sl = np.diff(sub_off)
+    dst = np.repeat(new_off[idx] - sub_off[:-1], sl) + np.arange(sub_off[-1])
+    out[dst] = sub_xy
+    return out, new_off
+
+
+def _close_rings(xy: np.ndarray, off: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Ragged rings with their first vertex repeated at the end (shapely's ring layout)."""
+    lens = np.diff(off)
+    new_off = off + np.arange(off.size)
+    out = np.empty((xy.shape[0] + lens.size, xy.shape[1]))
+    body = np.arange(xy.shape[0]) + np.repeat(np.arange(lens.size), lens)
+    out[body] = xy
+    out[new_off[1:] - 1] = xy[off[:-1]]
+    return out, new_off
+
+
+class _RaggedView:
+    """``view[r]``: curve r of a ragged batch (``drop_last``: without its closing vertex)."""
+
+    def __init__(self, xy, off, drop_last=False):
+        self.xy, self.off, self.cut = xy, off, 1 if drop_last else 0
+
+    def __getitem__(self, r):
+        return self.xy[self.off[r] : self.off[r + 1] - self.cut]
 
 
 def _smooth_feature_array(
@@ -337,10 +427,11 @@ def _smooth_feature_array(
     method: str,
     iterations: int,
     alpha: Any,
+    fixed: FixedVertices | None = None,
 ) -> tuple[np.ndarray, list[GeometryReduction], int, float]:
     shapely = _shapely()
     out = geoms.copy()
-    smoother = make_smoother(method, alpha)
+    smoother = make_smoother(method, alpha, fixed)
     levels = levels_for(iterations, scalable=(method == "cca"))
     reductions: list[GeometryReduction] = []
     n_curves = 0
@@ -359,10 +450,11 @@ def _smooth_feature_array(
     line = ~empty & ((types == T.LINESTRING) | (types == T.MULTILINESTRING))
     ring = ~empty & (types == T.LINEARRING)
     coll = ~empty & (types == T.GEOMETRYCOLLECTION)
+    batch = (method, alpha, fixed)
 
     for mask, smooth_kind in ((poly, _smooth_polygonal), (line, _smooth_lineal)):
         if mask.any():
-            res, red, n, ch = smooth_kind(g[mask], idx[mask], smoother, levels)
+            res, red, n, ch = smooth_kind(g[mask], idx[mask], smoother, levels, batch)
             out[idx[mask]] = res
             reductions += red
             n_curves += n
@@ -376,7 +468,7 @@ def _smooth_feature_array(
     for k in idx[coll]:
         parts = shapely.get_parts(geoms[k])
         sub, red, n, ch = _smooth_feature_array(
-            parts, method=method, iterations=iterations, alpha=alpha
+            parts, method=method, iterations=iterations, alpha=alpha, fixed=fixed
         )
         out[k] = shapely.geometrycollections(list(sub))
         reductions += [
@@ -388,8 +480,9 @@ def _smooth_feature_array(
     return out, reductions, n_curves, max_change
 
 
-def _smooth_polygonal(g, feat_index, smoother, levels):
+def _smooth_polygonal(g, feat_index, smoother, levels, batch):
     shapely = _shapely()
+    method, alpha, fixed = batch
     T = shapely.GeometryType
     was_polygon = shapely.get_type_id(g) == T.POLYGON
     gtype, coords, offsets = shapely.to_ragged_array(g)
@@ -397,32 +490,39 @@ def _smooth_polygonal(g, feat_index, smoother, levels):
         (ring_off, poly_off), geom_off = offsets, np.arange(len(g) + 1)
     else:
         ring_off, poly_off, geom_off = offsets
+    ring_off = ring_off.astype(np.int64)
     n_rings = len(ring_off) - 1
     ring_poly = np.searchsorted(poly_off, np.arange(n_rings), side="right") - 1
     ring_geom = np.searchsorted(geom_off, ring_poly, side="right") - 1
     first_ring_of_geom = np.searchsorted(ring_geom, np.arange(len(g)))
     full = levels[0]
-    rings = [coords[ring_off[r] : ring_off[r + 1] - 1] for r in range(n_rings)]
-    new = [smoother(xy, True, full) for xy in rings]
+    fmask = fixed.mask(coords) if fixed is not None else None
+    new_xy, new_off = smooth_batch(method, alpha, coords, ring_off, True, full, fmask)
 
-    def build(new_rings):
-        lens = np.array([len(x) + 1 for x in new_rings], dtype=np.int64)
-        offs = np.concatenate([[0], np.cumsum(lens)])
-        xy = np.concatenate([np.vstack([x, x[:1]]) for x in new_rings])
-        mp = shapely.from_ragged_array(T.MULTIPOLYGON, xy, (offs, poly_off, geom_off))
+    def build(xy, off, r_off, p_off, g_off, was_poly):
+        cxy, coff = _close_rings(xy, off)
+        if was_poly.all() and len(r_off) == len(g_off):  # Polygons, one part each
+            return shapely.from_ragged_array(T.POLYGON, cxy, (coff, g_off))
+        mp = shapely.from_ragged_array(T.MULTIPOLYGON, cxy, (coff, p_off, g_off))
         res = mp.copy()
-        res[was_polygon] = shapely.get_geometry(mp[was_polygon], 0)
+        res[was_poly] = shapely.get_geometry(mp[was_poly], 0)
         return res
 
-    res = build(new)
+    res = build(new_xy, new_off, ring_off, poly_off, geom_off, was_polygon)
     rings_per_geom = np.bincount(ring_geom, minlength=len(g))
     hard = (rings_per_geom > 1) | ~shapely.is_valid(res)
     reductions: list[GeometryReduction] = []
+    rings = _RaggedView(coords, ring_off, drop_last=True)
+    a1 = signed_areas_ragged(new_xy, new_off)
     if hard.any():
+        # only the features with holes or parts, or with an invalid output, are checked
+        # for conflicts and re-smoothed locally; their full-strength rings are reused
         sel = np.nonzero(hard[ring_geom])[0]
+        new = _RaggedView(new_xy, new_off)
+        repl: dict[int, np.ndarray] = {}
         reductions += _resolve_parts(
             rings,
-            new,
+            repl,
             sel,
             loops=True,
             groups=ring_geom[sel],
@@ -431,19 +531,50 @@ def _smooth_polygonal(g, feat_index, smoother, levels):
             feat_index=feat_index,
             smoother=smoother,
             levels=levels,
+            initial=[new[r] for r in sel],
         )
-        res = build(new)
-    a0 = _signed_areas(rings)
-    a1 = _signed_areas(new)
+        sub = [repl[int(r)] for r in sel]
+        sub_off = np.zeros(len(sub) + 1, dtype=np.int64)
+        np.cumsum([len(x) for x in sub], out=sub_off[1:])
+        sub_xy = np.concatenate(sub)
+        a1[sel] = signed_areas_ragged(sub_xy, sub_off)
+        # the hard features alone, renumbered: their rings, polygons and geometries
+        hard_idx = np.flatnonzero(hard)
+        polys = np.unique(ring_poly[sel])
+        p_off = np.append(np.searchsorted(ring_poly[sel], polys), len(sel))
+        poly_geom = np.searchsorted(geom_off, polys, side="right") - 1
+        g_off = np.append(np.searchsorted(poly_geom, hard_idx), len(polys))
+        res[hard_idx] = build(sub_xy, sub_off, sub_off, p_off, g_off, was_polygon[hard_idx])
+    # the input rings without their closing vertex, for the areas
+    lens_in = np.diff(ring_off) - 1
+    rows = np.repeat(ring_off[:-1] - (np.cumsum(lens_in) - lens_in), lens_in) + np.arange(
+        lens_in.sum()
+    )
+    off0 = np.concatenate([[0], np.cumsum(lens_in)]).astype(np.int64)
+    a0 = signed_areas_ragged(coords[rows], off0)
     scale = np.where(a0 != 0, np.abs(a0), 1.0)
     change = float(np.max(np.abs(a1 - a0) / scale)) if len(a0) else 0.0
     return res, reductions, n_rings, change
 
 
 def _resolve_parts(
-    parts, new, sel, *, loops, groups, part_geom, first_part, feat_index, smoother, levels
+    parts,
+    new,
+    sel,
+    *,
+    loops,
+    groups,
+    part_geom,
+    first_part,
+    feat_index,
+    smoother,
+    levels,
+    initial=None,
 ) -> list[GeometryReduction]:
-    """Re-smooth the conflicting parts ``sel`` less (in place in `new`); return the reductions."""
+    """Re-smooth the conflicting parts ``sel`` less (into `new`); return the reductions.
+
+    ``initial``: the parts already smoothed at full strength (reused as is).
+    """
     fixed, red = resolve_arcs(
         [parts[r] for r in sel],
         loops=np.full(len(sel), loops, dtype=bool),
@@ -451,9 +582,10 @@ def _resolve_parts(
         frozen=np.zeros(len(sel), dtype=bool),
         smoother=smoother,
         levels=levels,
+        initial=initial,
     )
     for k, r in enumerate(sel):
-        new[r] = fixed[k]
+        new[int(r)] = fixed[k]
     out = []
     for rd in red:
         r = sel[rd.arc]
@@ -471,8 +603,9 @@ def _resolve_parts(
     return out
 
 
-def _smooth_lineal(g, feat_index, smoother, levels):
+def _smooth_lineal(g, feat_index, smoother, levels, batch):
     shapely = _shapely()
+    method, alpha, fixed = batch
     T = shapely.GeometryType
     was_line = shapely.get_type_id(g) == T.LINESTRING
     gtype, coords, offsets = shapely.to_ragged_array(g)
@@ -480,27 +613,34 @@ def _smooth_lineal(g, feat_index, smoother, levels):
         (line_off,), geom_off = offsets, np.arange(len(g) + 1)
     else:
         line_off, geom_off = offsets
+    line_off = line_off.astype(np.int64)
     n_lines = len(line_off) - 1
     line_geom = np.searchsorted(geom_off, np.arange(n_lines), side="right") - 1
     first_line_of_geom = np.searchsorted(line_geom, np.arange(len(g)))
     full = levels[0]
-    lines = [coords[line_off[r] : line_off[r + 1]] for r in range(n_lines)]
-    new = [x if len(x) < 3 else smoother(x, False, full) for x in lines]
+    lens = np.diff(line_off)
+    todo = np.flatnonzero(lens >= 3)  # 2-point lines stay as they are
+    new_xy, new_off = coords, line_off
+    if todo.size:
+        sub_xy, sub_off = _take(coords, line_off, todo)
+        fmask = fixed.mask(sub_xy) if fixed is not None else None
+        s_xy, s_off = smooth_batch(method, alpha, sub_xy, sub_off, False, full, fmask)
+        new_xy, new_off = _put(coords, line_off, todo, s_xy, s_off)
     simple_in = shapely.is_simple(
-        shapely.linestrings(coords, indices=np.repeat(np.arange(n_lines), np.diff(line_off)))
+        shapely.linestrings(coords, indices=np.repeat(np.arange(n_lines), lens))
     )
     simple_out = shapely.is_simple(
-        shapely.linestrings(
-            np.concatenate(new), indices=np.repeat(np.arange(n_lines), [len(x) for x in new])
-        )
+        shapely.linestrings(new_xy, indices=np.repeat(np.arange(n_lines), np.diff(new_off)))
     )
     hard = simple_in & ~simple_out
     reductions: list[GeometryReduction] = []
     if hard.any():
         sel = np.nonzero(hard)[0]
+        new = _RaggedView(new_xy, new_off)
+        repl: dict[int, np.ndarray] = {int(r): new[r] for r in sel}
         reductions += _resolve_parts(
-            lines,
-            new,
+            _RaggedView(coords, line_off),
+            repl,
             sel,
             loops=False,
             groups=np.arange(len(sel)),
@@ -510,16 +650,20 @@ def _smooth_lineal(g, feat_index, smoother, levels):
             smoother=smoother,
             levels=levels,
         )
-    lens = np.array([len(x) for x in new], dtype=np.int64)
-    offs = np.concatenate([[0], np.cumsum(lens)])
-    ml = shapely.from_ragged_array(T.MULTILINESTRING, np.concatenate(new), (offs, geom_off))
+        sub = [repl[int(r)] for r in sel]
+        sub_off = np.concatenate([[0], np.cumsum([len(x) for x in sub])]).astype(np.int64)
+        new_xy, new_off = _put(new_xy, new_off, sel, np.concatenate(sub), sub_off)
+    ml = shapely.from_ragged_array(T.MULTILINESTRING, new_xy, (new_off, geom_off))
     res = ml.copy()
     res[was_line] = shapely.get_geometry(ml[was_line], 0)
-    change = 0.0
-    for a, b in zip(lines, new, strict=True):
-        area = abs(_signed_area(a))  # between the polyline and its chord
-        scale = max(area, 1e-12 * max(float(np.ptp(a, axis=0).max()), 1e-300) ** 2)
-        change = max(change, _rel(_signed_area(a), _signed_area(b), scale))
+    # the area between every line and its chord, before and after
+    a0 = signed_areas_ragged(coords, line_off)
+    a1 = signed_areas_ragged(new_xy, new_off)
+    lo = np.minimum.reduceat(coords, line_off[:-1], axis=0)
+    hi = np.maximum.reduceat(coords, line_off[:-1], axis=0)
+    ext = np.maximum((hi - lo).max(axis=1), 1e-300)
+    scale = np.maximum(np.abs(a0), 1e-12 * ext**2)
+    change = float(np.max(np.abs(a1 - a0) / scale)) if n_lines else 0.0
     return res, reductions, n_lines, change
 
 
@@ -552,6 +696,7 @@ def smooth(
     alpha: Any = "regular",
     make_valid: bool = False,
     full_output: bool = False,
+    fixed: Any = None,
 ) -> Any:
     """Smooth shapely geometries, GeoSeries or GeoDataFrames, keeping every ring's area.
 
@@ -587,11 +732,27 @@ def smooth(
         Repair invalid input polygons with :func:`shapely.make_valid` instead of raising.
     full_output : bool
         Return a :class:`SmoothResult` with the reductions and the area check.
+    fixed : (N,) bool array_like or callable, optional
+        Vertices that must not move (CCA anchors, paper section 5): a boolean mask over
+        ``shapely.get_coordinates(geometry)`` (all coordinates of the input in order,
+        rings with their closing vertex), or a function taking an ``(N, 2)`` coordinate
+        array and returning such a mask, e.g. ``lambda xy: np.abs(xy[:, 0]) == 180``
+        for vertices on the antimeridian. Fixed vertices are kept bit for bit; a mask
+        fixes every vertex at the coordinates it selects. Every ring still keeps its
+        area (each piece between anchors keeps its area against its chord). Needs
+        ``method="cca"``.
 
     Returns
     -------
     object or SmoothResult
         The smoothed geometry, of the input's type.
+
+    Notes
+    -----
+    All rings (and all lines) of all features are smoothed in one call of the ragged
+    engine (:func:`curvesmith.cca.smooth_ragged`), validity is checked for all
+    features at once, and only the few features whose output is invalid are re-smoothed
+    locally, so a layer of a million small polygons takes seconds.
 
     Raises
     ------
@@ -610,9 +771,16 @@ def smooth(
     """
     iterations = check_method(method, iterations, alpha)
     geoms, wrap = as_geometry_array(geometry)
+    fixed_spec = None
+    if fixed is not None:
+        if method != "cca":
+            raise CurveError(
+                f"fixed needs method='cca' (Chaikin moves every vertex), got {method!r}"
+            )
+        fixed_spec = FixedVertices(fixed, geoms)
     geoms = prepare(geoms, make_valid=make_valid)
     out, reductions, n, change = _smooth_feature_array(
-        geoms, method=method, iterations=iterations, alpha=alpha
+        geoms, method=method, iterations=iterations, alpha=alpha, fixed=fixed_spec
     )
     result = wrap(out)
     if full_output:

@@ -1,0 +1,366 @@
+"""Many small polygons: curvesmith's ragged engine against PostGIS ST_ChaikinSmoothing.
+
+Seeded footprint-like polygons (``--n``, default 20,000; 5-12 vertices, metres in a
+UTM-like frame, uneven spacing, both orientations), 2 iterations. In one run:
+
+* ``geo.smooth`` (cca) on all polygons in one call, with the area check (max relative
+  ring-area change) and ``shapely.is_valid`` on the output; ``geo.smooth`` method
+  ``chaikin``; the engines alone (``cca.smooth_ragged``, ``subdivision.chaikin_ragged``)
+  and, on a subset, ``cca.smooth`` called once per polygon (the old per-call cost);
+* PostGIS ``ST_ChaikinSmoothing(geom, 2)`` for real: a throw-away PostgreSQL cluster
+  (``initdb`` in a temporary folder, a unix socket in that folder, run as the
+  ``postgres`` system user when started as root, stopped and removed at the end), the
+  same polygons loaded as WKB, the smoothing timed in SQL (``EXPLAIN ANALYZE`` of
+  ``SELECT ST_ChaikinSmoothing(geom, 2) FROM t``, and a full
+  ``sum(ST_NPoints(ST_ChaikinSmoothing(geom, 2)))`` query), and the per-polygon ratio
+  printed. Without PostgreSQL/PostGIS this says so in one line and times the rest;
+* ``--footprints M`` (default 1,000,000; 0 to skip): M polygons written to a GeoPackage
+  and smoothed by ``curvesmith smooth in.gpkg -o out.gpkg`` in a subprocess, timed with
+  its peak memory (``resource.getrusage`` of the child) against the output's size;
+* ``--dask``: ``curvesmith.batch.smooth_partitioned`` on the polygon set with 1 and 2
+  Dask workers (throughput, and the cores the workers got: their CPU seconds per wall
+  second and their CPU affinity).
+
+The machine these figures come from is shared (2 cores, several jobs): compare the
+ratios of one run, not absolute times across runs.
+
+Run: ``python benchmarks/bench_many.py [--n N] [--footprints M] [--dask] [--quick]``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import re
+import resource
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+import shapely
+
+from curvesmith import cca, geo, subdivision
+
+PG_BIN = Path("/usr/lib/postgresql/15/bin")
+ITER = 2
+
+
+def footprints(n: int, seed: int) -> np.ndarray:
+    """N valid polygons of 5-12 vertices, building-sized, in a 100 km square of metres."""
+    rng = np.random.default_rng(seed)
+    m = rng.integers(5, 13, size=n)
+    off = np.concatenate([[0], np.cumsum(m)])
+    t = rng.uniform(0, 2 * np.pi, size=off[-1])
+    # sort the angles within each polygon: star-shaped rings, uneven spacing
+    ids = np.repeat(np.arange(n), m)
+    t = t[np.lexsort((t, ids))]
+    r = np.repeat(rng.uniform(4, 25, size=n), m) * (1 + 0.3 * rng.uniform(size=off[-1]))
+    cx = np.repeat(rng.uniform(4e5, 5e5, size=n), m)
+    cy = np.repeat(rng.uniform(5.0e6, 5.1e6, size=n), m)
+    xy = np.c_[cx + r * np.cos(t), cy + r * np.sin(t)]
+    flip = rng.uniform(size=n) < 0.3  # some clockwise rings
+    rows = np.arange(off[-1])
+    rev = np.repeat(off[:-1] + off[1:] - 1, m) - rows
+    rows = np.where(np.repeat(flip, m), rev, rows)
+    xy = xy[rows]
+    # close the rings: shapely's ring layout
+    closed = np.empty((off[-1] + n, 2))
+    coff = off + np.arange(n + 1)
+    body = np.arange(off[-1]) + ids
+    closed[body] = xy
+    closed[coff[1:] - 1] = xy[off[:-1]]
+    polys = shapely.polygons(shapely.linearrings(closed, indices=np.repeat(np.arange(n), m + 1)))
+    ok = shapely.is_valid(polys)
+    return polys[ok]
+
+
+def best(fn, repeats: int):
+    times, out = [], None
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        out = fn()
+        times.append(time.perf_counter() - t0)
+    return min(times), out
+
+
+# ------------------------------------------------------------------------------- PostGIS
+
+
+class ThrowawayPostgres:
+    """A temporary PostgreSQL 15 cluster with PostGIS on a unix socket; stopped on exit."""
+
+    def __init__(self):
+        self.dir = Path(tempfile.mkdtemp(prefix="cs_pg_"))
+        self.data = self.dir / "data"
+        self.as_user: list[str] = []
+        if os.geteuid() == 0:  # postgres refuses to run as root
+            self.as_user = ["runuser", "-u", "postgres", "--"]
+            shutil.chown(self.dir, "postgres")
+            os.chmod(self.dir, 0o700)
+        self.started = False
+
+    def _run(self, *args, **kw):
+        return subprocess.run(
+            [*self.as_user, *args], check=True, capture_output=True, text=True, **kw
+        )
+
+    def __enter__(self):
+        self._run(str(PG_BIN / "initdb"), "-D", str(self.data), "-A", "trust", "-U", "bench")
+        self._run(
+            str(PG_BIN / "pg_ctl"), "-D", str(self.data), "-l", str(self.dir / "log"), "-w",
+            "-o", f"-k {self.dir} -c listen_addresses='' -c jit=off", "start",
+        )  # fmt: skip
+        self.started = True
+        self.psql("CREATE EXTENSION postgis;")
+        return self
+
+    def __exit__(self, *exc):
+        if self.started:
+            self._run(str(PG_BIN / "pg_ctl"), "-D", str(self.data), "-m", "fast", "-w", "stop")
+        shutil.rmtree(self.dir, ignore_errors=True)
+
+    def psql(self, sql: str, stdin: str | None = None) -> str:
+        """Run one SQL command through psql on the socket; return its unaligned output."""
+        cmd = [str(PG_BIN / "psql"), "-h", str(self.dir), "-U", "bench", "-d", "postgres"]
+        cmd += ["-X", "-q", "-A", "-t", "-v", "ON_ERROR_STOP=1", "-c", sql]
+        return self._run(*cmd, input=stdin).stdout
+
+
+def postgis_available() -> str | None:
+    """None if PostgreSQL 15 with PostGIS is installed, else the reason."""
+    if not (PG_BIN / "initdb").exists():
+        return f"PostgreSQL 15 not installed ({PG_BIN}/initdb missing)"
+    ctl = Path("/usr/share/postgresql/15/extension/postgis.control")
+    if not ctl.exists():
+        return "PostGIS for PostgreSQL 15 not installed (postgis.control missing)"
+    if os.geteuid() == 0 and shutil.which("runuser") is None:
+        return "running as root without runuser (postgres refuses to run as root)"
+    return None
+
+
+def bench_postgis(polys: np.ndarray, repeats: int) -> dict[str, float] | None:
+    reason = postgis_available()
+    if reason is not None:
+        print(f"PostGIS: skipped, {reason} (apt-get install postgresql-15-postgis-3)")
+        return None
+    with ThrowawayPostgres() as pg:
+        pg.psql("CREATE TABLE t (id int, geom geometry);")
+        data = "\n".join(
+            f"{k}\t{h}" for k, h in enumerate(shapely.to_wkb(polys, hex=True, include_srid=False))
+        )
+        pg.psql("COPY t FROM STDIN;", stdin=data + "\n")
+        pg.psql("VACUUM ANALYZE t;")
+        version = pg.psql("SELECT postgis_lib_version();").strip()
+        n_pg = int(pg.psql("SELECT count(*) FROM t;"))
+        assert n_pg == len(polys)
+
+        def explain(sql: str) -> float:
+            out = pg.psql(f"EXPLAIN (ANALYZE, TIMING OFF) {sql}")
+            return float(re.search(r"Execution Time: ([0-9.]+) ms", out).group(1)) / 1e3
+
+        def timed_query(sql: str) -> float:
+            t0 = time.perf_counter()
+            pg.psql(sql)
+            return time.perf_counter() - t0
+
+        scan = min(explain("SELECT geom FROM t") for _ in range(repeats))
+        smooth = min(
+            explain(f"SELECT ST_ChaikinSmoothing(geom, {ITER}) FROM t") for _ in range(repeats)
+        )
+        full = min(
+            timed_query(f"SELECT sum(ST_NPoints(ST_ChaikinSmoothing(geom, {ITER}))) FROM t")
+            for _ in range(repeats)
+        )
+        nout = int(pg.psql(f"SELECT sum(ST_NPoints(ST_ChaikinSmoothing(geom, {ITER}))) FROM t"))
+    return {"version": version, "scan": scan, "smooth": smooth, "full": full, "nout": nout}
+
+
+# ------------------------------------------------------------------------------- footprints
+
+
+def bench_footprints(m: int) -> None:
+    print(f"\n== {m} footprints: curvesmith smooth in.gpkg -o out.gpkg (subprocess) ==")
+    import geopandas as gpd
+    import pyogrio
+
+    polys = footprints(int(m * 1.02), seed=99)[:m]
+    with tempfile.TemporaryDirectory(prefix="cs_many_") as tmp:
+        src, dst = Path(tmp) / "in.gpkg", Path(tmp) / "out.gpkg"
+        t0 = time.perf_counter()
+        gdf = gpd.GeoDataFrame({"id": np.arange(len(polys))}, geometry=polys, crs="EPSG:32633")
+        pyogrio.write_dataframe(gdf, src, layer="footprints")
+        del gdf
+        print(f"written {len(polys)} polygons in {time.perf_counter() - t0:.1f} s")
+        exe = shutil.which("curvesmith") or "curvesmith"
+        cmd = [exe, "smooth", str(src), "-o", str(dst), "--iterations", str(ITER)]
+        before = resource.getrusage(resource.RUSAGE_CHILDREN)
+        t0 = time.perf_counter()
+        proc = subprocess.run(cmd, capture_output=True, text=True)
+        wall = time.perf_counter() - t0
+        after = resource.getrusage(resource.RUSAGE_CHILDREN)
+        if proc.returncode != 0:
+            print(f"curvesmith smooth failed ({proc.returncode}): {proc.stderr.strip()[-400:]}")
+            return
+        peak = after.ru_maxrss * 1024  # kB on Linux; the largest child so far
+        cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+        out = pyogrio.read_dataframe(dst, read_geometry=True)
+        g = out.geometry.values
+        nout = int(shapely.get_num_coordinates(g).sum())
+        coords_bytes = nout * 16
+        a0 = shapely.area(polys)
+        a1 = shapely.area(g)
+        print(
+            f"wall {wall:.1f} s (cpu {cpu:.1f} s, incl. reading and writing); peak RSS "
+            f"{peak / 2**20:.0f} MiB = {peak / coords_bytes:.2f} x the output coordinates "
+            f"({coords_bytes / 2**20:.0f} MiB, {nout} vertices), "
+            f"{peak / dst.stat().st_size:.2f} x the output file "
+            f"({dst.stat().st_size / 2**20:.0f} MiB)"
+        )
+        print(
+            f"max |dA|/A = {np.max(np.abs(a1 - a0) / a0):.2e}; invalid outputs: "
+            f"{int((~shapely.is_valid(g)).sum())}; target: under 60 s on one core"
+        )
+
+
+# ------------------------------------------------------------------------------- Dask
+
+
+def bench_dask(polys: np.ndarray) -> None:
+    import distributed
+
+    from curvesmith import batch
+
+    print(f"\n== Dask: batch.smooth_partitioned on {len(polys)} polygons, {ITER} iterations ==")
+    print(
+        f"{'workers':>7} {'polygons/s':>11} {'x 1 worker':>10} {'cores used':>10} {'affinity':>12}"
+    )
+    base = None
+    for w in (1, 2):
+        with (
+            distributed.LocalCluster(
+                n_workers=w, threads_per_worker=1, processes=True, dashboard_address=":0",
+                silence_logs=40,
+            ) as cluster,
+            distributed.Client(cluster) as client,
+        ):  # fmt: skip
+            client.run(lambda: cca.smooth([[0, 0], [1, 0], [0, 1]], closed=True))  # warm
+            aff = client.run(lambda: sorted(os.sched_getaffinity(0)))
+            cpu0 = client.run(time.process_time)
+            t0 = time.perf_counter()
+            batch.smooth_partitioned(
+                polys, client=client, partition_size=max(500, len(polys) // (4 * w)),
+                iterations=ITER,
+            )  # fmt: skip
+            wall = time.perf_counter() - t0
+            cpu1 = client.run(time.process_time)
+            used = sum(cpu1[k] - cpu0[k] for k in cpu1) / wall
+            rate = len(polys) / wall
+            base = base or rate
+            cores = ",".join(str(v) for v in sorted({c for a in aff.values() for c in a}))
+            print(f"{w:>7} {rate:>11.0f} {rate / base:>10.2f} {used:>10.2f} {cores:>12}")
+
+
+# ------------------------------------------------------------------------------- main
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--n", type=int, default=20_000, help="polygons (default 20000)")
+    ap.add_argument("--footprints", type=int, default=1_000_000, help="GeoPackage run; 0: skip")
+    ap.add_argument("--dask", action="store_true", help="Dask throughput vs workers")
+    ap.add_argument("--repeats", type=int, default=3)
+    ap.add_argument("--quick", action="store_true", help="--n 5000 --footprints 0")
+    args = ap.parse_args()
+    if args.quick:
+        args.n, args.footprints = 5_000, 0
+    polys = footprints(int(args.n * 1.02) + 10, seed=7)[: args.n]
+    n = len(polys)
+    nv = int(shapely.get_num_coordinates(polys).sum()) - n
+    print(
+        f"== {n} polygons, {nv} distinct vertices ({nv / n:.1f} per polygon), {ITER} iterations =="
+    )
+    print("machine: " + f"{os.cpu_count()} cores, load average {os.getloadavg()[0]:.1f}")
+
+    t0 = time.perf_counter()
+    cca.smooth([[0, 0], [1, 0], [0, 1]], closed=True)
+    print(
+        "first cca call in this process (numba cache load or compile): "
+        f"{time.perf_counter() - t0:.2f} s"
+    )
+
+    rows = []
+    xy = shapely.get_coordinates(polys)
+    off = np.concatenate([[0], np.cumsum(shapely.get_num_coordinates(polys))])
+
+    t, res = best(lambda: geo.smooth(polys, iterations=ITER, full_output=True), args.repeats)
+    valid = bool(shapely.is_valid(res.geometry).all())
+    rows.append(("geo.smooth (cca), one call", t, res.max_area_change, valid))
+    t, out = best(lambda: geo.smooth(polys, method="chaikin", iterations=ITER), args.repeats)
+    a0 = shapely.area(polys)
+    rows.append(
+        ("geo.smooth (chaikin), one call", t, float(np.max(np.abs(shapely.area(out) - a0) / a0)),
+         bool(shapely.is_valid(out).all()))
+    )  # fmt: skip
+    t, _ = best(lambda: cca.smooth_ragged(xy, off, closed=True, iterations=ITER), args.repeats)
+    rows.append(("cca.smooth_ragged (engine alone)", t, float("nan"), None))
+    t, _ = best(
+        lambda: subdivision.chaikin_ragged(xy, off, closed=True, iterations=ITER), args.repeats
+    )
+    rows.append(("subdivision.chaikin_ragged (engine alone)", t, float("nan"), None))
+    k = min(n, 2000)
+    t, _ = best(
+        lambda: [
+            cca.smooth(xy[off[i] : off[i + 1]], closed=True, iterations=ITER) for i in range(k)
+        ],
+        1,
+    )
+    rows.append(
+        (f"cca.smooth once per polygon ({k} polygons, scaled)", t * n / k, float("nan"), None)
+    )
+
+    pg = bench_postgis(polys, args.repeats)
+    if pg is not None:
+        rows.append(
+            (
+                f"PostGIS {pg['version']} ST_ChaikinSmoothing (EXPLAIN ANALYZE)",
+                pg["smooth"],
+                float("nan"),
+                None,
+            )
+        )
+        rows.append(
+            ("PostGIS same, minus the table scan", pg["smooth"] - pg["scan"], float("nan"), None)
+        )
+        rows.append(
+            ("PostGIS sum(ST_NPoints(..)) query, psql wall", pg["full"], float("nan"), None)
+        )
+    ref = rows[0][1]
+    peer = pg["smooth"] if pg is not None else None
+    print(
+        f"\n{'':<58} {'s':>7} {'us/poly':>8} {'x geo.smooth':>12} {'x PostGIS':>9} "
+        f"{'max|dA|/A':>10} {'valid':>5}"
+    )
+    for name, t, dA, ok in rows:
+        px = f"{t / peer:>9.2f}" if peer else f"{'-':>9}"
+        da = f"{dA:>10.1e}" if dA == dA else f"{'-':>10}"
+        print(
+            f"{name:<58} {t:>7.3f} {t / n * 1e6:>8.2f} {t / ref:>12.2f} {px} {da} "
+            f"{'-' if ok is None else ok!s:>5}"
+        )
+    if peer:
+        print(
+            f"\ngeo.smooth / PostGIS per polygon: {ref / peer:.2f} (target <= 3, aim 1); "
+            f"the engine alone: {rows[2][1] / peer:.2f}"
+        )
+    if args.footprints:
+        bench_footprints(args.footprints)
+    if args.dask:
+        bench_dask(polys)
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,729 @@
+"""Public CCA1 functions: one curve (:func:`smooth`) or a ragged batch (:func:`smooth_ragged`).
+
+Both run on the same engine: 2D curves (and planar 3D curves, in the
+coordinates of their plane) go through the compiled kernel
+:mod:`curvesmith.cca._kernel`, many curves per call; non-planar 3D polylines
+through the N-d numpy step :mod:`curvesmith.cca._stepnd`.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from collections.abc import Callable, Sequence
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass
+
+import numpy as np
+
+from .. import _validate
+from .._ragged import as_anchor_mask, as_ragged, curve_ids
+from .._validate import as_bool, as_float, as_int, as_points, check_growth
+from ..errors import CurveError
+from . import _stepnd
+from ._input import anchor_indices, dedupe, dedupe_ragged, default_workers, plane_frame
+from ._profiles import _eval_profile as _profiles_eval
+from ._profiles import alpha_function, profile_tables
+
+#: Coordinates outside (_TINY, _HUGE) in absolute value are rescaled by a power of two.
+_TINY, _HUGE = 2.0**-400, 2.0**400
+#: Below this many vertices a batch step runs in one thread.
+_THREAD_MIN = 65536
+
+
+@dataclass(frozen=True)
+class CCAResult:
+    """Result of :func:`smooth_with_info`.
+
+    Attributes
+    ----------
+    points : (M, d) ndarray
+        The smoothed polygon or polyline (same as :func:`smooth` returns).
+    iterations : int
+        Number of CCA1 steps performed.
+    reductions : int
+        Total number of local alpha decreases (vertices whose profile alpha was
+        lowered by the restrictions), summed over all steps.
+    reductions_per_step : tuple of int
+        The same, per step.
+    fig11_edges : int
+        Number of balanced inflection edges treated with the two-triangle
+        construction of Fig. 11, summed over all steps.
+    unsatisfied : int
+        Number of edges (summed over steps) where the restrictions do not hold
+        in the end: not met within ``max_passes`` passes, or the
+        ``min_factor`` floor stopped the decrease; 0 means every restriction held.
+    success : bool
+        ``unsatisfied == 0``. The area is preserved either way.
+    message : str
+        Human-readable summary.
+    """
+
+    points: np.ndarray
+    iterations: int
+    reductions: int
+    reductions_per_step: tuple[int, ...]
+    fig11_edges: int
+    unsatisfied: int
+    success: bool
+    message: str
+
+
+AlphaSpec = str | float | Callable[[np.ndarray], object]
+
+
+def smooth(
+    points,
+    *,
+    closed: bool,
+    iterations: int = 1,
+    alpha: AlphaSpec = "regular",
+    anchors: Sequence[int] | None = None,
+    c: float = 2.0,
+    C: float = 0.5,
+    restrict: bool = True,
+    tilt: float = np.pi / 8,
+    balance_tol: float = 1e-9,
+    max_passes: int = 16,
+    min_factor: float = 0.0,
+    workers: int | None = None,
+) -> np.ndarray:
+    """Area-preserving CCA1 smoothing of a polygon or polyline (Gordon 2010).
+
+    Parameters
+    ----------
+    points : (N, 2) or (N, 3) array_like
+        Vertices as rows. With ``closed=True`` a repeated closing vertex is
+        dropped. Consecutive duplicate points are removed first (anchors on a
+        removed duplicate move to the kept copy).
+    closed : bool
+        Closed polygon (signed area preserved) or open polyline (ends fixed,
+        area between polyline and chord preserved).
+    iterations : int, optional
+        Number of CCA1 steps, >= 0.
+    alpha : "regular", float or callable, optional
+        alpha-profile (section 4): ``"regular"`` (Table 1, PCHIP), a constant
+        in (0, 1/3), or a function of the interior angle in radians (array in,
+        array out; values in [0, 1/3)). The function must act angle by angle:
+        long curves are smoothed in blocks, possibly in several threads at once
+        (see `workers`), so it is called on pieces of the angle array.
+    anchors : sequence of int, optional
+        Indices of input vertices that stay fixed (section 5); the pieces between
+        anchors are smoothed as independent polylines, each keeping its area
+        against its chord.
+    c : float, optional
+        Constant ``c > 1`` of Definition 2 (``tan(gamma) >= c tan(beta)``).
+    C : float, optional
+        Constant ``0 < C < 1`` of section 3.2 (``epsilon <= C gamma`` at
+        inflection edges).
+    restrict : bool, optional
+        Apply the restrictions (local alpha decrease). False gives plain CCA1
+        with the profile's alphas.
+    tilt : float, optional
+        Bound (radians, in (0, pi/4]) on the summed tilts of Fig. 11 edges; the
+        tilt at step n is ``tilt / 2**n`` (with ``restrict``, at most ``C`` times
+        the smaller half turning angle).
+    balance_tol : float, optional
+        Inflection edges whose net cut area is at most this fraction of the
+        mean cut area count as balanced and get the Fig. 11 construction (2D).
+    max_passes : int, optional
+        Maximum number of restriction passes per step.
+    min_factor : float, optional
+        Floor of the local decrease, in [0, 1): a restricted alpha never drops
+        below ``min_factor`` times the profile's alpha (the ``epsilon < alpha_i``
+        of Definition 2). With the default 0 the restrictions are always met, at
+        the price of almost uncut corners next to nearly straight vertices
+        (Fig. 12); a floor such as 0.5 keeps those corners smoothing, and edges
+        where it binds are counted in :attr:`CCAResult.unsatisfied`.
+    workers : int, optional
+        Threads for long 2D curves: a step over at least 65536 vertices runs in
+        blocks of 32768 (with halos; the result does not depend on the blocks
+        or the threads), and ``workers`` blocks at a time. Default: the number
+        of processors available to this process, at most 4 and at most
+        ``OMP_NUM_THREADS`` when that is set (Dask workers set it to 1); 1 for
+        no threads.
+
+    Returns
+    -------
+    (M, d) ndarray
+        The smoothed vertices (see the module notes for M).
+
+    Raises
+    ------
+    CurveError
+        Bad shape or values, fewer than 3 (closed) or 2 (open) distinct points,
+        parameters out of range, anchors out of range.
+
+    Examples
+    --------
+    >>> sq = [[0, 0], [1, 0], [1, 1], [0, 1]]
+    >>> out = smooth(sq, closed=True, iterations=2)
+    >>> out.shape
+    (36, 2)
+    >>> from curvesmith.geometry import signed_area
+    >>> round(signed_area(out), 12)
+    1.0
+    """
+    return smooth_with_info(
+        points,
+        closed=closed,
+        iterations=iterations,
+        alpha=alpha,
+        anchors=anchors,
+        c=c,
+        C=C,
+        restrict=restrict,
+        tilt=tilt,
+        balance_tol=balance_tol,
+        max_passes=max_passes,
+        min_factor=min_factor,
+        workers=workers,
+    ).points
+
+
+def smooth_with_info(
+    points,
+    *,
+    closed: bool,
+    iterations: int = 1,
+    alpha: AlphaSpec = "regular",
+    anchors: Sequence[int] | None = None,
+    c: float = 2.0,
+    C: float = 0.5,
+    restrict: bool = True,
+    tilt: float = np.pi / 8,
+    balance_tol: float = 1e-9,
+    max_passes: int = 16,
+    min_factor: float = 0.0,
+    workers: int | None = None,
+) -> CCAResult:
+    """Like :func:`smooth`, returning a :class:`CCAResult` with restriction counts.
+
+    Parameters
+    ----------
+    points, closed, iterations, alpha, anchors, c, C, restrict, tilt, balance_tol
+        As in :func:`smooth`.
+    max_passes, min_factor, workers
+        As in :func:`smooth`.
+
+    Returns
+    -------
+    CCAResult
+
+    Examples
+    --------
+    A nearly straight vertex next to a sharp corner forces a local decrease
+    (Fig. 12):
+
+    >>> res = smooth_with_info([[0, 0], [4, 0], [4.0, 1], [2, 1.01], [0, 1]], closed=True)
+    >>> res.reductions > 0, res.success
+    (True, True)
+    """
+    return _smooth_one(
+        points,
+        closed=closed,
+        iterations=iterations,
+        alpha=alpha,
+        anchors=anchors,
+        c=c,
+        C=C,
+        restrict=restrict,
+        tilt=tilt,
+        balance_tol=balance_tol,
+        max_passes=max_passes,
+        min_factor=min_factor,
+        workers=workers,
+        engine="compiled",
+    )
+
+
+def _smooth_one(
+    points,
+    *,
+    closed,
+    iterations,
+    alpha,
+    anchors,
+    c,
+    C,
+    restrict,
+    tilt,
+    balance_tol,
+    max_passes,
+    min_factor,
+    workers,
+    engine,
+) -> CCAResult:
+    """:func:`smooth_with_info` on the compiled engine or (``engine="numpy"``) the reference."""
+    closed = as_bool(closed, name="closed")
+    iterations = as_int(iterations, name="iterations", minimum=0)
+    c = as_float(c, name="c", low=1.0)
+    C = as_float(C, name="C", low=0.0, high=1.0)
+    tilt = as_float(tilt, name="tilt", low=0.0, high=np.pi / 4, high_open=False)
+    balance_tol = as_float(balance_tol, name="balance_tol", low=0.0, high=1.0, low_open=False)
+    max_passes = as_int(max_passes, name="max_passes", minimum=1)
+    min_factor = as_float(min_factor, name="min_factor", low=0.0, high=1.0, low_open=False)
+    workers = default_workers() if workers is None else as_int(workers, name="workers", minimum=1)
+    alpha_fn = alpha_function(alpha)
+    raw = as_points(points, closed=closed, min_points=1, dim=(2, 3))
+    # Coordinates so small or so large that squared edge lengths would underflow or overflow
+    # are scaled by a power of two (exact) and scaled back at the end; CCA1 commutes with it.
+    top = float(np.abs(raw).max())
+    exp2 = math.frexp(top)[1] if top > 0 and not _TINY < top < _HUGE else 0
+    if exp2:
+        raw = np.ldexp(raw, -exp2)
+    n_in = raw.shape[0]
+    fixed = np.zeros(n_in, dtype=bool)
+    if anchors is not None:
+        # a closed ring given with its closing vertex repeated may name that last index
+        repeated = closed and np.shape(points)[0] == n_in + 1
+        idx = anchor_indices(anchors, n_in + 1 if repeated else n_in)
+        fixed[idx % n_in] = True
+    if not closed:
+        fixed[0] = fixed[-1] = True
+    p, fixed = dedupe(raw, fixed, closed)
+    need = 3 if closed else 2
+    if p.shape[0] < need:
+        raise CurveError(
+            f"points must have at least {need} distinct points for a "
+            f"{'closed polygon' if closed else 'polyline'} after removing consecutive "
+            f"duplicates, got {p.shape[0]}"
+        )
+    # dedupe leaves consecutive vertices distinct, so "all identical" shows in p[0], p[1]
+    if closed and not np.any(p[1] != p[0]):
+        raise CurveError("points are all identical: a polygon needs non-zero extent")
+
+    if iterations == 0:
+        out = np.ldexp(p, exp2) if exp2 else p
+        return CCAResult(out, 0, 0, (), 0, 0, True, "0 CCA1 steps: input returned")
+    # every step triples the vertex count (closed 3n, open 3n - 3, Fig. 11 edges one more)
+    check_growth(p.shape[0], iterations, lambda n: 3 * n, limit=_validate.MAX_VERTICES)
+    fixed_in = fixed
+    origin = p[0].copy()
+    q = p - origin
+    frame = None
+    if q.shape[1] == 3:
+        frame = plane_frame(q)
+        if frame is not None:
+            q = q @ frame.T  # (N, 2) coordinates in the plane
+    prm = _Params(alpha_fn, restrict, c, C, tilt, balance_tol, max_passes, min_factor, workers)
+    offsets = np.array([0, q.shape[0]], dtype=np.int64)
+    out, fixed, _, steps = _iterate(
+        np.ascontiguousarray(q), fixed, offsets, np.array([closed]), iterations, prm, engine
+    )
+    red_steps = [int(nred[0]) for nred, _, _ in steps]
+    fig11_total = sum(int(nfig[0]) for _, nfig, _ in steps)
+    unsat_total = sum(int(nunsat[0]) for _, _, nunsat in steps)
+    if frame is not None:
+        out = out @ frame
+    out += origin
+    if fixed_in.any():
+        out[fixed] = p[fixed_in]  # fixed vertices (ends, anchors) are returned bit-exact
+    if exp2:
+        np.ldexp(out, exp2, out=out)
+    ok = unsat_total == 0
+    msg = (
+        f"{iterations} CCA1 step(s), {sum(red_steps)} local alpha reduction(s), "
+        f"{fig11_total} Fig. 11 edge(s)"
+        + ("" if ok else f"; restrictions not met on {unsat_total} edge(s)")
+    )
+    return CCAResult(
+        points=out,
+        iterations=iterations,
+        reductions=int(sum(red_steps)),
+        reductions_per_step=tuple(red_steps),
+        fig11_edges=int(fig11_total),
+        unsatisfied=int(unsat_total),
+        success=ok,
+        message=msg,
+    )
+
+
+# --------------------------------------------------------------------------- input helpers
+
+
+@dataclass(frozen=True)
+class RaggedCCAResult:
+    """Result of :func:`smooth_ragged_with_info`: a ragged batch and its counts per curve.
+
+    Attributes
+    ----------
+    coords : (N', 2) ndarray
+        The smoothed curves one after the other, rings without a repeated closing
+        vertex (as :func:`smooth` returns them).
+    offsets : (M + 1,) int64 ndarray
+        Curve ``k`` is ``coords[offsets[k]:offsets[k + 1]]``.
+    iterations : int
+        Number of CCA1 steps performed.
+    reductions, fig11_edges, unsatisfied : (M,) int64 ndarray
+        Per curve, summed over the steps: as the fields of :class:`CCAResult`.
+    success : bool
+        Every restriction held on every curve (``unsatisfied`` is all zero).
+    message : str
+        Human-readable summary.
+    """
+
+    coords: np.ndarray
+    offsets: np.ndarray
+    iterations: int
+    reductions: np.ndarray
+    fig11_edges: np.ndarray
+    unsatisfied: np.ndarray
+    success: bool
+    message: str
+
+    def curve(self, k: int) -> np.ndarray:
+        """The vertices of curve ``k``, ``(n_k, 2)`` (a view)."""
+        return self.coords[self.offsets[k] : self.offsets[k + 1]]
+
+
+def smooth_ragged(
+    coords,
+    offsets,
+    *,
+    closed,
+    iterations: int = 1,
+    alpha: AlphaSpec = "regular",
+    anchors=None,
+    c: float = 2.0,
+    C: float = 0.5,
+    restrict: bool = True,
+    tilt: float = np.pi / 8,
+    balance_tol: float = 1e-9,
+    max_passes: int = 16,
+    min_factor: float = 0.0,
+    workers: int | None = None,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Area-preserving CCA1 smoothing of many 2D curves in one call.
+
+    Every curve gets exactly what :func:`smooth` gives it alone (the same engine,
+    curve by curve; the same bits), with every guarantee per curve: each ring's
+    area, each open curve's fixed ends and its area against the chord, the
+    restrictions and local alpha decreases. The work is one compiled loop over
+    all vertices per step, so a batch of many small curves costs about a
+    microsecond per curve instead of a millisecond per :func:`smooth` call.
+
+    Parameters
+    ----------
+    coords : (N, 2) array_like
+        All curves one after the other (the layout of
+        :func:`shapely.to_ragged_array`, or of ``shapely.get_coordinates``).
+        A closed curve may repeat its first vertex at its end (dropped).
+    offsets : (M + 1,) array_like of int
+        Curve ``k`` is ``coords[offsets[k]:offsets[k + 1]]``; ``offsets[0] == 0``,
+        ``offsets[-1] == N``, non-decreasing.
+    closed : bool or (M,) array_like of bool
+        One flag for all curves or one per curve.
+    iterations, alpha, c, C, restrict, tilt, balance_tol, max_passes, min_factor
+        As in :func:`smooth`, the same for every curve.
+    anchors : (N,) bool array_like or sequence of M sequences of int, optional
+        Vertices that stay fixed: a mask over the rows of `coords`, or one
+        sequence of vertex indices per curve (indices within the curve, as
+        :func:`smooth` takes them).
+    workers : int, optional
+        Threads: a batch of at least 65536 vertices is split into `workers`
+        groups of whole curves (the result does not depend on it). Default as in
+        :func:`smooth`.
+
+    Returns
+    -------
+    coords : (N', 2) ndarray
+        The smoothed curves one after the other, rings without a repeated
+        closing vertex.
+    offsets : (M + 1,) int64 ndarray
+        The curves of the output.
+
+    Raises
+    ------
+    CurveError
+        Bad shapes or values; a curve with fewer than 3 (closed) or 2 (open)
+        distinct points (the message names the curve).
+
+    Examples
+    --------
+    A square ring and an open zigzag in one call:
+
+    >>> xy = [[0, 0], [1, 0], [1, 1], [0, 1], [0, 0], [0, 0], [1, 1], [2, 0], [3, 1]]
+    >>> out, off = smooth_ragged(xy, [0, 5, 9], closed=[True, False], iterations=2)
+    >>> off.tolist()
+    [0, 36, 64]
+    >>> from curvesmith.geometry import signed_area
+    >>> round(signed_area(out[off[0] : off[1]]), 12)
+    1.0
+    >>> out[off[1]].tolist(), out[off[2] - 1].tolist()  # open ends fixed
+    ([0.0, 0.0], [3.0, 1.0])
+    """
+    res = smooth_ragged_with_info(
+        coords,
+        offsets,
+        closed=closed,
+        iterations=iterations,
+        alpha=alpha,
+        anchors=anchors,
+        c=c,
+        C=C,
+        restrict=restrict,
+        tilt=tilt,
+        balance_tol=balance_tol,
+        max_passes=max_passes,
+        min_factor=min_factor,
+        workers=workers,
+    )
+    return res.coords, res.offsets
+
+
+def smooth_ragged_with_info(
+    coords,
+    offsets,
+    *,
+    closed,
+    iterations: int = 1,
+    alpha: AlphaSpec = "regular",
+    anchors=None,
+    c: float = 2.0,
+    C: float = 0.5,
+    restrict: bool = True,
+    tilt: float = np.pi / 8,
+    balance_tol: float = 1e-9,
+    max_passes: int = 16,
+    min_factor: float = 0.0,
+    workers: int | None = None,
+) -> RaggedCCAResult:
+    """Like :func:`smooth_ragged`, returning a :class:`RaggedCCAResult` with counts per curve.
+
+    Parameters
+    ----------
+    coords, offsets, closed, iterations, alpha, anchors, c, C, restrict, tilt
+        As in :func:`smooth_ragged`.
+    balance_tol, max_passes, min_factor, workers
+        As in :func:`smooth_ragged`.
+
+    Returns
+    -------
+    RaggedCCAResult
+
+    Examples
+    --------
+    >>> xy = [[0, 0], [4, 0], [4.0, 1], [2, 1.01], [0, 1], [0, 0], [1, 0], [1, 1]]
+    >>> res = smooth_ragged_with_info(xy, [0, 5, 8], closed=True)
+    >>> res.reductions.tolist(), res.success
+    ([3, 0], True)
+    """
+    iterations = as_int(iterations, name="iterations", minimum=0)
+    c = as_float(c, name="c", low=1.0)
+    C = as_float(C, name="C", low=0.0, high=1.0)
+    tilt = as_float(tilt, name="tilt", low=0.0, high=np.pi / 4, high_open=False)
+    balance_tol = as_float(balance_tol, name="balance_tol", low=0.0, high=1.0, low_open=False)
+    max_passes = as_int(max_passes, name="max_passes", minimum=1)
+    min_factor = as_float(min_factor, name="min_factor", low=0.0, high=1.0, low_open=False)
+    restrict = as_bool(restrict, name="restrict")
+    workers = default_workers() if workers is None else as_int(workers, name="workers", minimum=1)
+    alpha_fn = alpha_function(alpha)
+    rag = as_ragged(coords, offsets, closed=closed, dim=2)
+    p, off, cl = rag.points, rag.offsets, rag.closed
+    m = cl.size
+    lengths = np.diff(off)
+    fixed = np.zeros(p.shape[0], dtype=bool)
+    if anchors is not None:
+        fixed = as_anchor_mask(anchors, rag)
+    nonempty = lengths > 0
+    opened = ~cl & nonempty
+    fixed[off[:-1][opened]] = True
+    fixed[off[1:][opened] - 1] = True
+    # per-curve power-of-two scaling of extreme coordinate scales (see smooth_with_info)
+    exp2 = np.zeros(m, dtype=np.int64)
+    if p.shape[0]:
+        top = np.zeros(m)
+        top[nonempty] = np.maximum.reduceat(np.abs(p).max(axis=1), off[:-1][nonempty])
+        extreme = (top > 0) & ~((top > _TINY) & (top < _HUGE))
+        if extreme.any():
+            exp2[extreme] = np.frexp(top[extreme])[1]
+            p = np.ldexp(p, -exp2[curve_ids(off)])
+    p, fixed, off = dedupe_ragged(p, fixed, off, cl)
+    lengths = np.diff(off)
+    need = np.where(cl, 3, 2)
+    short = np.flatnonzero(lengths < need)
+    if short.size:
+        k = int(short[0])
+        raise CurveError(
+            f"coords must have at least {need[k]} distinct points per "
+            f"{'closed polygon' if cl[k] else 'polyline'} after removing consecutive "
+            f"duplicates, got {int(lengths[k])} for curve {k}"
+        )
+    starts = off[:-1]
+    if m and cl.any():
+        flat = cl & np.all(p[starts + 1] == p[starts], axis=1)
+        if flat.any():
+            raise CurveError(
+                f"coords of curve {int(np.flatnonzero(flat)[0])} are all identical: "
+                "a polygon needs non-zero extent"
+            )
+    zeros = np.zeros(m, dtype=np.int64)
+    if iterations == 0 or m == 0:
+        out = p.copy()
+        if exp2.any():
+            out = np.ldexp(out, exp2[curve_ids(off)])
+        return RaggedCCAResult(out, off, 0, zeros, zeros.copy(), zeros.copy(), True, "0 CCA1 steps")
+    check_growth(p.shape[0], iterations, lambda n: 3 * n, limit=_validate.MAX_VERTICES)
+    fixed_in = fixed
+    cid = curve_ids(off)
+    origin = p[starts]
+    q = p - origin[cid]
+    prm = _Params(alpha_fn, restrict, c, C, tilt, balance_tol, max_passes, min_factor, workers)
+    out, fixed, off_out, steps = _iterate(q, fixed, off, cl, iterations, prm, "compiled")
+    cid_out = curve_ids(off_out)
+    out += origin[cid_out]
+    if fixed_in.any():
+        _restore_fixed(out, fixed, cid_out, p, fixed_in, cid, off_out, off)
+    if exp2.any():
+        out = np.ldexp(out, exp2[cid_out])
+    red = np.sum([s[0] for s in steps], axis=0)
+    fig = np.sum([s[1] for s in steps], axis=0)
+    uns = np.sum([s[2] for s in steps], axis=0)
+    ok = not uns.any()
+    msg = (
+        f"{iterations} CCA1 step(s) on {m} curve(s), {int(red.sum())} local alpha "
+        f"reduction(s), {int(fig.sum())} Fig. 11 edge(s)"
+        + ("" if ok else f"; restrictions not met on {int(uns.sum())} edge(s)")
+    )
+    return RaggedCCAResult(out, off_out, iterations, red, fig, uns, ok, msg)
+
+
+def _restore_fixed(out, fixed, cid_out, p, fixed_in, cid, off_out, off):
+    """Fixed vertices (ends, anchors) bit-exact from the input, curve by curve."""
+    m = off.size - 1
+    n_out = np.bincount(cid_out[fixed], minlength=m)
+    n_in = np.bincount(cid[fixed_in], minlength=m)
+    if np.array_equal(n_out, n_in):
+        out[fixed] = p[fixed_in]
+        return
+    for k in np.flatnonzero(n_out == n_in):  # pragma: no cover - fixed vertices never merge
+        a, b = off_out[k], off_out[k + 1]
+        out[a:b][fixed[a:b]] = p[off[k] : off[k + 1]][fixed_in[off[k] : off[k + 1]]]
+
+
+# --------------------------------------------------------------------------- the engine
+
+
+@dataclass(frozen=True)
+class _Params:
+    alpha_fn: Callable
+    restrict: bool
+    c: float
+    C: float
+    tilt: float
+    balance_tol: float
+    max_passes: int
+    min_factor: float
+    workers: int
+
+
+def _iterate(P, fixed, offsets, closed, iterations, prm: _Params, engine: str):
+    """``iterations`` CCA1 steps on a batch of ``(N, d)`` points.
+
+    Returns the points, their fixed mask, the offsets and the per-step counts.
+    """
+    steps = []
+    for it in range(1, iterations + 1):
+        tilt_n = prm.tilt / 2.0**it
+        if P.shape[1] != 2 or engine == "numpy":
+            P, fixed, offsets, counts = _step_numpy(P, fixed, offsets, closed, prm, tilt_n)
+        else:
+            P, fixed, offsets, counts = _step_compiled(P, fixed, offsets, closed, prm, tilt_n)
+        steps.append(counts)
+    return P, fixed, offsets, steps
+
+
+def _step_numpy(P, fixed, offsets, closed, prm: _Params, tilt_n):
+    """The reference: the N-d numpy step curve by curve."""
+    m = offsets.size - 1
+    outs, fixes, lens = [], [], []
+    counts = np.zeros((3, m), dtype=np.int64)
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        for k in range(m):
+            a, b = offsets[k], offsets[k + 1]
+            piece, f, nred, nfig, nunsat = _stepnd.step(
+                [np.ascontiguousarray(P[a:b, d]) for d in range(P.shape[1])],
+                fixed[a:b],
+                bool(closed[k]),
+                prm.alpha_fn,
+                prm.restrict,
+                prm.c,
+                prm.C,
+                tilt_n,
+                prm.balance_tol,
+                (prm.max_passes, prm.min_factor),
+            )
+            outs.append(np.column_stack(piece))
+            fixes.append(f)
+            lens.append(f.size)
+            counts[:, k] = nred, nfig, nunsat
+    new_off = np.zeros(m + 1, dtype=np.int64)
+    np.cumsum(lens, out=new_off[1:])
+    return np.concatenate(outs), np.concatenate(fixes), new_off, tuple(counts)
+
+
+def _kernel():
+    from . import _kernel as kernel  # numba loads (and compiles, once) on first use
+
+    return kernel
+
+
+def _step_compiled(P, fixed, offsets, closed, prm: _Params, tilt_n):
+    kernel = _kernel()
+    brk, coef = profile_tables()
+    constant = getattr(prm.alpha_fn, "constant", None)
+    alpha_in = np.zeros(0)
+    if prm.alpha_fn is _profiles_eval:
+        mode, const = kernel.MODE_REGULAR, 0.0
+    elif constant is not None:
+        mode, const = kernel.MODE_CONSTANT, float(constant)
+    else:  # a user callable: the angles of the compacted curves, evaluated in one call
+        mode, const = kernel.MODE_GIVEN, 0.0
+        if kernel.any_zero_edge(P, offsets, closed):
+            P, fixed, offsets = kernel.compact_ragged(P, fixed, offsets, closed)
+        theta = kernel.angles_ragged(P, offsets, closed)
+        free = ~fixed
+        lengths = np.diff(offsets)
+        opened = ~closed & (lengths > 0)
+        free[offsets[:-1][opened]] = False
+        free[offsets[1:][opened] - 1] = False
+        alpha_in = np.zeros(P.shape[0])
+        alpha_in[free] = prm.alpha_fn(theta[free])
+    args = (
+        closed, mode, const, brk, coef, alpha_in, prm.restrict, prm.c, prm.C, tilt_n,
+        prm.balance_tol, prm.max_passes, prm.min_factor,
+    )  # fmt: skip
+    chunks = _chunks(offsets, prm.workers)
+    if len(chunks) == 1:
+        OUT, of, m, oo, nred, nfig, nunsat = kernel.step_ragged(P, fixed, offsets, *args)
+        return OUT[:m], of[:m], oo, (nred, nfig, nunsat)
+
+    def run(ab):
+        a, b = ab
+        s, e = offsets[a], offsets[b]
+        sub = (closed[a:b], *args[1:5], alpha_in[s:e] if alpha_in.size else alpha_in, *args[6:])
+        return kernel.step_ragged(P[s:e], fixed[s:e], offsets[a : b + 1] - s, *sub)
+
+    with ThreadPoolExecutor(len(chunks)) as pool:
+        parts = list(pool.map(run, chunks))
+    OUT = np.concatenate([r[0][: r[2]] for r in parts])
+    of = np.concatenate([r[1][: r[2]] for r in parts])
+    oo = [np.zeros(1, dtype=np.int64)]
+    base = 0
+    for r in parts:
+        oo.append(r[3][1:] + base)
+        base += r[2]
+    counts = tuple(np.concatenate([r[k] for r in parts]) for k in (4, 5, 6))
+    return OUT, of, np.concatenate(oo), counts
+
+
+def _chunks(offsets: np.ndarray, workers: int) -> list[tuple[int, int]]:
+    """Groups of whole curves with about equal vertex counts, one per thread."""
+    m = offsets.size - 1
+    n = int(offsets[-1])
+    if workers <= 1 or n < _THREAD_MIN or m < 2:
+        return [(0, m)]
+    cuts = np.searchsorted(offsets, np.linspace(0, n, workers + 1)[1:-1])
+    bounds = np.unique(np.concatenate([[0], np.clip(cuts, 1, m - 1), [m]]))
+    return [(int(a), int(b)) for a, b in itertools.pairwise(bounds)]

@@ -1,0 +1,159 @@
+"""cca.smooth_ragged: many curves in one call give, curve by curve, what smooth gives alone."""
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from curvesmith import cca
+from curvesmith.errors import CurveError
+
+
+def _exact_area(p):
+    x, y = p[:, 0], p[:, 1]
+    terms = np.concatenate([x * np.roll(y, -1), -np.roll(x, -1) * y])
+    return 0.5 * math.fsum(terms)
+
+
+@st.composite
+def curves(draw):
+    """One curve of a realistic batch: tiny, degenerate, open, closed or long."""
+    kind = draw(st.sampled_from(["tiny", "ring", "line", "collinear", "dupes", "long", "spike"]))
+    rng = np.random.default_rng(draw(st.integers(0, 2**32 - 1)))
+    scale = 10.0 ** draw(st.integers(-3, 6))
+    shift = rng.uniform(-1e6, 1e6, size=2) if scale >= 1 else np.zeros(2)
+    closed = (kind not in ("line",) and draw(st.booleans())) or kind == "ring"
+    if kind == "tiny":
+        p = rng.normal(size=(3 if closed else 2, 2))
+    elif kind == "ring":
+        n = int(rng.integers(4, 13))
+        t = np.sort(rng.uniform(0, 2 * np.pi, n))
+        r = 1 + 0.4 * rng.uniform(size=n)
+        p = np.c_[r * np.cos(t), r * np.sin(t)]
+    elif kind == "line":
+        n = int(rng.integers(2, 15))
+        p = np.c_[np.cumsum(rng.uniform(0.1, 1, n)), rng.normal(size=n)]
+    elif kind == "collinear":  # straight vertices among corners
+        p = np.array([[0, 0], [1, 0], [2, 0], [2, 1], [1, 1], [0, 1.0]])
+    elif kind == "dupes":  # repeated points, closing vertex repeated
+        p = np.array([[0, 0], [0, 0], [3, 0], [3, 2], [3, 2], [0, 2], [0, 0.0]])
+    elif kind == "spike":
+        p = np.array([[0, 0], [4, 0], [4, 1], [2, 1.002], [0, 1.0]])
+    else:
+        n = int(rng.integers(200, 600))
+        t = 2 * np.pi * np.arange(n) / n
+        r = 1 + 0.3 * rng.uniform(size=n)
+        p = np.c_[r * np.cos(t), r * np.sin(t)]
+    if draw(st.booleans()):
+        p = p[::-1]
+    return p * scale + shift, bool(closed)
+
+
+def _batch(items):
+    xy = np.concatenate([p for p, _ in items])
+    off = np.concatenate([[0], np.cumsum([len(p) for p, _ in items])])
+    return xy, off, np.array([c for _, c in items])
+
+
+@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.lists(curves(), min_size=1, max_size=12), st.integers(1, 3), st.sampled_from(
+    ["regular", 0.25, "callable"]))  # fmt: skip
+def test_each_curve_as_in_a_single_call(items, iterations, alpha):
+    if alpha == "callable":
+        alpha = lambda ang: 0.15 + 0.02 * np.cos(ang)  # noqa: E731
+    xy, off, closed = _batch(items)
+    res = cca.smooth_ragged_with_info(xy, off, closed=closed, iterations=iterations, alpha=alpha)
+    assert res.offsets.shape == (len(items) + 1,)
+    for k, (p, cl) in enumerate(items):
+        one = cca.smooth_with_info(p, closed=cl, iterations=iterations, alpha=alpha)
+        np.testing.assert_array_equal(res.curve(k), one.points)
+        assert res.reductions[k] == one.reductions
+        assert res.fig11_edges[k] == one.fig11_edges
+        assert res.unsatisfied[k] == one.unsatisfied
+        if cl:  # the ring's area, to rounding of its coordinates
+            a0, a1 = _exact_area(p), _exact_area(res.curve(k))
+            mag = float(np.abs(p).max())
+            assert abs(a1 - a0) <= 1e-11 * abs(a0) + 1e-12 * mag * mag
+        else:  # open ends fixed, bit for bit
+            np.testing.assert_array_equal(res.curve(k)[[0, -1]], p[[0, -1]])
+    assert res.success == (res.unsatisfied.sum() == 0)
+
+
+def test_anchors_per_curve_and_as_mask():
+    rng = np.random.default_rng(3)
+    rings = [np.c_[np.cos(t), np.sin(t)] * (1 + 0.2 * rng.uniform(size=t.size))[:, None]
+             for t in (np.linspace(0, 2 * np.pi, n, endpoint=False) for n in (9, 14, 30))]  # fmt: skip
+    line = np.c_[np.arange(12.0), rng.normal(size=12)]
+    items = [*rings, line]
+    xy = np.concatenate(items)
+    off = np.concatenate([[0], np.cumsum([len(p) for p in items])])
+    closed = np.array([True, True, True, False])
+    anchors = [[0, 4], [], [3, 17, 29], [5]]
+    out, oo = cca.smooth_ragged(xy, off, closed=closed, iterations=2, anchors=anchors)
+    mask = np.zeros(len(xy), dtype=bool)
+    for k, a in enumerate(anchors):
+        mask[off[k] + np.asarray(a, dtype=int)] = True
+    out2, oo2 = cca.smooth_ragged(xy, off, closed=closed, iterations=2, anchors=mask)
+    np.testing.assert_array_equal(out, out2)
+    np.testing.assert_array_equal(oo, oo2)
+    for k, p in enumerate(items):
+        one = cca.smooth(p, closed=bool(closed[k]), iterations=2, anchors=anchors[k] or None)
+        got = out[oo[k] : oo[k + 1]]
+        np.testing.assert_array_equal(got, one)
+        for i in anchors[k]:  # anchored vertices stay, bit for bit
+            assert (got == p[i]).all(axis=1).any()
+
+
+def test_closing_vertex_repeated_or_not_and_anchor_on_it():
+    sq = np.array([[0, 0], [2, 0], [2, 1], [0, 1.0]])
+    closed_sq = np.vstack([sq, sq[:1]])
+    xy = np.vstack([sq, closed_sq])
+    out, off = cca.smooth_ragged(xy, [0, 4, 9], closed=True, iterations=2)
+    np.testing.assert_array_equal(out[off[0] : off[1]], out[off[1] : off[2]])
+    # an anchor on the repeated closing vertex is the first vertex
+    a, _ = cca.smooth_ragged(closed_sq, [0, 5], closed=True, anchors=[[4]])
+    np.testing.assert_array_equal(a, cca.smooth(sq, closed=True, anchors=[0]))
+
+
+def test_empty_batch_and_zero_iterations():
+    out, off = cca.smooth_ragged(np.zeros((0, 2)), [0], closed=True)
+    assert out.shape == (0, 2) and off.tolist() == [0]
+    xy = [[0, 0], [0, 0], [1, 0], [1, 1], [0, 1]]
+    out, off = cca.smooth_ragged(xy, [0, 5], closed=True, iterations=0)
+    np.testing.assert_array_equal(out, cca.smooth(xy, closed=True, iterations=0))
+
+
+@pytest.mark.parametrize(
+    ("args", "kwargs", "match"),
+    [
+        (
+            ([[0, 0], [1, 0], [1, 1]], [0, 2]),
+            {"closed": True},
+            "end at the number of coordinates 3",
+        ),
+        (([[0, 0], [1, 0], [1, 1]], [0, 3, 2, 3]), {"closed": True}, "non-decreasing"),
+        (([[0, 0], [1, 0], [1, 1]], [0, 3]), {"closed": [True, False]}, r"shape \(1,\)"),
+        (([[0, 0], [1, 0], [1, 1]], [0, 3]), {"closed": "yes"}, "closed must be"),
+        (
+            ([[0, 0], [1, 0], [1, 1], [5, 5], [5, 5]], [0, 3, 5]),
+            {"closed": False},
+            "got 1 for curve 1",
+        ),
+        (([[0, 0], [1, 0], [np.nan, 1]], [0, 3]), {"closed": True}, "coords must be finite"),
+        (
+            ([[0, 0], [1, 0], [1, 1]], [0, 3]),
+            {"closed": True, "anchors": [[7]]},
+            r"\[0, 3\), got 7 \(curve 0\)",
+        ),
+        (
+            ([[0, 0], [1, 0], [1, 1]], [0, 3]),
+            {"closed": True, "anchors": np.ones(2, bool)},
+            r"mask of shape \(3,\)",
+        ),
+    ],
+)
+def test_bad_input_names_the_argument(args, kwargs, match):
+    with pytest.raises(CurveError, match=match):
+        cca.smooth_ragged(*args, **kwargs)

@@ -1,0 +1,135 @@
+"""geo.smooth and geo.smooth_coverage on the ragged engine: one call for all features, fixed=."""
+
+import numpy as np
+import pytest
+
+shapely = pytest.importorskip("shapely")
+
+from curvesmith import geo  # noqa: E402
+from curvesmith.errors import CurveError  # noqa: E402
+
+
+def _footprints(n, seed):
+    """Building-like polygons in metres: 5-12 vertices, jittered, some with a courtyard."""
+    rng = np.random.default_rng(seed)
+    out = []
+    for k in range(n):
+        m = int(rng.integers(5, 13))
+        t = np.sort(rng.uniform(0, 2 * np.pi, m))
+        r = rng.uniform(5, 30) * (1 + 0.25 * rng.uniform(size=m))
+        cx, cy = rng.uniform(4e5, 6e5), rng.uniform(5.0e6, 5.2e6)  # UTM-like
+        shell = np.c_[cx + r * np.cos(t), cy + r * np.sin(t)]
+        poly = shapely.Polygon(shell if k % 3 else shell[::-1])
+        if k % 7 == 0:  # a small courtyard, where it fits
+            a = np.arange(4) * np.pi / 2
+            hole = np.c_[cx + 1.5 * np.cos(a), cy + 1.5 * np.sin(a)][::-1]
+            with_hole = shapely.Polygon(shell, [hole])
+            poly = with_hole if with_hole.is_valid else poly
+        if poly.is_valid:
+            out.append(poly)
+    return out
+
+
+def test_one_call_equals_feature_by_feature():
+    polys = _footprints(300, 1)
+    polys.append(shapely.MultiPolygon([shapely.box(0, 0, 1, 1), shapely.box(3, 0, 4, 2)]))
+    polys.append(None)
+    polys.append(shapely.LineString([(0, 0), (1, 1), (2, 0), (3, 1)]))
+    res = geo.smooth(np.array(polys, dtype=object), iterations=2, full_output=True)
+    a0, a1 = shapely.area(polys[:-3]), shapely.area(res.geometry[:-3])
+    # exact up to the rounding of coordinates ~5e6 m (ulp 1e-9 m) on rings of a few m^2
+    assert np.max(np.abs(a1 - a0) / a0) < 1e-9
+    assert len(res.reductions) >= 1  # a few slivers were re-smoothed locally
+    for k, p in enumerate(polys):
+        if p is None:
+            assert res.geometry[k] is None
+            continue
+        alone = geo.smooth(p, iterations=2)
+        np.testing.assert_array_equal(
+            shapely.get_coordinates(res.geometry[k]), shapely.get_coordinates(alone)
+        )
+    assert shapely.is_valid(res.geometry[:-2]).all()
+
+
+def test_fixed_mask_keeps_antimeridian_vertices_and_areas():
+    # lon/lat cells cut at the antimeridian: vertices on lon = 180 must stay there
+    cells = [
+        shapely.Polygon([(170, -5), (180, -6), (180, 4), (172, 6), (168, 0)]),
+        shapely.Polygon([(175, 10), (180, 9), (180, 15), (176, 14.5)]),
+        shapely.Polygon([(160, 20), (165, 21), (164, 25), (159, 24)]),  # no vertex on 180
+    ]
+    xy = shapely.get_coordinates(cells)
+    mask = xy[:, 0] == 180.0
+    out = geo.smooth(cells, iterations=3, fixed=mask)
+    by_fn = geo.smooth(cells, iterations=3, fixed=lambda c: c[:, 0] == 180.0)
+    for a, b in zip(out, by_fn, strict=True):
+        np.testing.assert_array_equal(shapely.get_coordinates(a), shapely.get_coordinates(b))
+    for before, after in zip(cells, out, strict=True):
+        c0, c1 = shapely.get_coordinates(before), shapely.get_coordinates(after)
+        on = c0[c0[:, 0] == 180.0]
+        for p in on:  # every fixed vertex is still there, bit for bit
+            assert (c1 == p).all(axis=1).any()
+        assert len(c1) > 3 * len(c0)  # and the rest was smoothed
+        assert abs(after.area - before.area) <= 1e-12 * before.area
+        assert (c1[:, 0] <= 180.0).all()  # nothing crosses the antimeridian
+    # the cell without fixed vertices is smoothed as without the option
+    np.testing.assert_array_equal(
+        shapely.get_coordinates(out[2]), shapely.get_coordinates(geo.smooth(cells[2], iterations=3))
+    )
+
+
+def test_fixed_keeps_sharp_corners():
+    # an L-shaped footprint: keep its right-angle corners, smooth the rest
+    p = shapely.Polygon([(0, 0), (10, 0), (10, 4), (4, 4), (4, 10), (0, 10)])
+    p = shapely.segmentize(p, 2.0)
+    xy = shapely.get_coordinates(p)
+    corner = np.isin(xy[:, 0] + 1j * xy[:, 1], [0, 10, 10 + 4j, 4 + 4j, 4 + 10j, 10j])
+    res = geo.smooth(p, iterations=2, fixed=corner, full_output=True)
+    c1 = shapely.get_coordinates(res.geometry)
+    for q in xy[corner]:
+        assert (c1 == q).all(axis=1).any()
+    assert res.max_area_change < 1e-13 and res.geometry.is_valid
+
+
+def test_coverage_fixed_boundary_vertices():
+    # a 4 x 4 grid of jittered cells; fix the vertices on the outer frame x = 0
+    rng = np.random.default_rng(5)
+    g = np.stack(np.meshgrid(np.arange(5.0), np.arange(5.0)), axis=-1)
+    g[1:-1, 1:-1] += rng.uniform(-0.2, 0.2, size=(3, 3, 2))
+
+    def edge(a, b):  # 4 points per shared edge, computed the same way from both sides
+        (i, j), (k, m) = a, b
+        flip = (i, j) > (k, m)
+        (i, j), (k, m) = sorted([a, b])
+        pts = g[i, j] + (g[k, m] - g[i, j]) * np.linspace(0, 1, 5)[:-1, None]
+        pts = np.vstack([pts, g[k, m]])
+        return (pts[::-1] if flip else pts)[:-1]
+
+    cells = []
+    for i in range(4):
+        for j in range(4):
+            ring = [(i, j), (i, j + 1), (i + 1, j + 1), (i + 1, j)]
+            cells.append(
+                shapely.Polygon(np.vstack([edge(ring[q], ring[(q + 1) % 4]) for q in range(4)]))
+            )
+    assert shapely.coverage_is_valid(cells)
+    res = geo.smooth_coverage(cells, iterations=2, fixed=lambda c: c[:, 0] == 0.0, full_output=True)
+    assert res.coverage_valid and res.max_area_change < 1e-12
+    before = shapely.get_coordinates(cells)
+    after = shapely.get_coordinates(res.geometry)
+    on = np.unique(before[before[:, 0] == 0.0], axis=0)
+    for q in on:
+        assert (after == q).all(axis=1).any()
+    assert np.all(after[:, 0] >= 0.0)  # the fixed frame edge stays straight, nothing outside
+    free = geo.smooth_coverage(cells, iterations=2)
+    assert shapely.get_coordinates(free)[:, 0].min() < 0.0  # without fixed= it bulges out
+
+
+def test_fixed_bad_input():
+    p = shapely.box(0, 0, 1, 1)
+    with pytest.raises(CurveError, match=r"fixed must be a boolean mask .* \(shape \(5,\)\)"):
+        geo.smooth(p, fixed=np.ones(3, dtype=bool))
+    with pytest.raises(CurveError, match="fixed needs method='cca'"):
+        geo.smooth(p, method="chaikin", fixed=np.ones(5, dtype=bool))
+    with pytest.raises(CurveError, match=r"fixed callable must return a boolean mask of shape"):
+        geo.smooth(p, fixed=lambda c: c[:, 0])
