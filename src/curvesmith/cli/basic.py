@@ -272,7 +272,62 @@ def smooth_command(
             out.append(c.replace(points=smooth))
         except CurveError as exc:
             raise CurveError(f"curve {i} of {source}: {exc}") from None
+    out = _keep_valid(curves, out, method, iterations, alpha, fixable=not anchors)
     write_curves(out, dest, fmt)
+
+
+def _features_text(items) -> str:
+    shown = ", ".join(str(f) for f in items[:5])
+    return shown + (f", ... ({len(items)} in all)" if len(items) > 5 else "")
+
+
+def _keep_valid(before, after, method, iterations, alpha, *, fixable: bool):
+    """Check the smoothed polygons with shapely; re-smooth invalid ones through curvesmith.geo."""
+    if not any(c.closed for c in after):
+        return after
+    from ..errors import MissingDependencyError
+
+    try:
+        from ..geo._io import keep_polygons_valid
+
+        after, report = keep_polygons_valid(
+            before,
+            after,
+            method=method,
+            iterations=iterations,
+            alpha=_alpha_value(alpha) if method == "cca" else "regular",
+            fixable=fixable,
+        )
+    except (ImportError, MissingDependencyError):
+        click.echo(
+            "Warning: the validity of the smoothed polygons was not checked (needs shapely: "
+            "pip install 'curvesmith[geo]')",
+            err=True,
+        )
+        return after
+    if report.resmoothed:
+        click.echo(
+            f"{len(report.resmoothed)} of {report.n_polygons} polygon(s) smoothed less where "
+            f"their rings would cross, to stay valid (feature "
+            f"{_features_text(report.resmoothed)})",
+            err=True,
+        )
+    if report.invalid_input:
+        f, why = report.invalid_input[0]
+        click.echo(
+            f"Warning: {len(report.invalid_input)} polygon(s) were already invalid in the input "
+            f"(feature {f}: {why}); smoothed ring by ring, they are not valid polygons",
+            err=True,
+        )
+    if report.still_invalid:
+        f, why = report.still_invalid[0]
+        how = "with --anchors" if not fixable else f"with --method {method}"
+        click.echo(
+            f"Warning: {len(report.still_invalid)} polygon(s) are invalid after smoothing {how} "
+            f"(feature {f}: {why}); --method cca or chaikin without --anchors keeps them valid",
+            err=True,
+        )
+    return after
 
 
 @click.command("demo")
