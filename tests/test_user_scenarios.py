@@ -374,7 +374,7 @@ def test_smooth_cli_on_coordinates_of_1e_170(runner, tmp_path):
     src = tmp_path / "tiny.csv"
     src.write_text("x,y\n0,0\n1e-170,0\n1e-170,1e-170\n0,1e-170\n")
     out = tmp_path / "out.csv"
-    res = runner.invoke(main, ["smooth", str(src), "-o", str(out)])
+    res = runner.invoke(main, ["smooth", str(src), "-o", str(out), "--iterations", "3"])
     assert res.exit_code == 0, res.output
     pts = cio.read_csv(out)[0].points
     assert pts.shape == (69, 2) and np.isfinite(pts).all()  # 3 steps: 4 -> 9 -> 24 -> 69

@@ -106,7 +106,8 @@ def _smooth_partition(
             out[k] = res.geometry[0]
             n_red += len(res.reductions)
         except Exception as exc:  # the feature is written unchanged and reported
-            errors.append((start + k, f"{type(exc).__name__}: {exc}"))
+            reason = str(exc).replace("geometry[0]", f"feature {start + k}", 1)  # file index
+            errors.append((start + k, f"{type(exc).__name__}: {reason}"))
     return encode(out), errors, n_red
 
 

@@ -10,11 +10,18 @@ from pathlib import Path
 import click
 
 from ..errors import CurveError, CurveFormatError
-from ..io import Curve, detect_format, formats
+from ..io import Curve, check_destination, detect_format, formats
 from ..io import read_curves as _read
 from ..io import write_curves as _write
 
-__all__ = ["FORMAT_OPTION", "parse_floats", "parse_indices", "read_curves", "write_curves"]
+__all__ = [
+    "FORMAT_OPTION",
+    "check_output",
+    "parse_floats",
+    "parse_indices",
+    "read_curves",
+    "write_curves",
+]
 
 FORMAT_OPTION = click.option(
     "--format",
@@ -67,6 +74,21 @@ def write_curves(curves: list[Curve], dest: str, fmt: str | None = None) -> None
             if not text.startswith(dest):  # the writers name the file only for OS errors
                 text = f"{dest}: {text}"
             raise CurveFormatError(text) from None
+
+
+def check_output(dest: str, fmt: str | None, *, gis_suffixes: tuple[str, ...] = ()) -> None:
+    """Check OUT before any work: its folder exists and is writable, its format is known.
+
+    A suffix in `gis_suffixes` (GeoPackage, Shapefile, FlatGeobuf for GIS inputs) is
+    accepted as it is; any other path needs a suffix (or ``--format``) of the curve formats.
+    """
+    if dest == "-":
+        if fmt is None:
+            raise CurveError("--format is required when writing to standard output (-)")
+        return
+    check_destination(dest)
+    if Path(dest).suffix.lower() not in gis_suffixes:
+        _format_of(dest, fmt)
 
 
 def _format_of(path: str, fmt: str | None) -> str:

@@ -10,7 +10,7 @@ import numpy as np
 
 from .. import geometry
 from ..errors import CurveError
-from ._common import FORMAT_OPTION, parse_indices, read_curves, write_curves
+from ._common import FORMAT_OPTION, check_output, parse_indices, read_curves, write_curves
 
 __all__ = ["demo_command", "measure_command", "smooth_command"]
 
@@ -125,7 +125,13 @@ def _alpha_value(text: str):
     show_default=True,
     help="cca keeps every enclosed area exactly; chaikin and derham are linear corner cutting.",
 )
-@click.option("--iterations", type=int, default=3, show_default=True, help="Refinement steps.")
+@click.option(
+    "--iterations",
+    type=int,
+    default=1,
+    show_default=True,
+    help="Refinement steps (each multiplies the vertices by up to 3 with cca, 2 with chaikin).",
+)
 @click.option(
     "--alpha",
     default="regular",
@@ -155,6 +161,11 @@ def _alpha_value(text: str):
 @click.option(
     "--snap", type=float, default=None, help="GIS coverage: snap distance to clean it first."
 )
+@click.option(
+    "--allow-null",
+    is_flag=True,
+    help="GIS: write features without geometry through (default: an error, a damaged file).",
+)
 def smooth_command(
     source: str,
     dest: str,
@@ -170,6 +181,7 @@ def smooth_command(
     equal_area: bool,
     make_valid: bool,
     snap: float | None,
+    allow_null: bool,
 ) -> None:
     """Smooth every curve in IN and write the result to OUT.
 
@@ -184,11 +196,12 @@ def smooth_command(
     polygons gap-free.
     """
     from .. import subdivision
-    from .geo import is_geofile, smooth_geofile
+    from .geo import check_geo_output, is_geofile, smooth_geofile
 
     if source != "-" and is_geofile(source, coverage=coverage):
         if anchors:
             raise CurveError("--anchors is not available for GIS files")
+        check_geo_output(dest, fmt)
         smooth_geofile(
             source,
             dest,
@@ -200,13 +213,16 @@ def smooth_command(
             equal_area=equal_area,
             make_valid=make_valid,
             snap=snap,
+            allow_null=allow_null,
         )
         return
-    if coverage or layer is not None or equal_area or make_valid or snap is not None:
+    flags = (coverage, layer is not None, equal_area, make_valid, snap is not None, allow_null)
+    if any(flags):
         raise CurveError(
-            "--coverage, --layer, --equal-area, --make-valid and --snap apply to GIS files "
-            "(.gpkg, .shp, .fgb, or GeoJSON with --coverage)"
+            "--coverage, --layer, --equal-area, --make-valid, --snap and --allow-null apply to "
+            "GIS files (.gpkg, .shp, .fgb, or GeoJSON with --coverage)"
         )
+    check_output(dest, fmt)
 
     if method == "cca":
         from .. import cca
@@ -256,7 +272,62 @@ def smooth_command(
             out.append(c.replace(points=smooth))
         except CurveError as exc:
             raise CurveError(f"curve {i} of {source}: {exc}") from None
+    out = _keep_valid(curves, out, method, iterations, alpha, fixable=not anchors)
     write_curves(out, dest, fmt)
+
+
+def _features_text(items) -> str:
+    shown = ", ".join(str(f) for f in items[:5])
+    return shown + (f", ... ({len(items)} in all)" if len(items) > 5 else "")
+
+
+def _keep_valid(before, after, method, iterations, alpha, *, fixable: bool):
+    """Check the smoothed polygons with shapely; re-smooth invalid ones through curvesmith.geo."""
+    if not any(c.closed for c in after):
+        return after
+    from ..errors import MissingDependencyError
+
+    try:
+        from ..geo._io import keep_polygons_valid
+
+        after, report = keep_polygons_valid(
+            before,
+            after,
+            method=method,
+            iterations=iterations,
+            alpha=_alpha_value(alpha) if method == "cca" else "regular",
+            fixable=fixable,
+        )
+    except (ImportError, MissingDependencyError):
+        click.echo(
+            "Warning: the validity of the smoothed polygons was not checked (needs shapely: "
+            "pip install 'curvesmith[geo]')",
+            err=True,
+        )
+        return after
+    if report.resmoothed:
+        click.echo(
+            f"{len(report.resmoothed)} of {report.n_polygons} polygon(s) smoothed less where "
+            f"their rings would cross, to stay valid (feature "
+            f"{_features_text(report.resmoothed)})",
+            err=True,
+        )
+    if report.invalid_input:
+        f, why = report.invalid_input[0]
+        click.echo(
+            f"Warning: {len(report.invalid_input)} polygon(s) were already invalid in the input "
+            f"(feature {f}: {why}); smoothed ring by ring, they are not valid polygons",
+            err=True,
+        )
+    if report.still_invalid:
+        f, why = report.still_invalid[0]
+        how = "with --anchors" if not fixable else f"with --method {method}"
+        click.echo(
+            f"Warning: {len(report.still_invalid)} polygon(s) are invalid after smoothing {how} "
+            f"(feature {f}: {why}); --method cca or chaikin without --anchors keeps them valid",
+            err=True,
+        )
+    return after
 
 
 @click.command("demo")

@@ -15,7 +15,7 @@ import click
 
 from ..errors import CurveError
 
-__all__ = ["GEO_SUFFIXES", "batch_group", "is_geofile", "smooth_geofile"]
+__all__ = ["GEO_SUFFIXES", "batch_group", "check_geo_output", "is_geofile", "smooth_geofile"]
 
 #: Suffixes always handled as GIS files (GeoJSON only with ``--coverage``: plain GeoJSON
 #: curves go through the core reader).
@@ -26,6 +26,28 @@ def is_geofile(path: str, *, coverage: bool = False) -> bool:
     """Whether ``curvesmith smooth`` should hand ``path`` to :func:`smooth_geofile`."""
     suffix = Path(path).suffix.lower()
     return suffix in GEO_SUFFIXES or (coverage and suffix in (".geojson", ".json"))
+
+
+def check_geo_output(dest: str, fmt: str | None) -> None:
+    """Check OUT of a GIS run before any work: known GIS suffix, existing writable folder.
+
+    ``-`` (standard output) takes GeoJSON (``--format geojson``).
+    """
+    from ..geo import DRIVERS
+    from ..io import check_destination
+
+    if dest == "-":
+        if fmt not in ("geojson", "json"):
+            raise click.UsageError(
+                "a GIS input goes to standard output (-o -) as GeoJSON: add --format geojson"
+            )
+        return
+    check_destination(dest)
+    if Path(dest).suffix.lower() not in DRIVERS:
+        raise click.UsageError(
+            f"{dest}: a GIS input is written as {', '.join(sorted(DRIVERS))}; got the suffix "
+            f"{Path(dest).suffix or '(none)'!r}"
+        )
 
 
 def _alpha(alpha: Any) -> Any:
@@ -72,6 +94,7 @@ def smooth_geofile(
     equal_area: bool = False,
     make_valid: bool = False,
     snap: float | None = None,
+    allow_null: bool = False,
 ):
     """Smooth a GIS file for ``curvesmith smooth`` and print a one-line summary on stderr.
 
@@ -95,29 +118,48 @@ def smooth_geofile(
         Repair invalid polygons instead of failing.
     snap : float, optional
         Coverage mode: snapping distance to clean an imperfect coverage first.
+    allow_null : bool
+        Write features without geometry through (default: an error, the file may be damaged).
 
     Returns
     -------
     curvesmith.geo.FileSmoothReport
     """
+    import tempfile
+
     from .. import geo
 
     if method not in ("cca", "chaikin"):
         raise CurveError(f"--method {method} is not available for GIS files; use cca or chaikin")
-    report = _run_reporting_crs(
-        geo.smooth_file,
-        in_path,
-        out_path,
-        method=method,
-        iterations=iterations,
-        alpha=_alpha(alpha),
-        coverage=coverage,
-        layer=_layer(layer),
-        equal_area=equal_area,
-        make_valid=make_valid,
-        snap=snap,
-    )
+    with tempfile.TemporaryDirectory(prefix="curvesmith-") as tmp:
+        target = Path(tmp) / "stdout.geojson" if out_path == "-" else out_path
+        report = _run_reporting_crs(
+            geo.smooth_file,
+            in_path,
+            target,
+            method=method,
+            iterations=iterations,
+            alpha=_alpha(alpha),
+            coverage=coverage,
+            layer=_layer(layer),
+            equal_area=equal_area,
+            make_valid=make_valid,
+            snap=snap,
+            allow_null=allow_null,
+        )
+        if out_path == "-":
+            click.echo(Path(target).read_text(encoding="utf-8"), nl=False)
+    _summary(report)
+    return report
+
+
+def _summary(report) -> None:
     parts = [f"{report.n_features} features smoothed"]
+    if report.n_null or report.n_empty:
+        parts.append(
+            f"{report.n_null} without geometry (NULL) and {report.n_empty} empty, written "
+            f"through unchanged"
+        )
     if report.n_reductions:
         parts.append(f"{report.n_reductions} piece(s) smoothed less to stay valid")
     if report.invalid_edges:
@@ -128,7 +170,6 @@ def smooth_geofile(
     if report.coverage_valid is not None:
         parts.append("coverage valid" if report.coverage_valid else "coverage NOT valid")
     click.echo("; ".join(parts), err=True)
-    return report
 
 
 @click.group("batch", context_settings={"help_option_names": ["-h", "--help"]})
@@ -171,6 +212,9 @@ def batch_group() -> None:
     "--errors", "errors_path", default=None, help="Errors report [default: OUT.errors.json]."
 )
 @click.option("--progress/--no-progress", default=True, show_default=True, help="Progress bar.")
+@click.option(
+    "--allow-null", is_flag=True, help="Write features without geometry through unchanged."
+)
 def batch_smooth_command(
     source: str,
     dest: str,
@@ -187,13 +231,18 @@ def batch_smooth_command(
     partition_size: int,
     errors_path: str | None,
     progress: bool,
+    allow_null: bool,
 ) -> None:
     """Smooth every feature of IN on Dask and write OUT, in the same order.
 
     A feature that fails is written unchanged and listed with its reason in the
-    errors report (JSON).
+    errors report (JSON); the exit status is then 1. Features without geometry
+    (NULL: the file may be damaged) are an error unless --allow-null.
     """
     from .. import batch
+
+    _check_batch_paths(source, dest)
+    n_null, n_empty = _null_precheck(source, _layer(layer), allow_null)
 
     report = _run_reporting_crs(
         batch.smooth_file,
@@ -216,6 +265,34 @@ def batch_smooth_command(
     click.echo(
         f"{report.n_features} features in {report.n_partitions} task(s), "
         f"{report.seconds:.2f} s; {len(report.errors)} failed "
-        f"(written unchanged, see {report.errors_path})",
+        f"(written unchanged, see {report.errors_path})"
+        + (f"; {n_null} without geometry (NULL) and {n_empty} empty" if n_null or n_empty else ""),
         err=True,
     )
+    if report.errors:
+        first = report.errors[0]
+        raise CurveError(
+            f"{len(report.errors)} of {report.n_features} features of {source} failed and were "
+            f"written unchanged (first: feature {first.index}: {first.reason})"
+        )
+
+
+def _check_batch_paths(source: str, dest: str) -> None:
+    from ..geo import DRIVERS
+
+    if Path(source).suffix.lower() not in DRIVERS:
+        raise click.UsageError(
+            f"{source}: batch smooth reads GIS files ({', '.join(sorted(DRIVERS))}); for CSV, "
+            f"SVG or plain curves use curvesmith smooth"
+        )
+    if dest == "-":
+        raise click.UsageError("batch smooth writes a GIS file, not standard output (-)")
+    check_geo_output(dest, None)
+
+
+def _null_precheck(source: str, layer, allow_null: bool) -> tuple[int, int]:
+    """Refuse NULL geometries before the cluster starts (they are often a damaged file)."""
+    from ..geo._io import check_null_geometries, read_file
+
+    geoms = read_file(source, layer=layer, columns=[])
+    return check_null_geometries(geoms, source, allow_null=allow_null)

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+import shutil
 import warnings
 from dataclasses import dataclass
 from pathlib import Path
@@ -10,12 +12,16 @@ from typing import Any
 import numpy as np
 
 from ..errors import CurveError, CurveFormatError, require
+from ..io._core import atomic_path
 
 __all__ = [
     "DRIVERS",
     "FileSmoothReport",
     "GeographicCRSWarning",
+    "check_null_geometries",
+    "domain_edge_mask",
     "equal_area_crs",
+    "geometry_counts",
     "read_file",
     "smooth_file",
     "write_file",
@@ -60,6 +66,11 @@ class FileSmoothReport:
         Largest relative change of a ring's / polygon's area in the smoothing CRS.
     coverage_valid : bool or None
         Coverage mode: :func:`shapely.coverage_is_valid` on the output.
+    n_null : int
+        Features without geometry (NULL), written through unchanged (only with
+        ``allow_null=True``; otherwise they are an error).
+    n_empty : int
+        Features with an empty geometry, written through unchanged.
     """
 
     n_features: int
@@ -71,6 +82,8 @@ class FileSmoothReport:
     invalid_edges: dict[int, float]
     max_area_change: float
     coverage_valid: bool | None
+    n_null: int = 0
+    n_empty: int = 0
 
 
 def _driver_for(path: Path) -> str:
@@ -83,7 +96,7 @@ def _driver_for(path: Path) -> str:
     return driver
 
 
-def read_file(path: str | Path, *, layer: str | int | None = None):
+def read_file(path: str | Path, *, layer: str | int | None = None, columns=None):
     """Read a GeoPackage, Shapefile, GeoJSON or FlatGeobuf layer into a GeoDataFrame.
 
     Parameters
@@ -92,6 +105,8 @@ def read_file(path: str | Path, *, layer: str | int | None = None):
         The file.
     layer : str or int, optional
         Layer name or index (GeoPackages may hold several); default the first.
+    columns : list of str, optional
+        Attribute columns to read (``[]``: geometries only); default all.
 
     Returns
     -------
@@ -107,6 +122,8 @@ def read_file(path: str | Path, *, layer: str | int | None = None):
     path = Path(path)
     if not path.exists():
         raise CurveFormatError(f"no such file: {str(path)!r}")
+    if path.suffix.lower() == ".shp":
+        _check_shapefile(path)
     try:
         layers = pyogrio.list_layers(path)
     except Exception as exc:  # pyogrio raises its own DataSourceError subclasses
@@ -122,9 +139,154 @@ def read_file(path: str | Path, *, layer: str | int | None = None):
         elif str(layer) not in names:
             raise CurveFormatError(f"layer {layer!r} not found in {str(path)!r}; layers: {names}")
     try:
-        return pyogrio.read_dataframe(path, layer=layer)
+        return pyogrio.read_dataframe(path, layer=layer, columns=columns)
     except Exception as exc:
         raise CurveFormatError(f"cannot read {str(path)!r}: {exc}") from exc
+
+
+def _check_shapefile(path: Path) -> None:
+    """Refuse a truncated Shapefile: GDAL reads the missing records as NULL geometries.
+
+    The 100-byte headers of ``.shp`` and ``.shx`` hold the file length (big-endian 16-bit
+    words at offset 24, ESRI Shapefile Technical Description, 1998), the ``.dbf`` header
+    the number and length of its records (dBASE III: little-endian at offsets 4, 8, 10); a
+    file shorter than its header says was cut off (an interrupted copy or download, a full
+    disk).
+    """
+    for part in (path, path.with_suffix(".shx")):
+        if not part.exists():
+            continue
+        size = part.stat().st_size
+        with open(part, "rb") as fh:
+            header = fh.read(100)
+        if len(header) < 100 or int.from_bytes(header[:4], "big") != 9994:
+            raise CurveFormatError(
+                f"cannot read {str(path)!r}: {part.name} is not a Shapefile part (damaged header)"
+            )
+        declared = 2 * int.from_bytes(header[24:28], "big")
+        if size < declared:
+            raise CurveFormatError(
+                f"cannot read {str(path)!r}: {part.name} is truncated ({size} of the {declared} "
+                f"bytes its header declares): the file is damaged; copy it again"
+            )
+    dbf = path.with_suffix(".dbf")
+    if dbf.exists():
+        with open(dbf, "rb") as fh:
+            header = fh.read(12)
+        if len(header) == 12:
+            n = int.from_bytes(header[4:8], "little")
+            declared = int.from_bytes(header[8:10], "little") + n * int.from_bytes(
+                header[10:12], "little"
+            )
+            size = dbf.stat().st_size
+            if size < declared:
+                raise CurveFormatError(
+                    f"cannot read {str(path)!r}: {dbf.name} is truncated ({size} of the "
+                    f"{declared} bytes its header declares for {n} records): the file is "
+                    f"damaged; copy it again"
+                )
+
+
+def geometry_counts(df: Any) -> tuple[int, int]:
+    """Numbers of features without geometry (NULL) and with an empty geometry.
+
+    Parameters
+    ----------
+    df : geopandas.GeoDataFrame or GeoSeries
+
+    Returns
+    -------
+    n_null, n_empty : int
+    """
+    shapely = require("shapely", "geo", "counting geometries")
+    geoms = np.asarray(getattr(df, "geometry", df).values, dtype=object)
+    missing = shapely.is_missing(geoms)
+    empty = shapely.is_empty(geoms) & ~missing
+    return int(missing.sum()), int(empty.sum())
+
+
+def check_null_geometries(df: Any, source: Any, *, allow_null: bool = False) -> tuple[int, int]:
+    """Count NULL and empty geometries; refuse NULLs unless `allow_null`.
+
+    A damaged file (a truncated Shapefile, a GeoPackage with unreadable blobs) reads as NULL
+    geometries without any error from GDAL, so NULLs are refused by default: the caller
+    would otherwise report success for a file of which a part was lost. Empty geometries
+    are data (they pass through smoothing unchanged) and are only counted.
+
+    Returns
+    -------
+    n_null, n_empty : int
+
+    Raises
+    ------
+    CurveError
+        If there are NULL geometries and `allow_null` is false.
+    """
+    n_null, n_empty = geometry_counts(df)
+    if n_null and not allow_null:
+        geoms = np.asarray(df.geometry.values, dtype=object)
+        first = int(np.flatnonzero([g is None for g in geoms])[0])
+        raise CurveError(
+            f"{str(source)!r}: {n_null} of {len(df)} features have no geometry (NULL; the "
+            f"first is feature {first}): the file may be damaged (GDAL reads unreadable "
+            f"records of a truncated file as NULL); pass allow_null=True (--allow-null) to "
+            f"write them through unchanged"
+        )
+    return n_null, n_empty
+
+
+def domain_edge_mask(df: Any, *, atol: float = 1e-9) -> list[np.ndarray]:
+    """Which vertices lie on the edges of the longitude/latitude domain (±180°, ±90°).
+
+    Smoothing such a vertex moves a country past the antimeridian or Antarctica past the
+    pole; these are the vertices to keep fixed.
+
+    Parameters
+    ----------
+    df : geopandas.GeoDataFrame or GeoSeries
+        Data in a geographic CRS (x = longitude, y = latitude in degrees, the axis order
+        pyogrio and geopandas use whatever the CRS's own axis order).
+    atol : float, optional
+        Tolerance in degrees: ``|lon| >= 180 - atol`` or ``|lat| >= 90 - atol`` is on an
+        edge (Natural Earth has longitudes of 180.00000000000006).
+
+    Returns
+    -------
+    list of (N_i,) bool ndarray
+        One array per feature, aligned with ``shapely.get_coordinates(geometry)`` of that
+        feature (rings in order, closing vertices included); empty for NULL or empty
+        geometries.
+
+    Raises
+    ------
+    CurveError
+        If the data have no CRS or a projected one.
+
+    Examples
+    --------
+    >>> import geopandas, shapely
+    >>> df = geopandas.GeoDataFrame(geometry=[shapely.box(170, -90, 180, -80)], crs=4326)
+    >>> shapely.get_coordinates(df.geometry[0]).tolist()[:3]
+    [[180.0, -90.0], [180.0, -80.0], [170.0, -80.0]]
+    >>> domain_edge_mask(df)[0].tolist()
+    [True, True, False, True, True]
+    """
+    shapely = require("shapely", "geo", "finding vertices on the domain's edges")
+    crs = getattr(df, "crs", None)
+    if crs is None or not crs.is_geographic:
+        what = "no CRS" if crs is None else f"a projected CRS ({crs.name})"
+        raise CurveError(f"domain_edge_mask needs a geographic CRS, got {what}")
+    atol = float(atol)
+    if not (math.isfinite(atol) and 0.0 <= atol < 1.0):
+        raise CurveError(f"atol must be a number of degrees in [0, 1), got {atol!r}")
+    out = []
+    for g in np.asarray(getattr(df, "geometry", df).values, dtype=object):
+        if g is None:
+            out.append(np.zeros(0, dtype=bool))
+            continue
+        xy = shapely.get_coordinates(g)
+        out.append((np.abs(xy[:, 0]) >= 180.0 - atol) | (np.abs(xy[:, 1]) >= 90.0 - atol))
+    return out
 
 
 def write_file(df: Any, path: str | Path, *, layer: str | None = None) -> None:
@@ -133,7 +295,11 @@ def write_file(df: Any, path: str | Path, *, layer: str | None = None) -> None:
     Features keep their order (FlatGeobuf is written without its spatial index, which
     would sort them). Shapefiles hold one geometry type per file: Polygons and MultiPolygons (or
     LineStrings and MultiLineStrings) are written as the Multi type; other mixes raise
-    :class:`CurveFormatError`. An existing file is replaced.
+    :class:`CurveFormatError`. An existing file is replaced as a whole; only an existing
+    GeoPackage written with an explicit ``layer`` keeps its other layers (that layer is
+    replaced, or added). The new file is written completely to a temporary file in the same
+    folder and read back before it replaces anything: a failed write (a full disk) leaves
+    the previous file untouched and no partial file.
     """
     pyogrio = require("pyogrio", "geo", "writing GIS files")
     shapely = require("shapely", "geo", "writing GIS files")
@@ -153,12 +319,39 @@ def write_file(df: Any, path: str | Path, *, layer: str | None = None) -> None:
     if driver == "FlatGeobuf":
         # the packed R-tree would reorder the features; the output keeps the input order
         kwargs["layer_options"] = {"SPATIAL_INDEX": "NO"}
-    if path.exists() and driver != "GPKG":
-        path.unlink()
+    n_null, _ = geometry_counts(df)
+    with atomic_path(path, stale=_SHAPEFILE_PARTS if driver == "ESRI Shapefile" else ()) as tmp:
+        if driver == "GPKG" and layer is not None and path.is_file():
+            shutil.copy2(path, tmp)  # a named layer replaces that layer only: keep the others
+        try:
+            pyogrio.write_dataframe(df, tmp, layer=layer, driver=driver, **kwargs)
+        except Exception as exc:
+            raise CurveFormatError(f"cannot write {str(path)!r}: {exc}") from exc
+        _verify_written(tmp, path, len(df), n_null, layer if driver == "GPKG" else None)
+
+
+#: Sidecar files of a Shapefile that an older output may have and a new one not.
+_SHAPEFILE_PARTS = (".shx", ".dbf", ".prj", ".cpg", ".qix", ".sbn", ".sbx")
+
+
+def _verify_written(tmp: Path, path: Path, n_features: int, n_null: int, layer) -> None:
+    """Read the written file back (geometries only) before it replaces anything."""
+    import pyogrio
+
     try:
-        pyogrio.write_dataframe(df, path, layer=layer, driver=driver, **kwargs)
+        back = pyogrio.read_dataframe(tmp, layer=layer, columns=[])
     except Exception as exc:
-        raise CurveFormatError(f"cannot write {str(path)!r}: {exc}") from exc
+        raise CurveFormatError(
+            f"cannot write {str(path)!r}: the written file cannot be read back ({exc}); "
+            f"the disk may be full"
+        ) from exc
+    got_null, _ = geometry_counts(back)
+    if len(back) != n_features or got_null != n_null:
+        raise CurveFormatError(
+            f"cannot write {str(path)!r}: the written file reads back as {len(back)} features "
+            f"({got_null} without geometry) instead of {n_features} ({n_null}); the disk may "
+            f"be full"
+        )
 
 
 def equal_area_crs(df: Any) -> str:
@@ -186,6 +379,7 @@ def smooth_file(
     equal_area: bool = False,
     make_valid: bool = False,
     snap: float | None = None,
+    allow_null: bool = False,
 ) -> FileSmoothReport:
     """Smooth every feature of a GIS file and write the result (same features, same order).
 
@@ -207,10 +401,19 @@ def smooth_file(
         so that ground areas, not areas in degrees, are the ones kept. Needs a CRS.
     snap : float, optional
         Coverage mode: snapping distance for :func:`shapely.coverage_clean`.
+    allow_null : bool, optional
+        Write features without geometry (NULL) through unchanged. By default they are an
+        error: a damaged file reads as NULL geometries without any error from GDAL.
 
     Returns
     -------
     FileSmoothReport
+
+    Raises
+    ------
+    CurveError
+        NULL geometries without `allow_null`, a damaged or unwritable file, ... (the
+        output file is then left as it was).
 
     Warns
     -----
@@ -221,6 +424,7 @@ def smooth_file(
     from ._smooth import smooth
 
     df = read_file(in_path, layer=layer)
+    n_null, n_empty = check_null_geometries(df, in_path, allow_null=allow_null)
     crs = df.crs
     geographic = bool(crs is not None and crs.is_geographic)
     if equal_area and crs is None:
@@ -275,4 +479,138 @@ def smooth_file(
         invalid_edges=dict(invalid),
         max_area_change=float(res.max_area_change),
         coverage_valid=valid,
+        n_null=n_null,
+        n_empty=n_empty,
     )
+
+
+@dataclass(frozen=True)
+class ValidityReport:
+    """What :func:`keep_polygons_valid` found and did.
+
+    Attributes
+    ----------
+    n_polygons : int
+        Polygons checked (one per (feature, member) of polygon rings, one per other
+        closed curve).
+    resmoothed : tuple of int
+        Features whose polygon was invalid after ring-by-ring smoothing and was smoothed
+        again by :func:`curvesmith.geo.smooth` (conflicting pieces smoothed less): valid now.
+    invalid_input : tuple of (int, str)
+        Features whose polygon was already invalid in the input (feature, shapely's reason):
+        smoothed ring by ring, validity cannot be promised.
+    still_invalid : tuple of (int, str)
+        Features still invalid after all (a method that :func:`curvesmith.geo.smooth` does
+        not have, fixed anchors, or 3D rings).
+    """
+
+    n_polygons: int
+    resmoothed: tuple[int, ...]
+    invalid_input: tuple[tuple[int, str], ...]
+    still_invalid: tuple[tuple[int, str], ...]
+
+
+def _polygon_groups(curves) -> list[list[int]]:
+    """Curve indices of each polygon: by (feature, member), other closed curves alone."""
+    groups: dict[tuple, list[int]] = {}
+    for i, c in enumerate(curves):
+        if c.kind in ("Polygon", "MultiPolygon"):
+            groups.setdefault((c.feature, c.member), []).append(i)
+        elif c.closed:
+            groups[("ring", i)] = [i]
+    return list(groups.values())
+
+
+def _polygon_of(curves, idx: list[int]):
+    import shapely
+
+    parts: dict[int, dict[int, np.ndarray]] = {}
+    for i in idx:
+        c = curves[i]
+        parts.setdefault(c.part, {})[c.ring] = c.points[:, :2]
+    polys = []
+    for part in sorted(parts):
+        rings = parts[part]
+        if 0 not in rings:
+            return None
+        holes = [rings[r] for r in sorted(rings) if r != 0]
+        polys.append(shapely.Polygon(rings[0], holes))
+    kind = curves[idx[0]].kind
+    return shapely.MultiPolygon(polys) if kind == "MultiPolygon" else polys[0]
+
+
+def _rings_of(geom) -> dict[tuple[int, int], np.ndarray]:
+    import shapely
+
+    polys = list(geom.geoms) if geom.geom_type == "MultiPolygon" else [geom]
+    out = {}
+    for p, poly in enumerate(polys):
+        for r, ring in enumerate([poly.exterior, *poly.interiors]):
+            out[(p, r)] = shapely.get_coordinates(ring)[:-1]
+    return out
+
+
+def keep_polygons_valid(
+    before, after, *, method: str, iterations: int, alpha: Any = "regular", fixable: bool = True
+):
+    """Check the polygons of curves smoothed ring by ring; re-smooth the invalid ones.
+
+    Ring-by-ring smoothing (the CSV, GeoJSON and SVG path of ``curvesmith smooth``) knows
+    nothing of a polygon's other rings: a smoothed hole can cross its shell, two parts can
+    overlap, a narrow ring can cross itself (8 of the 3,233 US counties as GeoJSON with one
+    CCA iteration). Every polygon of `after` whose input in `before` was valid is checked
+    with shapely; an invalid one is smoothed again from `before` with
+    :func:`curvesmith.geo.smooth`, which smooths the conflicting pieces less and keeps the
+    areas exactly.
+
+    Parameters
+    ----------
+    before, after : list of Curve
+        The curves before and after smoothing (same length, same structure).
+    method, iterations, alpha
+        The smoothing that made `after` (``method`` ``"cca"`` or ``"chaikin"`` can be redone
+        by :func:`curvesmith.geo.smooth`).
+    fixable : bool, optional
+        False when `after` used options that :func:`curvesmith.geo.smooth` has not (fixed
+        anchors): invalid polygons are then only reported.
+
+    Returns
+    -------
+    curves : list of Curve
+        `after`, with the re-smoothed polygons replaced.
+    report : ValidityReport
+    """
+    shapely = require("shapely", "geo", "checking the validity of smoothed polygons")
+    from ._smooth import smooth
+
+    out = list(after)
+    groups = [g for g in _polygon_groups(after) if all(after[i].dim == 2 for i in g)]
+    polys_in = [_polygon_of(before, g) for g in groups]
+    polys_out = [_polygon_of(after, g) for g in groups]
+    known = [k for k, p in enumerate(polys_out) if p is not None and polys_in[k] is not None]
+    valid_out = shapely.is_valid(np.array([polys_out[k] for k in known], dtype=object))
+    resmoothed, invalid_input, still = [], [], []
+    for k, ok in zip(known, valid_out, strict=True):
+        if ok:
+            continue
+        idx = groups[k]
+        feature = after[idx[0]].feature
+        if not shapely.is_valid(polys_in[k]):
+            invalid_input.append((feature, shapely.is_valid_reason(polys_in[k])))
+            continue
+        reason = shapely.is_valid_reason(polys_out[k])
+        if not fixable or method not in ("cca", "chaikin"):
+            still.append((feature, reason))
+            continue
+        redo = smooth(polys_in[k], method=method, iterations=iterations, alpha=alpha)
+        rings = _rings_of(redo)
+        if not shapely.is_valid(redo) or set(rings) != {
+            (after[i].part, after[i].ring) for i in idx
+        }:
+            still.append((feature, reason))
+            continue
+        for i in idx:
+            out[i] = after[i].replace(rings[(after[i].part, after[i].ring)])
+        resmoothed.append(feature)
+    report = ValidityReport(len(known), tuple(resmoothed), tuple(invalid_input), tuple(still))
+    return out, report

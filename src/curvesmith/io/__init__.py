@@ -119,7 +119,19 @@ Examples
 from __future__ import annotations
 
 from . import csv, geojson, svg
-from ._core import KINDS, Curve, Format, detect_format, formats, read_curves, register, write_curves
+from ._core import (
+    KINDS,
+    Curve,
+    Format,
+    atomic_path,
+    check_destination,
+    detect_format,
+    formats,
+    open_destination,
+    read_curves,
+    register,
+    write_curves,
+)
 from .csv import read_csv, write_csv
 from .geojson import read_geojson, write_geojson
 from .svg import read_svg, write_svg
@@ -129,10 +141,13 @@ __all__ = [
     "KINDS",
     "Curve",
     "Format",
+    "atomic_path",
+    "check_destination",
     "csv",
     "detect_format",
     "formats",
     "geojson",
+    "open_destination",
     "read_csv",
     "read_curves",
     "read_geojson",

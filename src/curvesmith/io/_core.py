@@ -9,10 +9,13 @@ calls :func:`register` and one import in ``curvesmith/io/__init__.py``.
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import inspect
 import os
-from collections.abc import Callable, Iterable, Mapping
+import shutil
+import tempfile
+from collections.abc import Callable, Iterable, Iterator, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, TextIO
@@ -26,8 +29,11 @@ __all__ = [
     "KINDS",
     "Curve",
     "Format",
+    "atomic_path",
+    "check_destination",
     "detect_format",
     "formats",
+    "open_destination",
     "read_curves",
     "register",
     "write_curves",
@@ -283,28 +289,138 @@ def _read_text(source: Source) -> tuple[str, str]:
     return text, name
 
 
-def _write_text(dest: Source, text: str) -> None:
-    if isinstance(dest, str | os.PathLike):
-        path = Path(dest)
-        try:
-            path.write_text(text, encoding="utf-8", newline="\n")
-        except FileNotFoundError:
-            raise CurveFormatError(
-                f"{os.fspath(dest)}: cannot write the file: the directory "
-                f"{os.fspath(path.parent)!r} does not exist"
-            ) from None
-        except IsADirectoryError:
-            raise CurveFormatError(f"{os.fspath(dest)}: is a directory, not a file") from None
-        except OSError as exc:
-            raise CurveFormatError(
-                f"{os.fspath(dest)}: cannot write the file: {exc.strerror or exc}"
-            ) from None
-    elif hasattr(dest, "write"):
-        dest.write(text)
-    else:
+def check_destination(dest: str | os.PathLike) -> Path:
+    """Check, before any work is done, that a file can be written at `dest`.
+
+    The folder must exist and be writable, and `dest` must not be a folder. Returns `dest`
+    as a :class:`~pathlib.Path`.
+
+    Raises
+    ------
+    CurveFormatError
+        Naming the file and what is wrong.
+    """
+    path = Path(dest)
+    name = os.fspath(dest)
+    parent = path.parent
+    if path.is_dir():
+        raise CurveFormatError(f"{name}: is a directory, not a file")
+    if not parent.is_dir():
         raise CurveFormatError(
-            f"dest must be a path or a text file object, got {type(dest).__name__}"
+            f"{name}: cannot write the file: the directory {os.fspath(parent)!r} does not exist"
         )
+    if not os.access(parent, os.W_OK | os.X_OK):
+        raise CurveFormatError(
+            f"{name}: cannot write the file: the directory {os.fspath(parent)!r} is not writable"
+        )
+    return path
+
+
+@contextlib.contextmanager
+def atomic_path(dest: str | os.PathLike, *, stale: Iterable[str] = ()) -> Iterator[Path]:
+    """Write a file under a temporary name in its own folder; rename it into place on success.
+
+    Yields a path ``<folder>/.<name>.<random>.tmp/<name>`` (a private folder next to `dest`,
+    so on the same file system). When the ``with`` block ends without an exception, every
+    file written into that private folder (the file and, for a Shapefile, its sidecars of the
+    same stem) is renamed over the file of the same name next to `dest`, the main file last,
+    and files next to `dest` with the same stem and a suffix in `stale` that the new output
+    does not have are removed (an old ``.prj`` must not describe a new Shapefile). On an
+    exception nothing next to `dest` changes: the previous file, if any, stays as it was,
+    and the temporary folder is removed. The caller verifies the written file inside the
+    block (so that a file that cannot be read back never replaces a good one).
+
+    Parameters
+    ----------
+    dest : str or path-like
+        Final path.
+    stale : iterable of str, optional
+        Sidecar suffixes (``".prj"``) to remove when the new output has no such file.
+
+    Raises
+    ------
+    CurveFormatError
+        When the folder is missing or not writable, or `dest` is a folder.
+    """
+    path = check_destination(dest)
+    parent = path.parent
+    try:
+        tmpdir = Path(tempfile.mkdtemp(prefix=f".{path.name}.", suffix=".tmp", dir=parent))
+    except OSError as exc:
+        raise CurveFormatError(
+            f"{os.fspath(dest)}: cannot write the file: {exc.strerror or exc}"
+        ) from None
+    try:
+        yield tmpdir / path.name
+        written = sorted(tmpdir.iterdir(), key=lambda f: f.name == path.name)
+        names = {f.name for f in written}
+        for f in written:
+            os.replace(f, parent / f.name)
+        for suffix in stale:
+            old = path.with_suffix(suffix)
+            if old.name not in names and old.exists():
+                old.unlink()
+    finally:
+        shutil.rmtree(tmpdir, ignore_errors=True)
+
+
+class _Utf8Sink:
+    """A text sink writing UTF-8 bytes to a binary file and counting them."""
+
+    def __init__(self, raw):
+        self.raw = raw
+        self.nbytes = 0
+
+    def write(self, text: str) -> int:
+        data = text.encode("utf-8")
+        self.raw.write(data)
+        self.nbytes += len(data)
+        return len(text)
+
+
+@contextlib.contextmanager
+def open_destination(dest: Source) -> Iterator[Any]:
+    """A text stream to write a file's content to, replacing the file only when all went well.
+
+    For a path: the text goes (UTF-8, Unix line ends) to a temporary file in the same
+    folder (:func:`atomic_path`); after the ``with`` block it is flushed, synced to disk,
+    its size checked against the bytes written, and renamed over `dest`. Any error (a full
+    disk, an exception of the writer) leaves the previous `dest` untouched and no partial
+    file. For a text file object: the object itself (the caller owns it).
+
+    Raises
+    ------
+    CurveFormatError
+        When the file cannot be written (naming it and the system's reason).
+    """
+    if not isinstance(dest, str | os.PathLike):
+        if not hasattr(dest, "write"):
+            raise CurveFormatError(
+                f"dest must be a path or a text file object, got {type(dest).__name__}"
+            )
+        yield dest
+        return
+    name = os.fspath(dest)
+    try:
+        with atomic_path(dest) as tmp:
+            with open(tmp, "wb") as raw:
+                sink = _Utf8Sink(raw)
+                yield sink
+                raw.flush()
+                os.fsync(raw.fileno())
+            size = tmp.stat().st_size
+            if size != sink.nbytes:
+                raise CurveFormatError(
+                    f"{name}: cannot write the file: {size} bytes on disk after writing "
+                    f"{sink.nbytes}"
+                )
+    except OSError as exc:
+        raise CurveFormatError(f"{name}: cannot write the file: {exc.strerror or exc}") from None
+
+
+def _write_text(dest: Source, text: str) -> None:
+    with open_destination(dest) as out:
+        out.write(text)
 
 
 def detect_format(path: str | os.PathLike | None, format: str | None = None) -> str:

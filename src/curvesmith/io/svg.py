@@ -34,7 +34,11 @@ from ._core import (
 __all__ = ["path_document", "quadratic_path_data", "read_quadratic_path", "read_svg", "write_svg"]
 
 _META = "data-curvesmith"
-_NUMBER = r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?"
+# Each number text matches in exactly one way (``\d+\.?\d*`` could split "10" as "1" + "0",
+# and a path that finally fails to match then backtracked through every split of every
+# integer: 45 s for 8 segments, x9 per segment). With one way per number and separators that
+# cannot swallow a digit, a failing match is linear in the length of the data.
+_NUMBER = r"[+-]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][+-]?\d+)?"
 _SEP = r"(?:\s*,\s*|\s+)"
 _PAIR = rf"{_NUMBER}{_SEP}{_NUMBER}"
 # Path data made only of moveto/lineto/closepath with separated coordinates (what write_svg

@@ -1,0 +1,343 @@
+"""No silent data loss: atomic writes, verified outputs, damaged inputs refused (issue 13.5).
+
+Every writer (CSV, GeoJSON, SVG, and the GIS formats through pyogrio) writes to a temporary
+file in the output's folder and renames it into place only after the write was verified, so a
+failed write (a full disk) leaves the previous output exactly as it was and no partial file.
+"""
+
+from __future__ import annotations
+
+import errno
+import os
+import shutil
+import subprocess
+from pathlib import Path
+
+import geopandas as gpd
+import numpy as np
+import pyogrio
+import pytest
+import shapely
+from click.testing import CliRunner
+
+from curvesmith import geo
+from curvesmith import io as cio
+from curvesmith.cli import main
+from curvesmith.errors import CurveError, CurveFormatError
+from curvesmith.io import _core
+
+FIXTURES = Path(pyogrio.__file__).parent / "tests" / "fixtures"
+NATURAL_EARTH = FIXTURES / "naturalearth_lowres" / "naturalearth_lowres.shp"
+
+
+def _ring(n=400, r=10.0, seed=0):
+    rng = np.random.default_rng(seed)
+    t = np.linspace(0, 2 * np.pi, n, endpoint=False)
+    rr = r * (1 + 0.05 * rng.standard_normal(n))
+    return np.column_stack([rr * np.cos(t), rr * np.sin(t)])
+
+
+def _curves():
+    return [cio.Curve(_ring(seed=k) + 30 * k, closed=True, kind="Polygon", feature=k)
+            for k in range(3)]  # fmt: skip
+
+
+def _listing(folder: Path) -> list[str]:
+    return sorted(p.name for p in folder.iterdir())
+
+
+def _one_line_error(res, *fragments):
+    assert res.exit_code == 1, res.output
+    lines = [ln for ln in res.output.splitlines() if ln.strip()]
+    assert len(lines) >= 1 and lines[-1].startswith("Error: "), res.output
+    assert "Traceback" not in res.output
+    for f in fragments:
+        assert f in lines[-1], (f, lines[-1])
+
+
+@pytest.fixture
+def enospc_after(monkeypatch):
+    """Make text writes fail with ENOSPC after `limit` bytes (a disk that fills up)."""
+
+    def arm(limit: int):
+        original = _core._Utf8Sink.write
+
+        def write(self, text):
+            if self.nbytes + len(text.encode()) > limit:
+                self.raw.write(text.encode()[: max(0, limit - self.nbytes)])
+                raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+            return original(self, text)
+
+        monkeypatch.setattr(_core._Utf8Sink, "write", write)
+
+    return arm
+
+
+@pytest.mark.parametrize("suffix", [".csv", ".geojson", ".svg"])
+def test_text_writer_failing_mid_write_keeps_the_previous_output(tmp_path, enospc_after, suffix):
+    out = tmp_path / f"out{suffix}"
+    cio.write_curves(_curves()[:1], out)
+    good = out.read_bytes()
+    enospc_after(4096)
+    with pytest.raises(CurveFormatError, match=r"out\..*: cannot write the file: No space left"):
+        cio.write_curves(_curves(), out)
+    assert out.read_bytes() == good  # not truncated, not deleted
+    assert _listing(tmp_path) == [out.name]  # no partial or temporary file left
+
+
+def test_text_writer_failing_on_a_new_file_leaves_nothing(tmp_path, enospc_after):
+    enospc_after(100)
+    with pytest.raises(CurveFormatError, match="No space left on device"):
+        cio.write_curves(_curves(), tmp_path / "new.csv")
+    assert _listing(tmp_path) == []
+
+
+def test_cli_full_disk_is_one_line_exit_1_and_keeps_the_output(tmp_path, enospc_after):
+    src = tmp_path / "in.csv"
+    cio.write_curves(_curves(), src)
+    out = tmp_path / "out.geojson"
+    out.write_text("previous good output\n")
+    enospc_after(2000)
+    res = CliRunner().invoke(main, ["smooth", str(src), "-o", str(out)])
+    _one_line_error(res, str(out), "No space left on device")
+    assert out.read_text() == "previous good output\n"
+    assert _listing(tmp_path) == ["in.csv", "out.geojson"]
+
+
+def test_writer_exception_after_validation_leaves_no_partial_file(tmp_path):
+    bad = cio.Curve(_ring(), closed=True, kind="Polygon", properties={"x": float("nan")})
+    out = tmp_path / "o.geojson"
+    with pytest.raises(CurveFormatError, match="JSON"):
+        cio.write_curves([bad], out)
+    assert _listing(tmp_path) == []
+
+
+def test_write_to_a_stream_is_unchanged():
+    import io
+
+    buf = io.StringIO()
+    cio.write_curves(_curves(), buf, format="csv")
+    back = cio.read_curves(io.StringIO(buf.getvalue()), format="csv")
+    assert all(np.array_equal(a.points, b.points) for a, b in zip(back, _curves(), strict=True))
+
+
+# ----------------------------------------------------------------------------------------------
+# GIS writers
+
+
+def _frame():
+    polys = [shapely.Polygon(_ring(seed=k) * 1000 + [5e5 + 4e4 * k, 4e6]) for k in range(4)]
+    return gpd.GeoDataFrame({"name": list("abcd")}, geometry=polys, crs="EPSG:32633")
+
+
+@pytest.mark.parametrize("suffix", [".gpkg", ".shp", ".fgb", ".geojson"])
+def test_gis_writer_failing_mid_write_keeps_the_previous_output(tmp_path, monkeypatch, suffix):
+    out = tmp_path / f"out{suffix}"
+    geo.write_file(_frame().iloc[:1], out)
+    before = {p.name: p.read_bytes() for p in tmp_path.iterdir()}
+    real = pyogrio.write_dataframe
+
+    def fail_midway(df, path, **kwargs):
+        real(df.iloc[:2], path, **kwargs)  # part of the data reached the disk, then:
+        raise OSError(errno.ENOSPC, "No space left on device")
+
+    monkeypatch.setattr(pyogrio, "write_dataframe", fail_midway)
+    with pytest.raises(CurveFormatError, match="No space left on device"):
+        geo.write_file(_frame(), out)
+    assert {p.name: p.read_bytes() for p in tmp_path.iterdir()} == before
+
+
+@pytest.mark.parametrize("suffix", [".fgb", ".gpkg"])
+def test_gis_writer_reporting_success_with_a_damaged_file_is_caught(tmp_path, monkeypatch, suffix):
+    # FlatGeobuf on a full disk: GDAL reported success and left an unreadable file
+    out = tmp_path / f"out{suffix}"
+    real = pyogrio.write_dataframe
+
+    def truncating(df, path, **kwargs):
+        real(df, path, **kwargs)
+        os.truncate(path, os.path.getsize(path) // 2)
+
+    monkeypatch.setattr(pyogrio, "write_dataframe", truncating)
+    with pytest.raises(CurveFormatError, match="cannot write .*disk may be full"):
+        geo.write_file(_frame(), out)
+    assert _listing(tmp_path) == []
+
+
+@pytest.mark.filterwarnings("ignore:'crs' was not provided:UserWarning")
+def test_shapefile_output_replaces_stale_sidecars(tmp_path):
+    out = tmp_path / "o.shp"
+    geo.write_file(_frame(), out)
+    assert (tmp_path / "o.prj").exists()
+    geo.write_file(_frame().set_crs(None, allow_override=True), out)
+    assert not (tmp_path / "o.prj").exists()  # an old .prj must not describe the new file
+    assert geo.read_file(out).crs is None and len(geo.read_file(out)) == 4
+
+
+def test_existing_geopackage_is_replaced_not_given_another_layer(tmp_path):
+    out = tmp_path / "o.gpkg"
+    geo.write_file(_frame(), out, layer="old")
+    geo.write_file(_frame().iloc[:2], out)
+    assert [str(x) for x in pyogrio.list_layers(out)[:, 0]] == ["o"]
+    # a named layer replaces that layer and keeps the others
+    geo.write_file(_frame(), out, layer="extra")
+    geo.write_file(_frame().iloc[:1], out, layer="extra")
+    layers = {str(n) for n in pyogrio.list_layers(out)[:, 0]}
+    assert layers == {"o", "extra"} and len(geo.read_file(out, layer="extra")) == 1
+
+
+# ----------------------------------------------------------------------------------------------
+# a real full disk (tmpfs)
+
+
+@pytest.fixture
+def tiny_disk(tmp_path):
+    mnt = tmp_path / "disk"
+    mnt.mkdir()
+    if shutil.which("mount") is None or os.geteuid() != 0:
+        pytest.skip("needs root and mount(8) to mount a 512 KiB tmpfs")
+    res = subprocess.run(
+        ["mount", "-t", "tmpfs", "-o", "size=512k", "tmpfs", str(mnt)], capture_output=True
+    )
+    if res.returncode != 0:
+        pytest.skip(f"cannot mount a tmpfs here: {res.stderr.decode().strip()}")
+    try:
+        yield mnt
+    finally:
+        subprocess.run(["umount", str(mnt)], check=False)
+
+
+@pytest.mark.parametrize("suffix", [".csv", ".geojson", ".svg", ".fgb", ".gpkg", ".shp"])
+def test_real_full_disk_keeps_the_previous_output(tiny_disk, suffix):
+    out = tiny_disk / f"out{suffix}"
+    small = _frame().iloc[:1]
+    big = gpd.GeoDataFrame(
+        {"name": ["big"]}, geometry=[shapely.Polygon(_ring(n=40000) * 1000)], crs="EPSG:32633"
+    )
+    if suffix in (".csv", ".svg"):
+        cio.write_curves(_curves()[:1], out)
+        big_curves = [cio.Curve(_ring(n=40000), closed=True, kind="Polygon")]
+        with pytest.raises(CurveFormatError, match="No space left on device"):
+            cio.write_curves(big_curves, out)
+    else:
+        geo.write_file(small, out)
+        with pytest.raises(CurveFormatError, match=f"cannot write '{out}'"):
+            geo.write_file(big, out)
+    before = {p.name for p in tiny_disk.iterdir()}
+    assert all(not n.endswith(".tmp") for n in before), before
+    if suffix in (".csv", ".svg"):
+        assert len(cio.read_curves(out)[0].points) == 400
+    else:
+        back = geo.read_file(out)
+        a, b = shapely.normalize(back.geometry[0]), shapely.normalize(small.geometry[0])
+        assert len(back) == 1 and shapely.equals_exact(a, b, 0)
+
+
+# ----------------------------------------------------------------------------------------------
+# damaged inputs
+
+
+@pytest.fixture
+def natural_earth(tmp_path):
+    for part in NATURAL_EARTH.parent.iterdir():
+        shutil.copy(part, tmp_path / ("ne" + part.suffix))
+    return tmp_path / "ne.shp"
+
+
+@pytest.mark.parametrize("part", [".shp", ".shx", ".dbf"])
+def test_truncated_shapefile_is_an_error_not_null_geometries(natural_earth, part):
+    cut = natural_earth.with_suffix(part)
+    os.truncate(cut, int(cut.stat().st_size * 0.4))
+    out = natural_earth.parent / "o.gpkg"
+    res = CliRunner().invoke(main, ["smooth", str(natural_earth), "-o", str(out)])
+    _one_line_error(res, f"ne{part} is truncated", "damaged")
+    assert not out.exists()
+    with pytest.raises(CurveFormatError, match="truncated"):
+        geo.smooth_file(natural_earth, out)
+
+
+def test_truncated_geopackage_is_a_one_line_error(tmp_path):
+    src = tmp_path / "ne.gpkg"
+    geo.write_file(geo.read_file(NATURAL_EARTH), src)
+    data = src.read_bytes()
+    src.write_bytes(data[: len(data) * 6 // 10])
+    out = tmp_path / "o.gpkg"
+    res = CliRunner().invoke(main, ["smooth", str(src), "-o", str(out)])
+    _one_line_error(res, "cannot read", "ne.gpkg")
+    assert not out.exists()
+
+
+def test_null_geometries_need_allow_null_and_are_counted(tmp_path):
+    df = _frame()
+    df.loc[2, "geometry"] = None
+    df.loc[3, "geometry"] = shapely.Polygon()
+    src = tmp_path / "gaps.gpkg"
+    geo.write_file(df, src)
+    out = tmp_path / "o.gpkg"
+    res = CliRunner().invoke(main, ["smooth", str(src), "-o", str(out)])
+    _one_line_error(res, "1 of 4 features have no geometry", "feature 2", "--allow-null")
+    assert not out.exists()
+    res = CliRunner().invoke(main, ["smooth", str(src), "-o", str(out), "--allow-null"])
+    assert res.exit_code == 0, res.output
+    assert "4 features smoothed; 1 without geometry (NULL) and 1 empty" in res.output
+    back = geo.read_file(out)
+    assert back.geometry.isna().tolist() == [False, False, True, False]
+    assert back.geometry.is_empty.tolist()[3]
+    np.testing.assert_allclose(back.area[:2], df.area[:2], rtol=1e-12)
+    report = geo.smooth_file(src, out, allow_null=True)
+    assert (report.n_null, report.n_empty, report.n_features) == (1, 1, 4)
+    with pytest.raises(CurveError, match="allow_null=True"):
+        geo.smooth_file(src, out)
+
+
+def test_batch_refuses_null_geometries_and_non_gis_inputs(tmp_path):
+    df = _frame()
+    df.loc[1, "geometry"] = None
+    src = tmp_path / "gaps.gpkg"
+    geo.write_file(df, src)
+    res = CliRunner().invoke(main, ["batch", "smooth", str(src), "-o", str(tmp_path / "o.gpkg")])
+    _one_line_error(res, "1 of 4 features have no geometry")
+    csv = tmp_path / "a.csv"
+    csv.write_text("x,y\n0,0\n1,0\n1,1\n")
+    res = CliRunner().invoke(main, ["batch", "smooth", str(csv), "-o", str(tmp_path / "o.gpkg")])
+    assert res.exit_code == 2 and "Traceback" not in res.output
+    assert "batch smooth reads GIS files" in res.output
+
+
+# ----------------------------------------------------------------------------------------------
+# in-place runs
+
+
+def _shoelace(p):
+    x, y = p[:, 0], p[:, 1]
+    return 0.5 * float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y))
+
+
+@pytest.mark.parametrize("suffix", [".csv", ".geojson", ".svg"])
+def test_in_place_smoothing_of_curve_files(tmp_path, suffix):
+    path = tmp_path / f"rings{suffix}"
+    cio.write_curves(_curves(), path)
+    before = cio.read_curves(path)
+    res = CliRunner().invoke(main, ["smooth", str(path), "-o", str(path)])
+    assert res.exit_code == 0, res.output
+    after = cio.read_curves(path)
+    assert [len(c.points) for c in after] == [3 * len(c.points) for c in before]
+    for a, b in zip(before, after, strict=True):
+        assert _shoelace(b.points) == pytest.approx(_shoelace(a.points), rel=1e-12)
+    assert _listing(tmp_path) == [path.name]
+
+
+@pytest.mark.parametrize("suffix", [".gpkg", ".shp", ".fgb"])
+def test_in_place_smoothing_of_gis_files(tmp_path, suffix):
+    path = tmp_path / f"zones{suffix}"
+    df = _frame()
+    geo.write_file(df, path)
+    names = _listing(tmp_path)
+    res = CliRunner().invoke(main, ["smooth", str(path), "-o", str(path)])
+    assert res.exit_code == 0, res.output
+    back = geo.read_file(path)
+    assert list(back["name"]) == list("abcd")
+    assert shapely.get_num_coordinates(back.geometry.values).sum() > 2.5 * 4 * 400
+    np.testing.assert_allclose(back.area, df.area, rtol=1e-9)
+    assert _listing(tmp_path) == names
+    if suffix == ".gpkg":
+        assert len(pyogrio.list_layers(path)) == 1  # replaced, not a second layer

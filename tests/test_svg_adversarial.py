@@ -1,0 +1,129 @@
+"""The SVG reader takes time linear in the path data, on adversarial and on shipped files.
+
+Before, the path-data patterns of ``curvesmith.io.svg`` backtracked exponentially on integer
+coordinates when the path also held a curve, a relative command or a lowercase ``z`` (a 152-byte
+path of 7 ``L`` and one ``C``: 45 s; matplotlib's logo: over 10 minutes). These tests compare
+times of the same reader on inputs 8x longer (ratios measured in one run, never absolute
+wall-clock limits), and read every SVG that installed packages ship under a hang guard.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import signal
+import time
+from pathlib import Path
+
+import pytest
+
+from curvesmith.errors import CurveFormatError
+from curvesmith.io import read_svg, svg
+
+
+def _doc(d: str) -> str:
+    return f'<svg xmlns="http://www.w3.org/2000/svg"><path d="{d}"/></svg>'
+
+
+#: Path data that made the old patterns backtrack: integer coordinates followed by a command
+#: outside the fast M/L/Z subset, or by a syntax error at the very end.
+ADVERSARIAL = {
+    "lines then a cubic": lambda n: (
+        "M 10 20 " + " ".join(f"L {100 + i} {200 + i}" for i in range(n)) + " C 11 22 33 44 55 66"
+    ),
+    "relative lines, lowercase z": lambda n: (
+        "M 10 20 " + " ".join(f"l {100 + i} {200 + i}" for i in range(n)) + " z"
+    ),
+    "commas, no spaces, relative curve": lambda n: (
+        "M10,20" + "".join(f"L{100 + i},{200 + i}" for i in range(n)) + "c1,2,3,4,5,6z"
+    ),
+    "integers then garbage": lambda n: (
+        "M 10 20 " + " ".join(f"L {100 + i} {200 + i}" for i in range(n)) + " X"
+    ),
+}
+
+
+def _best_time(fn, repeat: int = 3) -> float:
+    best = float("inf")
+    for _ in range(repeat):
+        t = time.perf_counter()
+        fn()
+        best = min(best, time.perf_counter() - t)
+    return best
+
+
+def _read_or_error(d: str) -> None:
+    # "integers then garbage" is malformed: one clean error, in linear time
+    with contextlib.suppress(CurveFormatError):
+        read_svg(io.StringIO(_doc(d)))
+
+
+@pytest.mark.parametrize("kind", sorted(ADVERSARIAL))
+def test_path_patterns_match_in_linear_time(kind):
+    make = ADVERSARIAL[kind]
+    short, long = make(200), make(1600)
+    for pattern in (svg._POLYLINE_D, svg._ABSOLUTE_POLYLINE_D):
+        t_short = _best_time(lambda p=pattern: p.fullmatch(short), repeat=5)
+        t_long = _best_time(lambda p=pattern: p.fullmatch(long), repeat=5)
+        # linear: 8x the input, about 8x the time; exponential growth was x9 per segment
+        assert t_long < 30 * t_short + 1e-3, (kind, t_short, t_long)
+
+
+@pytest.mark.parametrize("kind", sorted(ADVERSARIAL))
+def test_read_svg_linear_on_adversarial_paths(kind):
+    make = ADVERSARIAL[kind]
+    _read_or_error(make(8))  # the old reader: ~45 s for this one alone
+    t_short = _best_time(lambda: _read_or_error(make(100)))
+    t_long = _best_time(lambda: _read_or_error(make(800)))
+    assert t_long < 30 * t_short, (kind, t_short, t_long)
+
+
+def test_seven_lines_and_a_curve_reads_exactly():
+    d = "M 10 20 " + " ".join(f"L {100 + i} {200 + i}" for i in range(7)) + " C 11 22 33 44 55 66"
+    (curve,) = read_svg(io.StringIO(_doc(d)))
+    assert curve.points[:8].tolist() == [[10, 20]] + [[100 + i, 200 + i] for i in range(7)]
+    assert curve.points[-1].tolist() == [55, 66]
+
+
+def _shipped_svgs() -> list[Path]:
+    import matplotlib
+
+    roots = [Path(matplotlib.__file__).parent / "mpl-data"]
+    try:
+        import pyogrio
+
+        roots.append(Path(pyogrio.__file__).parent / "gdal_data")
+    except ImportError:  # pragma: no cover - pyogrio is in the geo extra
+        pass
+    return sorted(p for root in roots for p in root.rglob("*.svg"))
+
+
+class _Hang(Exception):
+    pass
+
+
+def _on_alarm(signum, frame):
+    raise _Hang
+
+
+def test_every_shipped_svg_reads_without_hanging():
+    files = _shipped_svgs()
+    names = {p.name for p in files}
+    assert "matplotlib.svg" in names and len(files) >= 19
+    previous = signal.signal(signal.SIGALRM, _on_alarm)
+    results = {}
+    try:
+        for path in files:
+            # a hang guard, not a speed assertion: the old reader ran > 10 min on the logo;
+            # every file takes well under a second here
+            signal.alarm(120)
+            try:
+                results[path.name] = len(read_svg(path))
+            except _Hang:
+                pytest.fail(f"reading {path} did not finish in 120 s")
+            finally:
+                signal.alarm(0)
+    finally:
+        signal.signal(signal.SIGALRM, previous)
+    assert results["matplotlib.svg"] == 22
+    assert all(n >= 1 for n in results.values())
