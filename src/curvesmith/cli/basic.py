@@ -155,6 +155,9 @@ def _alpha_value(text: str):
 @click.option(
     "--snap", type=float, default=None, help="GIS coverage: snap distance to clean it first."
 )
+@click.option(
+    "--network", is_flag=True, help="GIS lines: junctions fixed, shared pieces once, no contacts."
+)
 def smooth_command(
     source: str,
     dest: str,
@@ -170,6 +173,7 @@ def smooth_command(
     equal_area: bool,
     make_valid: bool,
     snap: float | None,
+    network: bool,
 ) -> None:
     """Smooth every curve in IN and write the result to OUT.
 
@@ -186,6 +190,21 @@ def smooth_command(
     from .. import subdivision
     from .geo import is_geofile, smooth_geofile
 
+    if network:
+        from .contours import smooth_network_geofile
+
+        if anchors or coverage or make_valid or snap is not None or source == "-":
+            raise CurveError("--network takes a GIS file and no --anchors/--coverage/--snap")
+        smooth_network_geofile(
+            source,
+            dest,
+            method=method,
+            iterations=iterations,
+            alpha=alpha,
+            layer=layer,
+            equal_area=equal_area,
+        )
+        return
     if source != "-" and is_geofile(source, coverage=coverage):
         if anchors:
             raise CurveError("--anchors is not available for GIS files")
