@@ -47,6 +47,7 @@ def main() -> None:
 def _register() -> None:
     from .affine import affine_command
     from .basic import demo_command, measure_command, smooth_command
+    from .contours import contours_command
     from .derham import derham_command
     from .fair import fair_command
     from .geo import batch_group
@@ -60,6 +61,7 @@ def _register() -> None:
         fair_command,
         keyline_command,
         batch_group,
+        contours_command,
         demo_command,
     )
     for command in commands:

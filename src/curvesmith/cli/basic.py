@@ -166,6 +166,9 @@ def _alpha_value(text: str):
     is_flag=True,
     help="GIS: write features without geometry through (default: an error, a damaged file).",
 )
+@click.option(
+    "--network", is_flag=True, help="GIS lines: junctions fixed, shared pieces once, no contacts."
+)
 def smooth_command(
     source: str,
     dest: str,
@@ -182,6 +185,7 @@ def smooth_command(
     make_valid: bool,
     snap: float | None,
     allow_null: bool,
+    network: bool,
 ) -> None:
     """Smooth every curve in IN and write the result to OUT.
 
@@ -198,6 +202,21 @@ def smooth_command(
     from .. import subdivision
     from .geo import check_geo_output, is_geofile, smooth_geofile
 
+    if network:
+        from .contours import smooth_network_geofile
+
+        if anchors or coverage or make_valid or snap is not None or source == "-":
+            raise CurveError("--network takes a GIS file and no --anchors/--coverage/--snap")
+        smooth_network_geofile(
+            source,
+            dest,
+            method=method,
+            iterations=iterations,
+            alpha=alpha,
+            layer=layer,
+            equal_area=equal_area,
+        )
+        return
     if source != "-" and is_geofile(source, coverage=coverage):
         if anchors:
             raise CurveError("--anchors is not available for GIS files")

@@ -10,12 +10,18 @@ smooth
 smooth_coverage
     Smooth a polygonal coverage arc by arc so that every polygon keeps its area and
     neighbours still fit together without gaps or overlaps.
+smooth_network
+    Smooth a line network: junctions and ends fixed, every shared piece smoothed once,
+    no new contacts, areas kept.
+contours, read_grid
+    Contour lines and isobands of a grid, smoothed as a network / a coverage.
 read_file, write_file, smooth_file
     GeoPackage, Shapefile, GeoJSON and FlatGeobuf through pyogrio.
 """
 
 from __future__ import annotations
 
+from ._contours import ContourResult, Grid, contours, read_grid
 from ._coverage import (
     CoverageReduction,
     CoverageResult,
@@ -34,24 +40,40 @@ from ._io import (
     smooth_file,
     write_file,
 )
+from ._network import (
+    NetworkReduction,
+    NetworkResult,
+    NetworkTopology,
+    network_topology,
+    smooth_network,
+)
 from ._smooth import GeometryReduction, SmoothResult, smooth
 
 __all__ = [
     "DRIVERS",
+    "ContourResult",
     "CoverageReduction",
     "CoverageResult",
     "FileSmoothReport",
     "GeographicCRSWarning",
     "GeometryReduction",
+    "Grid",
+    "NetworkReduction",
+    "NetworkResult",
+    "NetworkTopology",
     "Reduction",
     "SmoothResult",
     "Topology",
+    "contours",
     "coverage_topology",
     "equal_area_crs",
+    "network_topology",
     "read_file",
+    "read_grid",
     "smooth",
     "smooth_coverage",
     "smooth_file",
+    "smooth_network",
     "us_counties",
     "write_file",
 ]

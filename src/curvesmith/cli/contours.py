@@ -1,0 +1,168 @@
+"""``curvesmith contours`` and the ``--network`` path of ``curvesmith smooth``.
+
+``contours_command`` draws smoothed contour lines or isobands of a grid
+(:func:`curvesmith.geo.contours`); ``smooth_network_geofile`` is what
+``curvesmith smooth IN -o OUT --network`` calls (:func:`curvesmith.geo.smooth_network`).
+"""
+
+from __future__ import annotations
+
+import warnings
+from typing import Any
+
+import click
+
+from ..errors import CurveError
+
+__all__ = ["contours_command", "smooth_network_geofile"]
+
+
+def _alpha(text: Any) -> Any:
+    if not isinstance(text, str) or text == "regular":
+        return text
+    try:
+        return float(text)
+    except ValueError:
+        raise CurveError(f"--alpha must be 'regular' or a number, got {text!r}") from None
+
+
+def smooth_network_geofile(
+    in_path: str,
+    out_path: str,
+    *,
+    method: str = "cca",
+    iterations: int = 1,
+    alpha: Any = "regular",
+    layer: str | None = None,
+    equal_area: bool = False,
+):
+    """Smooth the lines of a GIS file as one network; one-line summary on stderr.
+
+    Parameters
+    ----------
+    in_path, out_path : str
+        GeoPackage, Shapefile, FlatGeobuf or GeoJSON (formats by suffix).
+    method : {"cca", "chaikin"}
+        Smoothing method.
+    iterations : int
+        Smoothing passes per arc.
+    alpha : "regular", float or str
+        CCA cut parameter.
+    layer : str, optional
+        Input layer (digits select by index).
+    equal_area : bool
+        Smooth in an equal-area projection (for data in degrees).
+
+    Returns
+    -------
+    curvesmith.geo.NetworkResult
+    """
+    from .. import geo
+
+    if method not in ("cca", "chaikin"):
+        raise CurveError(f"--method {method} is not available for networks; use cca or chaikin")
+    df = geo.read_file(in_path, layer=int(layer) if layer and layer.isdigit() else layer)
+    crs = df.crs
+    if equal_area and crs is None:
+        raise CurveError(f"--equal-area needs a CRS, but {in_path!r} has none")
+    if crs is not None and crs.is_geographic and not equal_area:
+        click.echo(
+            f"Warning: {in_path!r} is in a geographic CRS ({crs.name}): areas are kept in "
+            f"degrees, not on the ground; use --equal-area",
+            err=True,
+        )
+    work = df.to_crs(geo.equal_area_crs(df)) if equal_area else df
+    res = geo.smooth_network(
+        work, method=method, iterations=iterations, alpha=_alpha(alpha), full_output=True
+    )
+    out = res.geometry.to_crs(crs) if equal_area else res.geometry
+    geo.write_file(out, out_path)
+    parts = [
+        f"{len(out)} features, {res.n_lines} lines smoothed as one network "
+        f"({res.n_arcs} arcs between {res.n_nodes} fixed nodes)"
+    ]
+    if res.n_inserted:
+        parts.append(f"{res.n_inserted} crossing/junction vertices inserted")
+    if res.reductions:
+        parts.append(f"{len(res.reductions)} piece(s) smoothed less to avoid new contacts")
+    click.echo("; ".join(parts), err=True)
+    return res
+
+
+def _levels(text: str | None) -> list[float] | None:
+    if text is None:
+        return None
+    try:
+        return [float(v) for v in text.split(",") if v.strip()]
+    except ValueError:
+        raise CurveError(f"--levels must be numbers separated by commas, got {text!r}") from None
+
+
+@click.command("contours")
+@click.argument("grid", metavar="GRID")
+@click.option("-o", "--output", "dest", required=True, metavar="OUT", help="Output GIS file.")
+@click.option("--interval", type=float, default=None, help="A level at every multiple of D.")
+@click.option("--levels", default=None, help="Explicit levels, e.g. 100,250,500.")
+@click.option("--bands", is_flag=True, help="Isobands (polygons between levels), not lines.")
+@click.option("--iterations", type=int, default=2, show_default=True, help="Smoothing passes.")
+@click.option(
+    "--method",
+    type=click.Choice(["cca", "chaikin"]),
+    default="cca",
+    show_default=True,
+    help="cca keeps every area exactly; chaikin shrinks.",
+)
+@click.option(
+    "--alpha",
+    default="regular",
+    show_default=True,
+    help="cca: 'regular' (angle-dependent profile) or a number in (0, 1/3).",
+)
+@click.option("--band", "raster_band", type=int, default=1, show_default=True, help="GeoTIFF band.")
+@click.option("--crs", default=None, help="CRS of the output when the grid has none.")
+def contours_command(
+    grid: str,
+    dest: str,
+    interval: float | None,
+    levels: str | None,
+    bands: bool,
+    iterations: int,
+    method: str,
+    alpha: str,
+    raster_band: int,
+    crs: str | None,
+) -> None:
+    """Smoothed contour lines (or isobands with --bands) of GRID, written to OUT.
+
+    GRID is a GeoTIFF (extra "raster"), .npy, .npz or ESRI ASCII grid (.asc);
+    OUT a GeoPackage, Shapefile, FlatGeobuf or GeoJSON file. The lines are
+    smoothed together as one network, so lines of different levels never
+    touch; each carries its `level`. Bands are smoothed as a coverage: each
+    keeps its area, with no gaps or overlaps; they carry `lower` and `upper`.
+    """
+    from .. import geo
+
+    if interval is not None and levels is not None:
+        raise click.UsageError("give --interval or --levels, not both")
+    g = geo.read_grid(grid, band=raster_band)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", geo.GeographicCRSWarning)
+        res = geo.contours(
+            g,
+            levels=_levels(levels),
+            interval=interval,
+            bands=bands,
+            method=method,
+            iterations=iterations,
+            alpha=_alpha(alpha),
+            crs=g.crs if g.crs is not None else crs,
+            full_output=True,
+        )
+    geo.write_file(res.geometry, dest)
+    what = "bands" if bands else "contour lines"
+    red = len(res.smoothing.reductions)
+    click.echo(
+        f"{len(res.geometry)} {what} at {len(res.levels)} levels; "
+        f"{red} piece(s) smoothed less to avoid contacts",
+        err=True,
+    )

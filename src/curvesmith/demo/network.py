@@ -1,0 +1,194 @@
+"""Demo section "network": a road network and contour lines smoothed without new contacts."""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+import numpy as np
+
+TITLE = "Line networks and contours: junctions fixed, no new contacts (curvesmith.geo)"
+
+
+def _changed_contacts(before, after) -> int:
+    """Pairs of lines whose contact changed: new, lost, or moved by more than 1 mm."""
+    import shapely
+
+    def pairs(g):
+        i, j = shapely.STRtree(g).query(g, predicate="intersects")
+        keep = i < j
+        return {(int(a), int(b)) for a, b in zip(i[keep], j[keep], strict=True)}
+
+    p0, p1 = pairs(before), pairs(after)
+    moved = 0
+    for a, b in p0 & p1:
+        x0 = shapely.intersection(before[a], before[b])
+        x1 = shapely.intersection(after[a], after[b])
+        if shapely.get_dimensions(x0) == 0 and shapely.hausdorff_distance(x0, x1) > 1e-3:
+            moved += 1
+    return len(p0 ^ p1) + moved
+
+
+def _level_contacts(df) -> int:
+    import shapely
+
+    g, lv = df.geometry.values, df["level"].to_numpy()
+    i, j = shapely.STRtree(g).query(g, predicate="intersects")
+    return int(((i < j) & (lv[i] != lv[j])).sum())
+
+
+def run(ctx) -> None:
+    """Smooth the OSM road network of pyogrio's fixture and contours of the Jacksboro DEM."""
+    from ..errors import require
+
+    for module in ("shapely", "geopandas", "pyogrio", "pyproj"):
+        require(module, "geo", "the network demo section")
+    import matplotlib.pyplot as plt
+    import pyogrio
+    import shapely
+    from matplotlib import cbook
+    from matplotlib.colors import LightSource
+
+    from .. import geo
+
+    # ---- roads: the OSM extract pyogrio ships (Welwyn Garden City area), in metres
+    pyogrio.set_gdal_config_options({"OSM_USE_CUSTOM_INDEXING": "NO"})
+    osm = Path(pyogrio.__file__).parent / "tests" / "fixtures" / "sample.osm.pbf"
+    roads = pyogrio.read_dataframe(osm, layer="lines").to_crs("EPSG:27700")
+    before = roads.geometry.values
+    t0 = time.perf_counter()
+    net = geo.smooth_network(roads, iterations=3, full_output=True)
+    t_net = time.perf_counter() - t0
+    per_cca = geo.smooth(roads, iterations=3).geometry.values
+    per_chaikin = geo.smooth(roads, method="chaikin", iterations=3).geometry.values
+    after = net.geometry.geometry.values
+    rows = [
+        "| method | line pairs whose contact changed (new, lost or moved > 1 mm) |",
+        "|---|---|",
+        f"| cca network (smooth_network) | {_changed_contacts(before, after)} |",
+        f"| cca line by line | {_changed_contacts(before, per_cca)} |",
+        f"| Chaikin line by line | {_changed_contacts(before, per_chaikin)} |",
+    ]
+    ctx.number("network_roads", len(roads), "OSM ways in pyogrio's sample.osm.pbf")
+    ctx.number("network_arcs", net.n_arcs, "arcs between fixed nodes")
+    ctx.number("network_nodes", net.n_nodes, "nodes: ends, junctions, crossings")
+    ctx.number("network_reductions", len(net.reductions), "arc pieces smoothed less")
+    ctx.number(
+        "network_max_open_area",
+        net.max_open_area,
+        "largest area between an input line and its output, / length²",
+    )
+    ctx.number("network_seconds", t_net, "smooth_network time, 3 iterations")
+    ctx.text(
+        "The 36 OSM ways of pyogrio's test extract (roads, footpaths, cycleways; projected to "
+        "the British National Grid) smoothed with 3 iterations. `smooth_network` nodes the "
+        "network, keeps every end, junction and crossing where it is and smooths the pieces "
+        "between them once, so roads still meet exactly where they met; smoothing line by "
+        "line (what QGIS *Smooth* or PostGIS `ST_ChaikinSmoothing` do) moves junctions off "
+        "the roads they end on.\n\n" + "\n".join(rows)
+    )
+
+    # zoom on the busiest junction
+    topo_nodes = geo.network_topology(
+        [shapely.get_coordinates(g) for g in before], np.zeros(len(before), dtype=bool)
+    ).nodes
+    pts = shapely.points(topo_nodes)
+    deg = shapely.STRtree(before).query(shapely.buffer(pts, 1e-6), predicate="intersects")[0]
+    cx, cy = topo_nodes[np.bincount(deg, minlength=len(pts)).argmax()]
+    half = 60.0
+    fig, axes = plt.subplots(1, 2, figsize=(14, 6.5))
+    ax = axes[0]
+    for g in before:
+        xy = shapely.get_coordinates(g)
+        ax.plot(xy[:, 0], xy[:, 1], color="0.6", lw=2.5)
+    for g in after:
+        xy = shapely.get_coordinates(g)
+        ax.plot(xy[:, 0], xy[:, 1], color="tab:blue", lw=1.0)
+    ax.plot(topo_nodes[:, 0], topo_nodes[:, 1], "k.", ms=4)
+    ax.add_patch(plt.Rectangle((cx - half, cy - half), 2 * half, 2 * half, fill=False, ec="red"))
+    ax.set_title("OSM ways: input (grey), smooth_network (blue), fixed nodes (black)")
+    ax.set_aspect("equal")
+    ax.set_xlabel("x (m, EPSG:27700)")
+    ax.set_ylabel("y (m)")
+    ax = axes[1]
+    for geoms, color, lw, label in [
+        (before, "0.6", 3.0, "input"),
+        (per_chaikin, "tab:orange", 1.0, "Chaikin line by line"),
+        (per_cca, "tab:green", 1.0, "cca line by line"),
+        (after, "tab:blue", 1.5, "cca network"),
+    ]:
+        for k, g in enumerate(geoms):
+            xy = shapely.get_coordinates(g)
+            ax.plot(xy[:, 0], xy[:, 1], color=color, lw=lw, label=label if k == 0 else None)
+    ax.plot(topo_nodes[:, 0], topo_nodes[:, 1], "k.", ms=6)
+    ax.set_xlim(cx - half, cx + half)
+    ax.set_ylim(cy - half, cy + half)
+    ax.set_aspect("equal")
+    ax.set_title("Zoom (120 m) on the busiest junction")
+    ax.legend(loc="lower left", fontsize=8)
+    ctx.figure(
+        fig,
+        "network_roads",
+        "OSM road network smoothed as a network (junctions fixed) against line-by-line smoothing",
+    )
+
+    # ---- contours over a hillshade of matplotlib's Jacksboro fault DEM
+    d = cbook.get_sample_data("jacksboro_fault_dem.npz")
+    z = d["elevation"].astype(float)
+    ny, nx = z.shape
+    dx, dy = 74.5, 92.6  # 3 arc-seconds in metres at 36.6° N
+    x, y = np.arange(nx) * dx, np.arange(ny)[::-1] * dy
+    t0 = time.perf_counter()
+    res = geo.contours(z, x=x, y=y, interval=50, iterations=2, full_output=True)
+    t_con = time.perf_counter() - t0
+    raw = geo.contours(z, x=x, y=y, interval=50, iterations=0)
+    per_chaikin = geo.smooth(raw, method="chaikin", iterations=2)
+    per_cca = geo.smooth(raw, iterations=2)
+    ctx.number("contours_lines", len(res.geometry), "contour lines, 50 m interval")
+    ctx.number("contours_level_contacts_network", _level_contacts(res.geometry), "")
+    ctx.number("contours_level_contacts_cca_per_line", _level_contacts(per_cca), "")
+    ctx.number("contours_level_contacts_chaikin_per_line", _level_contacts(per_chaikin), "")
+    ctx.number("contours_reductions", len(res.smoothing.reductions), "pieces smoothed less")
+    ctx.number(
+        "contours_max_area_change",
+        res.smoothing.max_area_change,
+        "closed lines, relative (round-off; largest on loops a few metres wide)",
+    )
+    ctx.number("contours_seconds", t_con, "contours + smooth_network, 2 iterations")
+    ctx.text(
+        "Contours every 50 m of matplotlib's Jacksboro fault DEM (344 x 403 cells of about "
+        "90 m), smoothed as one network: pairs of lines of different levels that touch or "
+        f"cross — network: {_level_contacts(res.geometry)}, cca line by line: "
+        f"{_level_contacts(per_cca)}, Chaikin line by line: {_level_contacts(per_chaikin)}. "
+        "On this gentle DEM line-by-line smoothing happens to keep the levels apart too; on "
+        "steep rough terrain it does not (`benchmarks/bench_network.py`, "
+        "`tests/test_contours.py`), while the network never lets two levels meet."
+    )
+    ls = LightSource(azdeg=315, altdeg=45)
+    shade = ls.hillshade(z, vert_exag=2, dx=dx, dy=dy)
+    extent = (x[0] - dx / 2, x[-1] + dx / 2, y[-1] - dy / 2, y[0] + dy / 2)
+    fig, axes = plt.subplots(1, 2, figsize=(14, 6.2))
+    for ax, zoom in zip(axes, (None, 3000.0), strict=True):
+        ax.imshow(shade, cmap="gray", extent=extent, origin="upper")
+        if zoom is None:
+            geoms = [(res.geometry, "tab:red", 0.6)]
+        else:
+            geoms = [(raw, "yellow", 1.5), (res.geometry, "tab:red", 1.0)]
+        for df, color, lw in geoms:
+            for g in df.geometry.values:
+                xy = shapely.get_coordinates(g)
+                ax.plot(xy[:, 0], xy[:, 1], color=color, lw=lw)
+        ax.set_aspect("equal")
+        if zoom is not None:
+            cx, cy = x[nx // 2], y[ny // 2]
+            ax.set_xlim(cx - zoom, cx + zoom)
+            ax.set_ylim(cy - zoom, cy + zoom)
+            ax.set_title("Zoom (6 km): raw marching squares (yellow), smoothed (red)")
+        else:
+            ax.set_title("Jacksboro fault DEM: 50 m contours smoothed as one network")
+        ax.set_xlabel("x (m)")
+    ctx.figure(
+        fig,
+        "network_contours",
+        "Smoothed 50 m contours over a hillshade of the Jacksboro DEM: no two levels touch",
+    )
