@@ -833,6 +833,17 @@ def _approximate_open(
         idx.append(round(n * s_abs[b] / total))
     idx.append(n)
     edges = np.diff(idx)
+    pieces = len(bounds) - 1
+    if np.any(edges < 3) and n >= 3 * pieces:
+        # a piece of small affine length (a shallow dent between two inflections) gets the
+        # minimum of 3 edges, taken from the pieces whose share is rounded up the most
+        share = n * np.diff(s_abs[bounds]) / total
+        edges = np.maximum(np.floor(share).astype(int), 3)
+        while edges.sum() > n:
+            over = np.where(edges > 3, edges - share, -np.inf)
+            edges[int(np.argmax(over))] -= 1
+        while edges.sum() < n:
+            edges[int(np.argmax(share - edges))] += 1
     if np.any(edges < 3):
         raise CurveError(
             f"vertices must give each of the {len(bounds) - 1} inflection-free pieces at least "

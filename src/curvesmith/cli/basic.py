@@ -155,6 +155,14 @@ def _alpha_value(text: str):
 @click.option(
     "--snap", type=float, default=None, help="GIS coverage: snap distance to clean it first."
 )
+@click.option(
+    "--curves",
+    "curve_kind",
+    type=click.Choice(["quadratic", "cubic"]),
+    default=None,
+    help="Write G2 Bezier paths (fewest segments within --tolerance) instead of polylines.",
+)
+@click.option("--tolerance", type=float, default=None, help="--curves: max deviation.")
 def smooth_command(
     source: str,
     dest: str,
@@ -170,6 +178,8 @@ def smooth_command(
     equal_area: bool,
     make_valid: bool,
     snap: float | None,
+    curve_kind: str | None,
+    tolerance: float | None,
 ) -> None:
     """Smooth every curve in IN and write the result to OUT.
 
@@ -187,8 +197,8 @@ def smooth_command(
     from .geo import is_geofile, smooth_geofile
 
     if source != "-" and is_geofile(source, coverage=coverage):
-        if anchors:
-            raise CurveError("--anchors is not available for GIS files")
+        if anchors or curve_kind:
+            raise CurveError("--anchors and --curves are not available for GIS files")
         smooth_geofile(
             source,
             dest,
@@ -256,6 +266,12 @@ def smooth_command(
             out.append(c.replace(points=smooth))
         except CurveError as exc:
             raise CurveError(f"curve {i} of {source}: {exc}") from None
+    if curve_kind is not None:
+        from .curves import write_fitted
+
+        return write_fitted(
+            curves, out, dest, fmt, kind=curve_kind, tolerance=tolerance, anchors=anchors
+        )
     write_curves(out, dest, fmt)
 
 

@@ -19,7 +19,16 @@ from typing import Any
 __all__ = ["SECTIONS", "DemoContext", "run_demo"]
 
 #: Section modules of this package, in the order they appear in the summary.
-SECTIONS: list[str] = ["subdivision", "cca", "derham", "affine", "elastica", "keyline", "geo"]
+SECTIONS: list[str] = [
+    "subdivision",
+    "cca",
+    "derham",
+    "affine",
+    "curves",
+    "elastica",
+    "keyline",
+    "geo",
+]
 
 
 @dataclass
