@@ -528,3 +528,26 @@ def test_match_end_on_irregular_samples_brackets_and_reports():
     assert res.success and affine.is_affine_arc_length(res.points, rtol=1e-9)
     assert abs(paper.end_gap) > 5 and abs(res.end_gap) < 0.05
     assert "match_end did not converge" in res.message
+
+
+def test_pieces_join_on_the_curve_with_their_own_area():
+    # Regression: a piece ending at an inflection extrapolated its last arc beyond it, and
+    # the next piece started at f~(t) on the next arc, another point: its first area was off
+    # by 4 % (a curvature jump at the joint after the inflection join)
+    th = np.linspace(0, 2 * np.pi, 1000, endpoint=False)
+    r = 1 + 0.35 * np.cos(2 * th)
+    bean = 50 * np.c_[r * np.cos(th), 0.7 * r * np.sin(th)]
+    rc = affine.replacement_curve(bean, closed=True)
+    start = int(rc.inflections()[0])
+    rolled = np.vstack([np.roll(bean, -start, axis=0), bean[start : start + 1]])
+    res = affine.approximate(rolled, vertices=33)
+    assert res.success and res.joins.size == 3
+    bounds = [0, *res.joins.tolist(), res.points.shape[0] - 1]
+    for lo, hi, area in zip(bounds[:-1], bounds[1:], res.piece_areas, strict=True):
+        a, _ = affine.coordinates(res.points[lo : hi + 1])
+        np.testing.assert_allclose(a, area, rtol=1e-9)
+    np.testing.assert_allclose(
+        res.points, affine.replacement_curve(rolled).evaluate(res.t), atol=1e-9
+    )
+    # the last vertex lands on the end although the affine length is flat there (inflection)
+    assert np.hypot(*(res.points[-1] - rolled[-1])) < 1e-6

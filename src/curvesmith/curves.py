@@ -546,6 +546,12 @@ class _Piece:
         res = approximate(rolled, vertices=vertices + 1)
         if not res.success:
             raise CurveError(res.message)
+        gap = math.hypot(*(res.points[-1] - rolled[0]))
+        edge = float(np.mean(np.hypot(*np.diff(res.points, axis=0).T)))
+        if gap > 1e-6 * edge:
+            # x_n must be x_0: the polygon is closed there, and A_(n-1) is off by about
+            # gap / edge (the curvature jump at the joint before the seam)
+            raise CurveError(f"the closing vertex missed the start by {gap:.3g} ({res.message})")
         x = res.points[:-1].copy()
         x[0] = rolled[0]
         # join vertices x_j (and the seam x_0) carry the cross area A_j: joints j - 1 and j

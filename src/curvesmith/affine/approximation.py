@@ -293,7 +293,14 @@ def _first_crossing(lo: int, hi: int, crossed) -> int:
 
 
 def _construct(
-    cv: _Curve, t0: float, t1: float, area: float, m: int, t_end: float, u_max: float = 4.0
+    cv: _Curve,
+    t0: float,
+    t1: float,
+    area: float,
+    m: int,
+    t_end: float,
+    u_max: float = 4.0,
+    extrapolate: bool = True,
 ):
     """Vertices x_0 .. x_m of the affine arc length polyline from x_0 = f~(t0), x_1 = f~(t1).
 
@@ -306,6 +313,9 @@ def _construct(
     is logarithmic in the samples per edge, so a construction is O(n log(N/n)).
     For an open curve the last arc before ``t_end`` is extrapolated up to
     ``u_max`` or two previous edges (in parameter) beyond the last vertex.
+    With ``extrapolate=False`` (pieces ending at an inflection) the last vertex must
+    lie on the curve, ``t <= t_end``: the next piece starts at ``f~(t)`` on the next
+    arc, which is another point than one on the extrapolated arc.
     Returns ``(xs, ys, ts, done)``, ``done`` = edges constructed.
     """
     px, py, ax, ay, ex, ey = cv.px, cv.py, cv.ax, cv.ay, cv.ex, cv.ey
@@ -394,7 +404,7 @@ def _construct(
         c0 = wx * py[kj] - wy * px[kj] - base
         c1 = wx * ay[kj] - wy * ax[kj]
         c2 = wx * ey[kj] - wy * ex[kj]
-        u_hi = max(u_max, u_lo + 2.0 * (ts[-1] - ts[-2])) if extrap else 1.0
+        u_hi = max(u_max, u_lo + 2.0 * (ts[-1] - ts[-2])) if extrap and extrapolate else 1.0
         u = _first_root(c0, c1, c2, u_lo, u_hi)
         if u is None:
             return xs, ys, ts, len(xs) - 1
@@ -582,10 +592,13 @@ class _Piece:
         self.sign, self.skip_lo, self.skip_hi = sign, skip_lo, skip_hi
         self.penalty = penalty_scale
         self.evaluations = 0
+        self.extrapolate = True  # False: x_m must lie on the curve (piece ends at an inflection)
 
     def objective(self, t1: float, area: float) -> float:
         self.evaluations += 1
-        xs, ys, _, done = _construct(self.cv, self.t0, t1, area, self.m, self.t_end)
+        xs, ys, _, done = _construct(
+            self.cv, self.t0, t1, area, self.m, self.t_end, extrapolate=self.extrapolate
+        )
         if done < self.m:
             return self.penalty * (2.0 - done / self.m)
         return _psi(_curvatures(xs, ys, area), self.skip_lo, self.skip_hi)
@@ -790,15 +803,24 @@ def _fit_piece(piece: _Piece, area: float, search, xtol, iterations, target_t, t
     sign = 1.0 if area > 0 else -1.0
     while True:
         t1 = piece.search(area, search, xtol, iterations)
-        xs, ys, ts, done = _construct(cv, piece.t0, t1, area, piece.m, piece.t_end)
+        xs, ys, ts, done = _construct(
+            cv, piece.t0, t1, area, piece.m, piece.t_end, extrapolate=piece.extrapolate
+        )
         step = abs(area) ** (1.0 / 3.0)
-        gap = (s_target - cv.s_of_t(ts[-1])) * piece.sign / step if done == piece.m else math.inf
-        cand = (abs(gap), area, t1, xs, ys, ts, done, gap)
+        if done == piece.m:
+            gap = (s_target - cv.s_of_t(ts[-1])) * piece.sign / step
+            # the same gap in parameter steps of the last edge: the affine length is flat on
+            # the degenerate arcs next to an inflection, where x_m can be far off at gap 0
+            gap_t = (target_t - ts[-1]) / max(ts[-1] - ts[-2], 1e-300)
+        else:
+            gap = gap_t = math.inf
+        miss = max(abs(gap), abs(gap_t))
+        cand = (miss, area, t1, xs, ys, ts, done, gap)
         if best is None or cand[0] < best[0] or (cand[0] == best[0] and done > best[6]):
             best = cand
-        if done == piece.m and abs(gap) <= tol_steps:
+        if done == piece.m and miss <= tol_steps:
             break
-        if done < piece.m or gap < 0:
+        if done < piece.m or gap_t < 0:
             hi = step if hi is None else min(hi, step)
         else:
             lo = step if lo is None else max(lo, step)
@@ -811,13 +833,18 @@ def _fit_piece(piece: _Piece, area: float, search, xtol, iterations, target_t, t
         if refits_used >= refits:
             break
         refits_used += 1
-        if done < piece.m:
-            new = 0.5 * (lo + hi)
-        else:
+        new = math.nan
+        if done == piece.m and gap != 0.0:
             covered = abs(cv.s_of_t(ts[-1]) - cv.s_of_t(piece.t0))
-            new = step * (covered + gap * step) / covered  # scale the edges to reach the target
-            if lo is not None and hi is not None and not lo < new < hi:
+            if covered > 0.0:
+                new = step * (covered + gap * step) / covered  # scale the edges to the target
+        if not (lo is None or new > lo) or not (hi is None or new < hi) or math.isnan(new):
+            if lo is not None and hi is not None:
                 new = 0.5 * (lo + hi)
+            else:
+                new = step * (1.01 if hi is None else 1 / 1.01)
+        if new == step:
+            break
         area = sign * new**3
     return best[1:]
 
@@ -870,10 +897,14 @@ def _approximate_open(
         while m - 2 - lo - hi < 2 and (lo or hi):  # keep at least two curvatures
             lo, hi = (lo - 1, hi) if lo >= hi else (lo, hi - 1)
         piece = _Piece(cv, t0, t_end, m, sign, lo, hi, penalty)
+        # a piece ending at an inflection ends on the curve: the next one starts at f~(t) on
+        # the next arc, another point than one on this piece's extrapolated last arc (the
+        # first area of the next piece was off by up to 4 % at such joins)
+        piece.extrapolate = last
         length = abs(cv.s_of_t(t_end) - cv.s_of_t(t0))
         area = sign * (length / m) ** 3
         if last:
-            tol_steps, refits = (_END_TOL, 24) if match_end else (math.inf, 0)
+            tol_steps, refits = (_END_TOL, 60) if match_end else (math.inf, 0)
         else:
             tol_steps, refits = 0.25, 8
         area, t1, xs, ys, ts, done, gap = _fit_piece(
