@@ -51,7 +51,7 @@ except PackageNotFoundError:  # pragma: no cover - running from a source tree
 
 # Capability modules load on first use (``cs.cca``, ``from curvesmith import affine``):
 # ``import curvesmith`` and the CLI start fast, and geo/batch need optional extras.
-_LAZY = ("affine", "batch", "cca", "derham", "elastica", "geo", "io", "keyline", "plot")
+_LAZY = ("affine", "batch", "cca", "curves", "derham", "elastica", "geo", "io", "keyline", "plot")
 
 __all__ = [
     "CurveError",
@@ -60,6 +60,7 @@ __all__ = [
     "batch",
     "cca",
     "curve_length",
+    "curves",
     "derham",
     "elastica",
     "errors",

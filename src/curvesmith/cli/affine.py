@@ -55,7 +55,12 @@ def _with_results(pairs: list) -> list:
     default=None,
     help="Treat the input curves as closed (convex) or open (default: as stored in IN).",
 )
-@click.option("--match-end", is_flag=True, help="Open curves: end the polygon at the curve's end.")
+@click.option(
+    "--match-end/--paper-end",
+    default=True,
+    show_default=True,
+    help="Open curves: end the polygon at the curve's end (or keep the paper's A = (S/n)^3).",
+)
 @FORMAT_OPTION
 def affine_command(
     source: str,

@@ -169,6 +169,14 @@ def _alpha_value(text: str):
 @click.option(
     "--network", is_flag=True, help="GIS lines: junctions fixed, shared pieces once, no contacts."
 )
+@click.option(
+    "--curves",
+    "curve_kind",
+    type=click.Choice(["quadratic", "cubic"]),
+    default=None,
+    help="Write G2 Bezier paths (fewest segments within --tolerance) instead of polylines.",
+)
+@click.option("--tolerance", type=float, default=None, help="--curves: max deviation.")
 def smooth_command(
     source: str,
     dest: str,
@@ -186,6 +194,8 @@ def smooth_command(
     snap: float | None,
     allow_null: bool,
     network: bool,
+    curve_kind: str | None,
+    tolerance: float | None,
 ) -> None:
     """Smooth every curve in IN and write the result to OUT.
 
@@ -218,8 +228,8 @@ def smooth_command(
         )
         return
     if source != "-" and is_geofile(source, coverage=coverage):
-        if anchors:
-            raise CurveError("--anchors is not available for GIS files")
+        if anchors or curve_kind:
+            raise CurveError("--anchors and --curves are not available for GIS files")
         check_geo_output(dest, fmt)
         smooth_geofile(
             source,
@@ -292,6 +302,12 @@ def smooth_command(
         except CurveError as exc:
             raise CurveError(f"curve {i} of {source}: {exc}") from None
     out = _keep_valid(curves, out, method, iterations, alpha, fixable=not anchors)
+    if curve_kind is not None:
+        from .curves import write_fitted
+
+        return write_fitted(
+            curves, out, dest, fmt, kind=curve_kind, tolerance=tolerance, anchors=anchors
+        )
     write_curves(out, dest, fmt)
 
 

@@ -24,6 +24,7 @@ SECTIONS: list[str] = [
     "cca",
     "derham",
     "affine",
+    "curves",
     "elastica",
     "keyline",
     "geo",

@@ -734,3 +734,117 @@ def path_document(paths: list[str], bounds) -> str:
         '<?xml version="1.0" encoding="UTF-8"?>\n'
         f'<svg xmlns="http://www.w3.org/2000/svg" viewBox="{view}">\n{body}\n</svg>\n'
     )
+
+
+__all__ += ["bezier_path_data", "read_bezier_paths"]
+
+
+def _point_xy(p) -> list[float]:
+    return [float(p[0]), float(p[1])]
+
+
+def bezier_path_data(segments, *, closed: bool = False) -> str:
+    """SVG path data of a chain of quadratic (``Q``) or cubic (``C``) Bézier segments.
+
+    Parameters
+    ----------
+    segments : (S, 3, 2) or (S, 4, 2) array_like
+        Segment ``k`` starts where segment ``k - 1`` ends (as
+        :attr:`curvesmith.curves.CurveFit.segments`).
+    closed : bool, optional
+        The path ends with ``Z`` (the last segment ends at the first point).
+
+    Returns
+    -------
+    str
+        17 significant digits: the control points read back exactly.
+
+    Examples
+    --------
+    >>> bezier_path_data([[[0, 0], [1, 1], [2, 0]]])
+    'M 0 0 Q 1 1 2 0'
+    >>> bezier_path_data([[[0, 0], [1, 1], [2, 1], [3, 0]]], closed=True)
+    'M 0 0 C 1 1 2 1 3 0 Z'
+    """
+    seg = np.asarray(segments, dtype=float)
+    if seg.ndim != 3 or seg.shape[1] not in (3, 4) or seg.shape[2] != 2 or not len(seg):
+        raise CurveFormatError(f"segments must have shape (S, 3, 2) or (S, 4, 2), got {seg.shape}")
+    if not np.isfinite(seg).all():
+        raise CurveFormatError("segments contain inf or nan")
+    cmd = "Q" if seg.shape[1] == 3 else "C"
+    parts = [f"M {_fmt(seg[0, 0, 0])} {_fmt(seg[0, 0, 1])}"]
+    parts += [cmd + "".join(f" {_fmt(x)} {_fmt(y)}" for x, y in s[1:]) for s in seg]
+    if closed:
+        parts.append("Z")
+    return " ".join(parts)
+
+
+def read_bezier_paths(source) -> list[tuple[np.ndarray, bool]]:
+    """Read the ``Q`` / ``C`` segments of every ``<path>`` of an SVG document.
+
+    The inverse of :func:`bezier_path_data` in a :func:`path_document`: the path
+    data as written, without viewBox or transforms; each subpath is one chain.
+
+    Parameters
+    ----------
+    source : str or os.PathLike
+        SVG text or the path of an ``.svg`` file.
+
+    Returns
+    -------
+    list of (segments, closed)
+        ``segments`` is ``(S, 3, 2)`` or ``(S, 4, 2)``.
+
+    Raises
+    ------
+    CurveFormatError
+        If a subpath mixes degrees or has another segment type.
+
+    Examples
+    --------
+    >>> doc = path_document([bezier_path_data([[[0, 0], [1, 1], [2, 0]]])], ((0, 0), (2, 1)))
+    >>> [(s.tolist(), c) for s, c in read_bezier_paths(doc)]
+    [([[[0.0, 0.0], [1.0, 1.0], [2.0, 0.0]]], False)]
+    """
+    import svgelements
+
+    text = str(source)
+    if "<svg" not in text:
+        with open(text, encoding="utf-8") as fh:
+            text = fh.read()
+    doc = svgelements.SVG.parse(_stdio.StringIO(text), reify=False)
+    out: list[tuple[np.ndarray, bool]] = []
+    for element in doc.elements():
+        if not isinstance(element, svgelements.Path):
+            continue
+        chains: list[list] = []
+        closes: list[bool] = []
+        for seg in svgelements.Path(element.values["d"]):
+            if isinstance(seg, svgelements.Move):
+                chains.append([])
+                closes.append(False)
+                continue
+            if not chains:
+                chains.append([])
+                closes.append(False)
+            chain = chains[-1]
+            if isinstance(seg, svgelements.Close):
+                closes[-1] = True
+            elif isinstance(seg, svgelements.QuadraticBezier):
+                chain.append([_point_xy(seg.start), _point_xy(seg.control), _point_xy(seg.end)])
+            elif isinstance(seg, svgelements.CubicBezier):
+                chain.append(
+                    [_point_xy(p) for p in (seg.start, seg.control1, seg.control2, seg.end)]
+                )
+            else:
+                raise CurveFormatError(
+                    f"path segment must be a Bezier (Q or C), got {type(seg).__name__}"
+                )
+        for chain, closed in zip(chains, closes, strict=True):
+            if chain:
+                if len({len(c) for c in chain}) != 1:
+                    raise CurveFormatError("a subpath mixes quadratic and cubic segments")
+                out.append((np.array(chain, dtype=float), closed))
+    if not out:
+        raise CurveFormatError("SVG contains no path of Bezier segments")
+    return out

@@ -1,0 +1,110 @@
+"""``smooth --curves``: write smoothed curves as G2 Bézier paths (:func:`curvesmith.curves.fit`)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import click
+import numpy as np
+
+from ..errors import CurveError
+from ..io import Curve
+from ._common import _format_of, parse_indices, write_curves
+
+__all__ = ["write_fitted"]
+
+
+def _anchor_positions(original: np.ndarray, smooth: np.ndarray, anchors: list[int]) -> list[int]:
+    """Indices in the smoothed curve of the input anchors (cca keeps them exactly)."""
+    out = []
+    for a in anchors:
+        hit = np.flatnonzero(np.all(smooth == original[a % len(original)], axis=1))
+        if hit.size:
+            out.append(int(hit[0]))
+    return out
+
+
+def write_fitted(
+    originals: list[Curve],
+    smoothed: list[Curve],
+    dest: str,
+    fmt: str | None,
+    *,
+    kind: str,
+    tolerance: float | None,
+    anchors: str | None,
+) -> None:
+    """Fit every smoothed curve and write the Bézier paths to `dest`.
+
+    SVG gets one ``<path>`` of ``Q`` (quadratic) or ``C`` (cubic) segments per
+    curve; CSV and GeoJSON get the Bézier control polygon of each path (on- and
+    off-curve points in order, every ``degree``-th on the curve) with the
+    properties ``degree``, ``segments``, ``deviation``, ``tolerance`` and
+    ``g2_defect``. One report line per curve goes to standard error.
+
+    Parameters
+    ----------
+    originals, smoothed : list of Curve
+        The curves as read and after smoothing (same order).
+    dest : str
+        Output path or ``-``.
+    fmt : str or None
+        Output format (default: from the suffix of `dest`).
+    kind : {"quadratic", "cubic"}
+    tolerance : float or None
+        Largest distance from the smoothed curve; default 1/1000 of the diagonal
+        of the bounding box of all curves.
+    anchors : str or None
+        The ``--anchors`` option of ``smooth``: vertices kept as corners.
+    """
+    from .. import curves
+    from ..io.svg import bezier_path_data, path_document
+
+    degree = 2 if kind == "quadratic" else 3
+    pts = [c.points for c in smoothed]
+    if any(p.shape[1] != 2 for p in pts):
+        raise CurveError("--curves needs planar (x, y) curves")
+    lo = np.min([p.min(axis=0) for p in pts], axis=0)
+    hi = np.max([p.max(axis=0) for p in pts], axis=0)
+    if tolerance is None:
+        tolerance = 1e-3 * float(np.hypot(*(hi - lo)))
+    elif not tolerance > 0:
+        raise CurveError(f"--tolerance must be > 0, got {tolerance}")
+    idx = parse_indices(anchors, name="--anchors") if anchors else []
+    fits = []
+    for i, (orig, c) in enumerate(zip(originals, smoothed, strict=True)):
+        where = _anchor_positions(orig.points, c.points, idx) if idx else None
+        try:
+            f = curves.fit(
+                c.points, closed=c.closed, tolerance=tolerance, degree=degree, anchors=where
+            )
+        except CurveError as exc:
+            raise CurveError(f"curve {i}: {exc}") from None
+        if not f.success:
+            raise CurveError(f"curve {i}: {f.message}")
+        click.echo(f"curve {i}: {f.message}", err=True)
+        fits.append(f)
+    out_fmt = (
+        "svg" if dest == "-" and fmt == "svg" else (fmt if dest == "-" else _format_of(dest, fmt))
+    )
+    if out_fmt == "svg":
+        doc = path_document(
+            [bezier_path_data(f.segments, closed=f.closed) for f in fits], (tuple(lo), tuple(hi))
+        )
+        if dest == "-":
+            click.echo(doc, nl=False)
+        else:
+            Path(dest).write_text(doc, encoding="utf-8")
+        return
+    out = []
+    for c, f in zip(smoothed, fits, strict=True):
+        props = dict(c.properties)
+        props.update(
+            degree=degree,
+            segments=f.count,
+            deviation=f.deviation,
+            tolerance=f.tolerance,
+            g2_defect=f.g2_defect,
+        )
+        out.append(c.replace(points=f.bezier_polygon(), properties=props))
+    write_curves(out, dest, fmt)
