@@ -171,8 +171,8 @@ def test_run_cli_progress_lines_and_cancel_kill_children(tmp_path):
     progress, lines = [], []
     start = time.monotonic()
 
-    def canceled():
-        return 55.0 in progress
+    def canceled():  # once both pipes said their piece (they are read by two threads)
+        return 55.0 in progress and bool(lines)
 
     with pytest.raises(runner.Cancelled, match="cancelled"):
         runner.run_cli(
@@ -309,11 +309,19 @@ def data(tmp_path_factory):
     z_geoms.append(shapely.force_3d(wv.geometry.values[6].exterior, 250.0))
     z_geoms[-1] = shapely.Polygon(shapely.get_coordinates(z_geoms[-1], include_z=True))
     zdf = gpd.GeoDataFrame({"GEOID": wv["GEOID"][:7].values}, geometry=z_geoms, crs=CRS)
-    paths = {"counties": d / "counties.gpkg", "lines": d / "arcs.gpkg", "z": d / "z.gpkg"}
-    for df, key in ((counties, "counties"), (lines, "lines"), (zdf, "z")):
+    degrees = wv.to_crs("EPSG:4269")
+    paths = {k: d / f"{k}.gpkg" for k in ("counties", "lines", "z", "degrees")}
+    for df, key in ((counties, "counties"), (lines, "lines"), (zdf, "z"), (degrees, "degrees")):
         # GeoPackage 1.2: Debian's GDAL warns about the 1.4 files that newer GDALs write
         pyogrio.write_dataframe(df, paths[key], dataset_options={"VERSION": "1.2"})
-    return {"dir": d, "paths": paths, "counties": counties, "lines": lines, "z": zdf}
+    return {
+        "dir": d,
+        "paths": paths,
+        "counties": counties,
+        "lines": lines,
+        "z": zdf,
+        "degrees": degrees,
+    }
 
 
 CANCEL_AFTER = {"cancel": 2.5, "cancel_batch": 6.0}  # seconds
@@ -372,6 +380,18 @@ def _scenarios(data):
             "network", "smoothnetwork", lines, {"ITERATIONS": 2, "OUTPUT": str(d / "network.gpkg")}
         ),
         _scenario("z", "smooth", p["z"], {"ITERATIONS": 1, "OUTPUT": str(d / "z_out.gpkg")}),
+        _scenario(
+            "degrees",
+            "smoothcoverage",
+            p["degrees"],
+            {"ITERATIONS": 1, "OUTPUT": str(d / "deg.gpkg")},
+        ),
+        _scenario(
+            "degrees_equal_area",
+            "smoothcoverage",
+            p["degrees"],
+            {"ITERATIONS": 1, "EQUAL_AREA": True, "OUTPUT": str(d / "deg_ea.gpkg")},
+        ),
         _scenario(
             "cancel",
             "smoothcoverage",
@@ -698,3 +718,81 @@ def test_path_from_processing_options(qgis, data):
     assert command.startswith(str((VENV_BIN / "curvesmith").resolve()) + " smooth ")
     assert "--method chaikin" in command
     assert res["ok"] and res["output_layer"]["count"] == len(data["counties"])
+
+
+@pytest.fixture(scope="session")
+def qgis_process(qgis_python):
+    """Debian's qgis_process program (its wrapper script passes an option the program
+    refuses, so the program itself when it is there)."""
+    for name in ("qgis_process.bin", "qgis_process"):
+        found = shutil.which(name) or shutil.which(name, path="/usr/bin")
+        if found:
+            return found
+    pytest.fail("QGIS is installed but qgis_process is not")
+
+
+def test_qgis_process_with_the_built_zip(qgis_process, data, tmp_path):
+    """The zip installed as a user installs it; qgis_process runs the algorithm headless.
+
+    curvesmith is found on PATH through a link to its program only: an embedded Python
+    (qgis_process, QGIS) with a virtual environment's ``bin`` first on PATH takes that
+    environment's Python for its own and fails to start.
+    """
+    plugins = tmp_path / "plugins"
+    with zipfile.ZipFile(_build_zip(tmp_path / "dist")) as zf:
+        zf.extractall(plugins)
+    links = tmp_path / "bin"
+    links.mkdir()
+    (links / "curvesmith").symlink_to(VENV_BIN / "curvesmith")
+    env = _clean_env(tmp_path)
+    env.update(QGIS_PLUGINPATH=str(plugins), PATH=f"{links}{os.pathsep}/usr/bin{os.pathsep}/bin")
+
+    def run(*args):
+        return subprocess.run(
+            [qgis_process, *args], env=env, capture_output=True, text=True, timeout=300
+        )
+
+    enabled = run("plugins", "enable", "curvesmith_qgis")
+    assert enabled.returncode == 0 and "* curvesmith_qgis" in enabled.stdout
+    out = tmp_path / "out.gpkg"
+    args = [f"INPUT={data['paths']['counties']}", f"OUTPUT={out}", "ITERATIONS=1"]
+    proc = run("--json", "run", "curvesmith:smoothcoverage", "--", *args)
+    assert proc.returncode == 0, proc.stderr
+    assert json.loads(proc.stdout)["results"]["OUTPUT"] == str(out)
+    src, res = data["counties"], _read(out)
+    assert res["GEOID"].tolist() == src["GEOID"].tolist()
+    _check_areas(res, src)
+    assert shapely.coverage_is_valid(res.geometry.values)
+    # an error: exit status 1 and curvesmith's line, no traceback
+    proc = run("run", "curvesmith:smooth", "--", *args[:2], "ALPHA=abc")
+    assert proc.returncode == 1
+    assert (
+        "curvesmith: --alpha must be 'regular' or a number, got 'abc'" in proc.stdout + proc.stderr
+    )
+    assert "Traceback" not in proc.stdout + proc.stderr
+
+
+def test_geographic_layer_warning_and_equal_area(qgis, data):
+    """Data in degrees: curvesmith's warning reaches the log as a warning; with EQUAL_AREA it
+    smooths in an equal-area projection and the output is in the input's CRS again."""
+    src = data["degrees"]
+    plain, ea = _ran(qgis, "degrees"), _ran(qgis, "degrees_equal_area")
+    warnings = [text for kind, text in plain["log"] if kind == "warning"]
+    assert len(warnings) == 1 and "geographic CRS" in warnings[0] and "--equal-area" in warnings[0]
+    assert not [text for kind, text in ea["log"] if kind == "warning"]
+    for res in (plain, ea):
+        out = _read(res["output"])
+        assert res["output_layer"]["crs"] == "EPSG:4269" and out.crs.equals(src.crs)
+        assert out["GEOID"].tolist() == src["GEOID"].tolist()
+        assert shapely.is_valid(out.geometry.values).all()
+    # areas in degrees are what the plain run keeps; ground areas, what the equal-area run keeps
+    plain_out = _read(plain["output"])
+    assert (
+        np.abs(shapely.area(plain_out.geometry.values) / shapely.area(src.geometry.values) - 1)
+        < 1e-9
+    ).all()
+    ground = lambda df: df.to_crs(CRS).area.to_numpy()  # noqa: E731
+    ea_change = np.abs(ground(_read(ea["output"])) / ground(src) - 1).max()
+    plain_change = np.abs(ground(plain_out) / ground(src) - 1).max()
+    # measured: 9.9e-7 (segments are straight in the projection, not in degrees) and 2.0e-5
+    assert ea_change < 2e-6 and plain_change > 10 * ea_change

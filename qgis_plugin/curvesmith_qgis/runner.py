@@ -54,7 +54,7 @@ class Cancelled(Exception):
 
 
 def _names() -> tuple[str, ...]:
-    return ("curvesmith.exe", "curvesmith-script.py") if os.name == "nt" else ("curvesmith",)
+    return ("curvesmith.exe",) if os.name == "nt" else ("curvesmith",)
 
 
 def find_curvesmith(configured: str | None = None) -> str:
