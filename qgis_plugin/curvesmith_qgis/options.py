@@ -152,7 +152,7 @@ OPTIONS = (
         "ITERATIONS",
         "--iterations",
         "int",
-        3,
+        1,
         "Iterations",
         "Smoothing passes; each cca pass triples the number of vertices.",
         minimum=0,
