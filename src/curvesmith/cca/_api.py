@@ -393,6 +393,7 @@ def smooth_ragged(
     max_passes: int = 16,
     min_factor: float = 0.0,
     workers: int | None = None,
+    close_rings: bool = False,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Area-preserving CCA1 smoothing of many 2D curves in one call.
 
@@ -424,12 +425,16 @@ def smooth_ragged(
         Threads: a batch of at least 65536 vertices is split into `workers`
         groups of whole curves (the result does not depend on it). Default as in
         :func:`smooth`.
+    close_rings : bool, optional
+        Repeat the first vertex of every closed curve at its end in the output
+        (the layout of :func:`shapely.from_ragged_array`); default: not repeated,
+        as :func:`smooth` returns rings.
 
     Returns
     -------
     coords : (N', 2) ndarray
-        The smoothed curves one after the other, rings without a repeated
-        closing vertex.
+        The smoothed curves one after the other (rings closed only with
+        `close_rings`).
     offsets : (M + 1,) int64 ndarray
         The curves of the output.
 
@@ -468,6 +473,7 @@ def smooth_ragged(
         max_passes=max_passes,
         min_factor=min_factor,
         workers=workers,
+        close_rings=close_rings,
     )
     return res.coords, res.offsets
 
@@ -488,6 +494,7 @@ def smooth_ragged_with_info(
     max_passes: int = 16,
     min_factor: float = 0.0,
     workers: int | None = None,
+    close_rings: bool = False,
 ) -> RaggedCCAResult:
     """Like :func:`smooth_ragged`, returning a :class:`RaggedCCAResult` with counts per curve.
 
@@ -495,7 +502,7 @@ def smooth_ragged_with_info(
     ----------
     coords, offsets, closed, iterations, alpha, anchors, c, C, restrict, tilt
         As in :func:`smooth_ragged`.
-    balance_tol, max_passes, min_factor, workers
+    balance_tol, max_passes, min_factor, workers, close_rings
         As in :func:`smooth_ragged`.
 
     Returns
@@ -517,6 +524,7 @@ def smooth_ragged_with_info(
     max_passes = as_int(max_passes, name="max_passes", minimum=1)
     min_factor = as_float(min_factor, name="min_factor", low=0.0, high=1.0, low_open=False)
     restrict = as_bool(restrict, name="restrict")
+    close_rings = as_bool(close_rings, name="close_rings")
     workers = default_workers() if workers is None else as_int(workers, name="workers", minimum=1)
     alpha_fn = alpha_function(alpha)
     rag = as_ragged(coords, offsets, closed=closed, dim=2)
@@ -530,16 +538,17 @@ def smooth_ragged_with_info(
     opened = ~cl & nonempty
     fixed[off[:-1][opened]] = True
     fixed[off[1:][opened] - 1] = True
+    kernel = _kernel()
     # per-curve power-of-two scaling of extreme coordinate scales (see smooth_with_info)
     exp2 = np.zeros(m, dtype=np.int64)
     if p.shape[0]:
-        top = np.zeros(m)
-        top[nonempty] = np.maximum.reduceat(np.abs(p).max(axis=1), off[:-1][nonempty])
+        top = kernel.abs_max_per_curve(p, off)
         extreme = (top > 0) & ~((top > _TINY) & (top < _HUGE))
         if extreme.any():
             exp2[extreme] = np.frexp(top[extreme])[1]
             p = np.ldexp(p, -exp2[curve_ids(off)])
-    p, fixed, off = dedupe_ragged(p, fixed, off, cl)
+    if p.shape[0] and kernel.any_zero_edge(p, off, cl):  # duplicates: zero-length edges
+        p, fixed, off = dedupe_ragged(p, fixed, off, cl)
     lengths = np.diff(off)
     need = np.where(cl, 3, 2)
     short = np.flatnonzero(lengths < need)
@@ -563,20 +572,25 @@ def smooth_ragged_with_info(
         out = p.copy()
         if exp2.any():
             out = np.ldexp(out, exp2[curve_ids(off)])
+        if close_rings:
+            out, off = _close(out, off, cl)
         return RaggedCCAResult(out, off, 0, zeros, zeros.copy(), zeros.copy(), True, "0 CCA1 steps")
     check_growth(p.shape[0], iterations, lambda n: 3 * n, limit=_validate.MAX_VERTICES)
     fixed_in = fixed
-    cid = curve_ids(off)
-    origin = p[starts]
-    q = p - origin[cid]
+    q, origin = kernel.to_local(p, off)
     prm = _Params(alpha_fn, restrict, c, C, tilt, balance_tol, max_passes, min_factor, workers)
-    out, fixed, off_out, steps = _iterate(q, fixed, off, cl, iterations, prm, "compiled")
-    cid_out = curve_ids(off_out)
-    out += origin[cid_out]
+    out, fixed, off_out, steps = _iterate(
+        q, fixed, off, cl, iterations, prm, "compiled", close_out=close_rings
+    )
+    del q
+    kernel.add_origins(out, off_out, origin)
     if fixed_in.any():
-        _restore_fixed(out, fixed, cid_out, p, fixed_in, cid, off_out, off)
+        cid_out = curve_ids(off_out)
+        _restore_fixed(out, fixed, cid_out, p, fixed_in, curve_ids(off), off_out, off)
     if exp2.any():
-        out = np.ldexp(out, exp2[cid_out])
+        out = np.ldexp(out, exp2[curve_ids(off_out)])
+    if close_rings:  # the closing vertex is the first one, bit for bit
+        out[off_out[1:][cl] - 1] = out[off_out[:-1][cl]]
     red = np.sum([s[0] for s in steps], axis=0)
     fig = np.sum([s[1] for s in steps], axis=0)
     uns = np.sum([s[2] for s in steps], axis=0)
@@ -587,6 +601,19 @@ def smooth_ragged_with_info(
         + ("" if ok else f"; restrictions not met on {int(uns.sum())} edge(s)")
     )
     return RaggedCCAResult(out, off_out, iterations, red, fig, uns, ok, msg)
+
+
+def _close(xy, off, closed):
+    """Repeat the first vertex of every closed curve at its end."""
+    add = closed.astype(np.int64)
+    lens = np.diff(off) + add
+    new_off = np.zeros(off.size, dtype=np.int64)
+    np.cumsum(lens, out=new_off[1:])
+    out = np.empty((int(new_off[-1]), xy.shape[1]))
+    shift = np.repeat(np.cumsum(add) - add, np.diff(off))
+    out[np.arange(xy.shape[0]) + shift] = xy
+    out[new_off[1:][closed] - 1] = xy[off[:-1][closed]]
+    return out, new_off
 
 
 def _restore_fixed(out, fixed, cid_out, p, fixed_in, cid, off_out, off):
@@ -618,10 +645,11 @@ class _Params:
     workers: int
 
 
-def _iterate(P, fixed, offsets, closed, iterations, prm: _Params, engine: str):
+def _iterate(P, fixed, offsets, closed, iterations, prm: _Params, engine: str, close_out=False):
     """``iterations`` CCA1 steps on a batch of ``(N, d)`` points.
 
-    Returns the points, their fixed mask, the offsets and the per-step counts.
+    Returns the points, their fixed mask, the offsets and the per-step counts; with
+    ``close_out`` (compiled engine) the last step repeats the first vertex of every ring.
     """
     steps = []
     for it in range(1, iterations + 1):
@@ -629,7 +657,8 @@ def _iterate(P, fixed, offsets, closed, iterations, prm: _Params, engine: str):
         if P.shape[1] != 2 or engine == "numpy":
             P, fixed, offsets, counts = _step_numpy(P, fixed, offsets, closed, prm, tilt_n)
         else:
-            P, fixed, offsets, counts = _step_compiled(P, fixed, offsets, closed, prm, tilt_n)
+            last = close_out and it == iterations
+            P, fixed, offsets, counts = _step_compiled(P, fixed, offsets, closed, prm, tilt_n, last)
         steps.append(counts)
     return P, fixed, offsets, steps
 
@@ -669,7 +698,7 @@ def _kernel():
     return kernel
 
 
-def _step_compiled(P, fixed, offsets, closed, prm: _Params, tilt_n):
+def _step_compiled(P, fixed, offsets, closed, prm: _Params, tilt_n, close_out=False):
     kernel = _kernel()
     brk, coef = profile_tables()
     constant = getattr(prm.alpha_fn, "constant", None)
@@ -695,15 +724,25 @@ def _step_compiled(P, fixed, offsets, closed, prm: _Params, tilt_n):
         prm.balance_tol, prm.max_passes, prm.min_factor,
     )  # fmt: skip
     chunks = _chunks(offsets, prm.workers)
+
+    def step(P, fixed, offsets, *args):
+        # output buffer: 3 points per vertex and some Fig. 11 pairs; at most 4 per vertex
+        n, m_curves = P.shape[0], offsets.size - 1
+        cap = 3 * n + n // 16 + m_curves + 64
+        res = kernel.step_ragged(P, fixed, offsets, *args, cap, close_out)
+        if res[2] < 0:
+            res = kernel.step_ragged(P, fixed, offsets, *args, 4 * n + m_curves + 1, close_out)
+        return res
+
     if len(chunks) == 1:
-        OUT, of, m, oo, nred, nfig, nunsat = kernel.step_ragged(P, fixed, offsets, *args)
+        OUT, of, m, oo, nred, nfig, nunsat = step(P, fixed, offsets, *args)
         return OUT[:m], of[:m], oo, (nred, nfig, nunsat)
 
     def run(ab):
         a, b = ab
         s, e = offsets[a], offsets[b]
         sub = (closed[a:b], *args[1:5], alpha_in[s:e] if alpha_in.size else alpha_in, *args[6:])
-        return kernel.step_ragged(P[s:e], fixed[s:e], offsets[a : b + 1] - s, *sub)
+        return step(P[s:e], fixed[s:e], offsets[a : b + 1] - s, *sub)
 
     with ThreadPoolExecutor(len(chunks)) as pool:
         parts = list(pool.map(run, chunks))

@@ -204,8 +204,14 @@ def step_ragged(
     balance_tol,
     max_passes,
     min_factor,
+    cap,
+    close_out,
 ):
     """One CCA1 step on every curve of a ragged batch of ``(N, 2)`` points.
+
+    ``cap``: rows of the output buffer (at most 4 per input vertex are needed; when
+    ``cap`` is too small the step stops and returns ``m = -1``). ``close_out``: repeat
+    the first output vertex of every closed curve at its end (shapely's ring layout).
 
     Returns ``OUT, ofixed, m, ooffsets, nred, nfig, nunsat``: the new points in
     ``OUT[:m]`` and the fixed mask of the output in ``ofixed[:m]`` (each fixed vertex
@@ -218,9 +224,8 @@ def step_ragged(
     nmax = 1
     for k in range(ncurves):
         nmax = max(nmax, offsets[k + 1] - offsets[k])
-    total = P.shape[0]
-    OUT = np.empty((4 * total, 2))
-    of = np.empty(4 * total, dtype=np.bool_)
+    OUT = np.empty((cap, 2))
+    of = np.empty(cap, dtype=np.bool_)
     oo = np.empty(ncurves + 1, dtype=np.int64)
     nred = np.zeros(ncurves, dtype=np.int64)
     nfig = np.zeros(ncurves, dtype=np.int64)
@@ -251,6 +256,9 @@ def step_ragged(
         if n == 0:
             oo[k + 1] = pos
             continue
+        if pos + 4 * n + 1 > cap:
+            return OUT, of, -1, oo, nred, nfig, nunsat  # the caller retries with 4 per vertex
+        start = pos
         # the curve: rows b .. b + n - 1 of V (the input, or its copy without zero edges)
         if _has_zero_edge(P, s, n, cl):
             n = _compact_curve(P, fixed, s, n, cl, Q, qf)
@@ -375,6 +383,10 @@ def step_ragged(
             of[pos + 1] = False
             pos += 2
         nfig[k] = nf
+        if close_out and cl:
+            OUT[pos, 0], OUT[pos, 1] = OUT[start, 0], OUT[start, 1]
+            of[pos] = False
+            pos += 1
         oo[k + 1] = pos
     return OUT, of, pos, oo, nred, nfig, nunsat
 
@@ -519,3 +531,66 @@ def restrict_curve(alpha, half, cr, scross, dot, short, length, fixed, closed, c
         *flags, *ints,
     )  # fmt: skip
     return alpha, int(nred), int(nunsat)
+
+
+@njit(cache=True, nogil=True)
+def to_local(P, offsets):
+    """Every curve relative to its first vertex: ``(Q, origins)`` (``Q = P - origin``)."""
+    m = offsets.shape[0] - 1
+    Q = np.empty_like(P)
+    origin = np.zeros((m, 2))
+    for k in range(m):
+        s, e = offsets[k], offsets[k + 1]
+        if e > s:
+            ox, oy = P[s, 0], P[s, 1]
+            origin[k, 0], origin[k, 1] = ox, oy
+            for i in range(s, e):
+                Q[i, 0] = P[i, 0] - ox
+                Q[i, 1] = P[i, 1] - oy
+    return Q, origin
+
+
+@njit(cache=True, nogil=True)
+def add_origins(P, offsets, origin):
+    """``P += origin`` of every curve, in place."""
+    for k in range(offsets.shape[0] - 1):
+        ox, oy = origin[k, 0], origin[k, 1]
+        for i in range(offsets[k], offsets[k + 1]):
+            P[i, 0] += ox
+            P[i, 1] += oy
+
+
+@njit(cache=True, nogil=True)
+def abs_max_per_curve(P, offsets):
+    """Largest ``|coordinate|`` of every curve (0 for an empty curve)."""
+    m = offsets.shape[0] - 1
+    top = np.zeros(m)
+    for k in range(m):
+        t = 0.0
+        for i in range(offsets[k], offsets[k + 1]):
+            t = max(t, abs(P[i, 0]), abs(P[i, 1]))
+        top[k] = t
+    return top
+
+
+@njit(cache=True, nogil=True)
+def ring_areas(P, offsets):
+    """Signed area of every ring (closing vertex repeated or not), in its first vertex's frame.
+
+    The trapezoid form of :func:`curvesmith.geometry.signed_area`, without temporaries.
+    """
+    m = offsets.shape[0] - 1
+    out = np.zeros(m)
+    for k in range(m):
+        s, e = offsets[k], offsets[k + 1]
+        if e - s < 2:
+            continue
+        ox, oy = P[s, 0], P[s, 1]
+        acc = 0.0
+        for i in range(s, e):
+            j = i + 1 if i + 1 < e else s
+            xi, yi = P[i, 0] - ox, P[i, 1] - oy
+            xj, yj = P[j, 0] - ox, P[j, 1] - oy
+            acc += (xi - xj) * (yi + yj)
+        out[k] = 0.5 * acc
+    return out
