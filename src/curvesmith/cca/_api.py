@@ -281,7 +281,15 @@ def _smooth_one(
         fixed[idx % n_in] = True
     if not closed:
         fixed[0] = fixed[-1] = True
-    p, fixed = dedupe(raw, fixed, closed)
+    if raw.shape[1] == 2 and raw.shape[0] > 1 and engine == "compiled":
+        # the compiled check first: most curves have no duplicates to remove
+        one = np.array([0, raw.shape[0]], dtype=np.int64)
+        if _kernel().any_zero_edge(raw, one, np.array([closed])):
+            p, fixed = dedupe(raw, fixed, closed)
+        else:
+            p = raw
+    else:
+        p, fixed = dedupe(raw, fixed, closed)
     need = 3 if closed else 2
     if p.shape[0] < need:
         raise CurveError(
