@@ -215,8 +215,8 @@ def step_ragged(
     :func:`curvesmith.cca._api._blocks`). ``span`` (returned) holds, per curve, the
     output rows of the core; a block that meets a zero-length edge gets ``-1, -1``.
 
-    ``cap``: rows of the output buffer (at most 4 per input vertex are needed; when
-    ``cap`` is too small the step stops and returns ``m = -1``). ``close_out``: repeat
+    ``cap``: rows of the output buffer (at most 4 per input vertex and 1 per ring are
+    needed; when ``cap`` is too small the step stops and returns ``m = -1``). ``close_out``: repeat
     the first output vertex of every closed curve at its end (shapely's ring layout).
 
     Returns ``OUT, ofixed, m, ooffsets, nred, nfig, nunsat``: the new points in
@@ -263,8 +263,6 @@ def step_ragged(
         if n == 0:
             oo[k + 1] = pos
             continue
-        if pos + 4 * n + 1 > cap:
-            return OUT, of, -1, oo, nred, nfig, nunsat, span  # the caller retries, 4 per vertex
         start = pos
         lo, hi = core[k, 0], core[k, 1]
         # the curve: rows b .. b + n - 1 of V (the input, or its copy without zero edges)
@@ -336,6 +334,8 @@ def step_ragged(
         nf = 0
         span[k, 1] = -2
         for i in range(n):
+            if pos + 5 > cap:  # at most 4 points per vertex and a closing one
+                return OUT, of, -1, oo, nred, nfig, nunsat, span  # the caller retries
             if i == lo:
                 span[k, 0] = pos
             if i == hi:
