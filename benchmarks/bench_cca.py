@@ -12,8 +12,10 @@ Chaikin, the time ratio per output vertex (CCA / Chaikin) in wall time and in
 CPU time (``process_time``, steadier on a shared machine), the number of local
 alpha decreases, and the peak traced memory of one CCA run as a multiple of the
 output array (tracemalloc; skipped above 3 M output vertices). Quantities not
-measured print as ``-``. CCA runs with its default ``workers`` (threads for
-steps over 65536 vertices) unless ``--workers`` is given; Chaikin is one thread.
+measured print as ``-``. CCA runs its compiled kernel (numba; the first call of
+the process, which loads or compiles it, is the warm-up and is printed); one
+ring is one thread (``workers`` only splits batches of several curves);
+Chaikin is one thread of numpy.
 
 Run: ``python benchmarks/bench_cca.py [--quick] [--repeats R] [--workers W]``.
 """
@@ -75,7 +77,9 @@ def main() -> None:
     sizes = [10**2, 10**3, 10**4, 10**5] + ([] if args.quick else [10**6])
     repeats = args.repeats or (2 if args.quick else 3)
     rng = np.random.default_rng(1234)
-    cca.smooth(polygon("wavy", 100, rng), closed=True)  # warm-up (scipy import, PCHIP)
+    t0 = time.perf_counter()
+    cca.smooth(polygon("wavy", 100, rng), closed=True)  # warm-up: numba kernel, PCHIP
+    print(f"first cca call (numba cache load or compile): {time.perf_counter() - t0:.2f} s")
     header = (
         f"{'shape':>6} {'N':>8} {'it':>2} {'out':>10} {'cca s':>8} {'cca Mv/s':>9} "
         f"{'cpu Mv/s':>9} {'chaikin Mv/s':>12} {'ratio':>6} {'cpu ratio':>9} {'reduced':>8} "

@@ -1065,3 +1065,56 @@ def test_edge_whose_square_underflows_counts_as_a_duplicate():
     out = cca.smooth(ring, closed=True, iterations=3)
     assert np.isfinite(out).all()
     assert_area_kept(ring, out)
+
+
+@pytest.mark.parametrize(
+    ("points", "closed", "kwargs"),
+    [
+        (_jagged_ring(1500, 21, spikes=6), True, {}),
+        (_jagged_ring(1500, 22), True, {"min_factor": 0.9}),  # floors: unsatisfied edges
+        (_jagged_ring(1300, 23), True, {"max_passes": 2}),
+        (_jagged_ring(1200, 24), True, {"anchors": [0, 5, 640, 1199]}),
+        (_jagged_ring(1000, 25), True, {"alpha": 0.3}),
+        (_jagged_ring(1000, 30), True, {"alpha": lambda ang: 0.1 + 0.05 * np.cos(ang)}),
+        (_noisy_line(1400, 26), False, {}),
+        (_noisy_line(1100, 27), False, {"anchors": [300, 301, 700]}),
+        (np.column_stack([np.arange(1000.0), np.arange(1000) % 2]), False, {}),  # Fig. 11
+        (np.column_stack([np.arange(1000.0), np.arange(1000) % 2]), True, {}),
+    ],
+)
+def test_blocks_of_long_curves_are_bit_identical(monkeypatch, points, closed, kwargs):
+    # Blocks of 128 core vertices (halos of max_passes + 8) instead of 32768: the same
+    # arithmetic element by element, so the same bits and counts, in 1 or 3 threads.
+    from curvesmith.cca import _api
+
+    whole = cca.smooth_with_info(points, closed=closed, iterations=3, **kwargs)
+    monkeypatch.setattr(_api, "_BLOCK", 128)
+    monkeypatch.setattr(_api, "_THREAD_MIN", 100)
+    for workers in (1, 3):
+        res = cca.smooth_with_info(points, closed=closed, iterations=3, workers=workers, **kwargs)
+        np.testing.assert_array_equal(res.points, whole.points)
+        assert res.reductions_per_step == whole.reductions_per_step
+        assert res.fig11_edges == whole.fig11_edges
+        assert res.unsatisfied == whole.unsatisfied
+    assert len(_api._blocks(np.array([0, len(points)]), np.array([closed]), 24)[1]) > 5
+
+
+def test_blocks_with_zero_length_edges(monkeypatch):
+    # a duplicate vertex is removed before blocking; a ring passing twice through one
+    # point gives a block whose own wrap edge has zero length: the whole curve runs
+    from curvesmith.cca import _api
+
+    p = _jagged_ring(900, 28)
+    dup = np.insert(p, 300, p[300], axis=0)
+    twice = p.copy()
+    twice[279] = twice[104]
+    wants = [cca.smooth(q, closed=True, iterations=2) for q in (dup, twice)]
+    monkeypatch.setattr(_api, "_BLOCK", 128)
+    for q, want in zip((dup, twice), wants, strict=True):
+        np.testing.assert_array_equal(cca.smooth(q, closed=True, iterations=2), want)
+    xy = np.concatenate([dup, p[:50], twice])
+    off = np.array([0, len(dup), len(dup) + 50, len(xy)])
+    out, oo = cca.smooth_ragged(xy, off, closed=True, iterations=2, close_rings=True)
+    np.testing.assert_array_equal(out[oo[0] : oo[1] - 1], wants[0])
+    np.testing.assert_array_equal(out[oo[2] : oo[3] - 1], wants[1])
+    assert (out[oo[1:] - 1] == out[oo[:-1]]).all()

@@ -157,3 +157,26 @@ def test_empty_batch_and_zero_iterations():
 def test_bad_input_names_the_argument(args, kwargs, match):
     with pytest.raises(CurveError, match=match):
         cca.smooth_ragged(*args, **kwargs)
+
+
+def test_close_rings_repeats_the_first_vertex():
+    rng = np.random.default_rng(11)
+    rings = [rng.normal(size=(n, 2)) for n in (5, 9, 30)]
+    line = np.c_[np.arange(6.0), rng.normal(size=6)]
+    items = [*rings, line]
+    xy = np.concatenate(items)
+    off = np.concatenate([[0], np.cumsum([len(p) for p in items])])
+    closed = np.array([True, True, True, False])
+    for it, anchors in ((2, None), (0, None), (1, [[0], [], [4], [2]])):
+        a, ao = cca.smooth_ragged(xy, off, closed=closed, iterations=it, anchors=anchors)
+        b, bo = cca.smooth_ragged(
+            xy, off, closed=closed, iterations=it, anchors=anchors, close_rings=True
+        )
+        np.testing.assert_array_equal(np.diff(bo), np.diff(ao) + closed)
+        for k in range(4):
+            ck = b[bo[k] : bo[k + 1]]
+            if closed[k]:
+                np.testing.assert_array_equal(ck[:-1], a[ao[k] : ao[k + 1]])
+                np.testing.assert_array_equal(ck[-1], ck[0])
+            else:
+                np.testing.assert_array_equal(ck, a[ao[k] : ao[k + 1]])

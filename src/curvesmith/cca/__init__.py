@@ -117,10 +117,14 @@ kernel to), :mod:`._input` (duplicates, anchors, planes) and :mod:`._api` (the
 public functions). Every 2D curve -- one through :func:`smooth`, many through
 :func:`smooth_ragged` -- runs through the same kernel, so a curve smoothed in a
 batch gets the same bits as alone. The kernel is compiled on first use and
-cached by numba (first call in a fresh environment: a few seconds; later
-processes load it from the cache); ``import curvesmith.cca`` does not load
-numba. Batches of at least 65536 vertices are split into ``workers`` groups of
-whole curves run in threads (the kernel releases the GIL).
+cached by numba (first call in a fresh environment: 20-40 s of compilation;
+later processes load it from the cache in about a second, from the package's
+``__pycache__`` or, when that is not writable, numba's user cache folder);
+``import curvesmith.cca`` does not load numba. Curves of 65536 or more
+vertices are cut into blocks of 32768 vertices with halos (the step is local,
+so the result is the same to the last bit), and batches of 65536 or more
+vertices run in ``workers`` threads, groups of whole curves and blocks (the
+kernel releases the GIL; the result does not depend on the threads).
 
 Vertex count
 ------------

@@ -29,6 +29,8 @@ from ._profiles import alpha_function, profile_tables
 _TINY, _HUGE = 2.0**-400, 2.0**400
 #: Below this many vertices a batch step runs in one thread.
 _THREAD_MIN = 65536
+#: Core vertices per block of a long curve (see :func:`_blocks`).
+_BLOCK = 32768
 
 
 @dataclass(frozen=True)
@@ -281,7 +283,15 @@ def _smooth_one(
         fixed[idx % n_in] = True
     if not closed:
         fixed[0] = fixed[-1] = True
-    p, fixed = dedupe(raw, fixed, closed)
+    if raw.shape[1] == 2 and raw.shape[0] > 1 and engine == "compiled":
+        # the compiled check first: most curves have no duplicates to remove
+        one = np.array([0, raw.shape[0]], dtype=np.int64)
+        if _kernel().any_zero_edge(raw, one, np.array([closed])):
+            p, fixed = dedupe(raw, fixed, closed)
+        else:
+            p = raw
+    else:
+        p, fixed = dedupe(raw, fixed, closed)
     need = 3 if closed else 2
     if p.shape[0] < need:
         raise CurveError(
@@ -393,6 +403,7 @@ def smooth_ragged(
     max_passes: int = 16,
     min_factor: float = 0.0,
     workers: int | None = None,
+    close_rings: bool = False,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Area-preserving CCA1 smoothing of many 2D curves in one call.
 
@@ -422,14 +433,18 @@ def smooth_ragged(
         :func:`smooth` takes them).
     workers : int, optional
         Threads: a batch of at least 65536 vertices is split into `workers`
-        groups of whole curves (the result does not depend on it). Default as in
-        :func:`smooth`.
+        groups of whole curves (long curves in blocks, as in :func:`smooth`; the
+        result does not depend on it). Default as in :func:`smooth`.
+    close_rings : bool, optional
+        Repeat the first vertex of every closed curve at its end in the output
+        (the layout of :func:`shapely.from_ragged_array`); default: not repeated,
+        as :func:`smooth` returns rings.
 
     Returns
     -------
     coords : (N', 2) ndarray
-        The smoothed curves one after the other, rings without a repeated
-        closing vertex.
+        The smoothed curves one after the other (rings closed only with
+        `close_rings`).
     offsets : (M + 1,) int64 ndarray
         The curves of the output.
 
@@ -468,6 +483,7 @@ def smooth_ragged(
         max_passes=max_passes,
         min_factor=min_factor,
         workers=workers,
+        close_rings=close_rings,
     )
     return res.coords, res.offsets
 
@@ -488,6 +504,7 @@ def smooth_ragged_with_info(
     max_passes: int = 16,
     min_factor: float = 0.0,
     workers: int | None = None,
+    close_rings: bool = False,
 ) -> RaggedCCAResult:
     """Like :func:`smooth_ragged`, returning a :class:`RaggedCCAResult` with counts per curve.
 
@@ -495,7 +512,7 @@ def smooth_ragged_with_info(
     ----------
     coords, offsets, closed, iterations, alpha, anchors, c, C, restrict, tilt
         As in :func:`smooth_ragged`.
-    balance_tol, max_passes, min_factor, workers
+    balance_tol, max_passes, min_factor, workers, close_rings
         As in :func:`smooth_ragged`.
 
     Returns
@@ -517,6 +534,7 @@ def smooth_ragged_with_info(
     max_passes = as_int(max_passes, name="max_passes", minimum=1)
     min_factor = as_float(min_factor, name="min_factor", low=0.0, high=1.0, low_open=False)
     restrict = as_bool(restrict, name="restrict")
+    close_rings = as_bool(close_rings, name="close_rings")
     workers = default_workers() if workers is None else as_int(workers, name="workers", minimum=1)
     alpha_fn = alpha_function(alpha)
     rag = as_ragged(coords, offsets, closed=closed, dim=2)
@@ -530,16 +548,17 @@ def smooth_ragged_with_info(
     opened = ~cl & nonempty
     fixed[off[:-1][opened]] = True
     fixed[off[1:][opened] - 1] = True
+    kernel = _kernel()
     # per-curve power-of-two scaling of extreme coordinate scales (see smooth_with_info)
     exp2 = np.zeros(m, dtype=np.int64)
     if p.shape[0]:
-        top = np.zeros(m)
-        top[nonempty] = np.maximum.reduceat(np.abs(p).max(axis=1), off[:-1][nonempty])
+        top = kernel.abs_max_per_curve(p, off)
         extreme = (top > 0) & ~((top > _TINY) & (top < _HUGE))
         if extreme.any():
             exp2[extreme] = np.frexp(top[extreme])[1]
             p = np.ldexp(p, -exp2[curve_ids(off)])
-    p, fixed, off = dedupe_ragged(p, fixed, off, cl)
+    if p.shape[0] and kernel.any_zero_edge(p, off, cl):  # duplicates: zero-length edges
+        p, fixed, off = dedupe_ragged(p, fixed, off, cl)
     lengths = np.diff(off)
     need = np.where(cl, 3, 2)
     short = np.flatnonzero(lengths < need)
@@ -563,20 +582,25 @@ def smooth_ragged_with_info(
         out = p.copy()
         if exp2.any():
             out = np.ldexp(out, exp2[curve_ids(off)])
+        if close_rings:
+            out, off = _close(out, off, cl)
         return RaggedCCAResult(out, off, 0, zeros, zeros.copy(), zeros.copy(), True, "0 CCA1 steps")
     check_growth(p.shape[0], iterations, lambda n: 3 * n, limit=_validate.MAX_VERTICES)
     fixed_in = fixed
-    cid = curve_ids(off)
-    origin = p[starts]
-    q = p - origin[cid]
+    q, origin = kernel.to_local(p, off)
     prm = _Params(alpha_fn, restrict, c, C, tilt, balance_tol, max_passes, min_factor, workers)
-    out, fixed, off_out, steps = _iterate(q, fixed, off, cl, iterations, prm, "compiled")
-    cid_out = curve_ids(off_out)
-    out += origin[cid_out]
+    out, fixed, off_out, steps = _iterate(
+        q, fixed, off, cl, iterations, prm, "compiled", close_out=close_rings
+    )
+    del q
+    kernel.add_origins(out, off_out, origin)
     if fixed_in.any():
-        _restore_fixed(out, fixed, cid_out, p, fixed_in, cid, off_out, off)
+        cid_out = curve_ids(off_out)
+        _restore_fixed(out, fixed, cid_out, p, fixed_in, curve_ids(off), off_out, off)
     if exp2.any():
-        out = np.ldexp(out, exp2[cid_out])
+        out = np.ldexp(out, exp2[curve_ids(off_out)])
+    if close_rings:  # the closing vertex is the first one, bit for bit
+        out[off_out[1:][cl] - 1] = out[off_out[:-1][cl]]
     red = np.sum([s[0] for s in steps], axis=0)
     fig = np.sum([s[1] for s in steps], axis=0)
     uns = np.sum([s[2] for s in steps], axis=0)
@@ -587,6 +611,19 @@ def smooth_ragged_with_info(
         + ("" if ok else f"; restrictions not met on {int(uns.sum())} edge(s)")
     )
     return RaggedCCAResult(out, off_out, iterations, red, fig, uns, ok, msg)
+
+
+def _close(xy, off, closed):
+    """Repeat the first vertex of every closed curve at its end."""
+    add = closed.astype(np.int64)
+    lens = np.diff(off) + add
+    new_off = np.zeros(off.size, dtype=np.int64)
+    np.cumsum(lens, out=new_off[1:])
+    out = np.empty((int(new_off[-1]), xy.shape[1]))
+    shift = np.repeat(np.cumsum(add) - add, np.diff(off))
+    out[np.arange(xy.shape[0]) + shift] = xy
+    out[new_off[1:][closed] - 1] = xy[off[:-1][closed]]
+    return out, new_off
 
 
 def _restore_fixed(out, fixed, cid_out, p, fixed_in, cid, off_out, off):
@@ -618,10 +655,11 @@ class _Params:
     workers: int
 
 
-def _iterate(P, fixed, offsets, closed, iterations, prm: _Params, engine: str):
+def _iterate(P, fixed, offsets, closed, iterations, prm: _Params, engine: str, close_out=False):
     """``iterations`` CCA1 steps on a batch of ``(N, d)`` points.
 
-    Returns the points, their fixed mask, the offsets and the per-step counts.
+    Returns the points, their fixed mask, the offsets and the per-step counts; with
+    ``close_out`` (compiled engine) the last step repeats the first vertex of every ring.
     """
     steps = []
     for it in range(1, iterations + 1):
@@ -629,7 +667,8 @@ def _iterate(P, fixed, offsets, closed, iterations, prm: _Params, engine: str):
         if P.shape[1] != 2 or engine == "numpy":
             P, fixed, offsets, counts = _step_numpy(P, fixed, offsets, closed, prm, tilt_n)
         else:
-            P, fixed, offsets, counts = _step_compiled(P, fixed, offsets, closed, prm, tilt_n)
+            last = close_out and it == iterations
+            P, fixed, offsets, counts = _step_compiled(P, fixed, offsets, closed, prm, tilt_n, last)
         steps.append(counts)
     return P, fixed, offsets, steps
 
@@ -669,7 +708,7 @@ def _kernel():
     return kernel
 
 
-def _step_compiled(P, fixed, offsets, closed, prm: _Params, tilt_n):
+def _step_compiled(P, fixed, offsets, closed, prm: _Params, tilt_n, close_out=False):
     kernel = _kernel()
     brk, coef = profile_tables()
     constant = getattr(prm.alpha_fn, "constant", None)
@@ -690,32 +729,158 @@ def _step_compiled(P, fixed, offsets, closed, prm: _Params, tilt_n):
         free[offsets[1:][opened] - 1] = False
         alpha_in = np.zeros(P.shape[0])
         alpha_in[free] = prm.alpha_fn(theta[free])
-    args = (
-        closed, mode, const, brk, coef, alpha_in, prm.restrict, prm.c, prm.C, tilt_n,
-        prm.balance_tol, prm.max_passes, prm.min_factor,
+    if alpha_in.size == 0:
+        alpha_in = np.zeros(0)
+    params = (
+        mode, const, brk, coef, prm.restrict, prm.c, prm.C, tilt_n, prm.balance_tol,
+        prm.max_passes, prm.min_factor,
     )  # fmt: skip
-    chunks = _chunks(offsets, prm.workers)
+    lengths = np.diff(offsets)
+    halo = prm.max_passes + 8
+    if lengths.size and lengths.max() >= 2 * _BLOCK and 4 * halo <= _BLOCK:
+        if mode != kernel.MODE_GIVEN and kernel.any_zero_edge(P, offsets, closed):
+            # remove zero-length edges first (as the step would), so that blocks stay put
+            P, fixed, offsets = kernel.compact_ragged(P, fixed, offsets, closed)
+        blocks = _blocks(offsets, closed, halo)
+        res = _run_units(kernel, P, fixed, alpha_in, closed, params, close_out, prm, blocks)
+        if res is not None:
+            return res
+    return _run_units(kernel, P, fixed, alpha_in, closed, params, close_out, prm, None, offsets)
+
+
+def _run_units(kernel, P, fixed, alpha_in, closed, params, close_out, prm, blocks, offsets=None):
+    """Run the kernel over units (whole curves, or blocks of long curves), in threads.
+
+    Without ``blocks`` the units are the curves of ``offsets``. With ``blocks`` (from
+    :func:`_blocks`) the units are gathered rows with cores, and the cores' outputs are
+    put together curve by curve; returns None if a block met a zero-length edge (its
+    own wrap edge: the ring passes twice through one point), then the caller runs the
+    whole curves.
+    """
+    if blocks is None:
+        rows, u_off, u_closed = None, offsets, closed
+        core = np.zeros((offsets.size - 1, 2), dtype=np.int64)
+        core[:, 1] = np.diff(offsets)
+        UP, Ufixed, Ualpha = P, fixed, alpha_in
+    else:
+        rows, u_off, u_closed, core, owner = blocks
+        UP, Ufixed = P[rows], fixed[rows]
+        Ualpha = alpha_in[rows] if alpha_in.size else alpha_in
+    chunks = _chunks(u_off, prm.workers)
+
+    def step(a, b):
+        s, e = u_off[a], u_off[b]
+        sub_off = u_off[a : b + 1] - s
+        al = Ualpha[s:e] if Ualpha.size else Ualpha
+        args = (UP[s:e], Ufixed[s:e], sub_off, u_closed[a:b], *params[:4], al, *params[4:])
+        n, m_curves = e - s, b - a
+        close = close_out and blocks is None
+        cap = 3 * n + n // 16 + m_curves + 64  # 3 points per vertex, some Fig. 11 pairs
+        res = kernel.step_ragged(*args, cap, close, core[a:b])
+        if res[2] < 0:  # at most 4 points per vertex
+            res = kernel.step_ragged(*args, 4 * n + m_curves + 1, close, core[a:b])
+        return res
+
     if len(chunks) == 1:
-        OUT, of, m, oo, nred, nfig, nunsat = kernel.step_ragged(P, fixed, offsets, *args)
-        return OUT[:m], of[:m], oo, (nred, nfig, nunsat)
+        parts = [step(*chunks[0])]
+    else:
+        with ThreadPoolExecutor(len(chunks)) as pool:
+            parts = list(pool.map(lambda ab: step(*ab), chunks))
+    span = np.concatenate([r[7] for r in parts])
+    if blocks is not None and np.any(span[:, 0] < 0):
+        return None
+    bases = np.cumsum([0] + [r[2] for r in parts])[:-1]
+    OUT = (
+        np.concatenate([r[0][: r[2]] for r in parts])
+        if len(parts) > 1
+        else parts[0][0][: parts[0][2]]
+    )
+    of = (
+        np.concatenate([r[1][: r[2]] for r in parts])
+        if len(parts) > 1
+        else parts[0][1][: parts[0][2]]
+    )
+    counts = [np.concatenate([r[k] for r in parts]) for k in (4, 5, 6)]
+    if blocks is None:
+        oo = [np.zeros(1, dtype=np.int64)]
+        for r, base in zip(parts, bases, strict=True):
+            oo.append(r[3][1:] + base)
+        return OUT, of, np.concatenate(oo), tuple(counts)
+    # the cores' outputs in order, curve by curve
+    shift = np.repeat(bases, [r[4].size for r in parts])
+    sa, sb = span[:, 0] + shift, span[:, 1] + shift
+    lens = sb - sa
+    gather = np.repeat(sa - np.concatenate([[0], np.cumsum(lens)[:-1]]), lens) + np.arange(
+        lens.sum()
+    )
+    m = owner[-1] + 1 if owner.size else 0
+    n_out = np.bincount(owner, weights=lens, minlength=m).astype(np.int64)
+    oo = np.zeros(m + 1, dtype=np.int64)
+    np.cumsum(n_out, out=oo[1:])
+    counts = tuple(np.bincount(owner, weights=c, minlength=m).astype(np.int64) for c in counts)
+    OUT, of = OUT[gather], of[gather]
+    if close_out and closed.any():
+        OUT, new_oo = _close(OUT, oo, closed)
+        flags = np.zeros(OUT.shape[0], dtype=bool)
+        add = closed.astype(np.int64)
+        flags[np.arange(of.size) + np.repeat(np.cumsum(add) - add, np.diff(oo))] = of
+        of, oo = flags, new_oo
+    return OUT, of, oo, counts
 
-    def run(ab):
-        a, b = ab
-        s, e = offsets[a], offsets[b]
-        sub = (closed[a:b], *args[1:5], alpha_in[s:e] if alpha_in.size else alpha_in, *args[6:])
-        return kernel.step_ragged(P[s:e], fixed[s:e], offsets[a : b + 1] - s, *sub)
 
-    with ThreadPoolExecutor(len(chunks)) as pool:
-        parts = list(pool.map(run, chunks))
-    OUT = np.concatenate([r[0][: r[2]] for r in parts])
-    of = np.concatenate([r[1][: r[2]] for r in parts])
-    oo = [np.zeros(1, dtype=np.int64)]
-    base = 0
-    for r in parts:
-        oo.append(r[3][1:] + base)
-        base += r[2]
-    counts = tuple(np.concatenate([r[k] for r in parts]) for k in (4, 5, 6))
-    return OUT, of, np.concatenate(oo), counts
+def _blocks(offsets: np.ndarray, closed: np.ndarray, halo: int):
+    """Units for :func:`_run_units`: short curves whole, long ones in blocks with halos.
+
+    CCA1 is local: the output of vertex ``i`` (its cut points and the apex on edge
+    ``i``) depends on vertices ``i - 1 .. i + 2`` and on the local alpha decreases,
+    and each restriction pass moves a decrease by at most one vertex. So a curve of
+    at least ``2 * _BLOCK`` vertices is cut into blocks of ``_BLOCK`` core vertices,
+    each computed with ``halo = max_passes + 8`` vertices on both sides (a block is
+    smoothed as a closed curve; its own wrap edge, not an edge of the curve, disturbs
+    only the halo; the last block of an open curve stays open at the true end). The
+    values are computed by the same arithmetic as for the whole curve, so the result
+    is the same to the last bit; the blocks keep the kernel's scratch arrays in the
+    processor's cache and let long curves use ``workers`` threads.
+
+    Returns ``rows`` (the rows of every unit, one after the other), the units'
+    offsets, closed flags, cores ``(U, 2)`` and owner curves.
+    """
+    lengths = np.diff(offsets)
+    rows, u_len, u_closed, core, owner = [], [], [], [], []
+    for k, n in enumerate(lengths):
+        s0 = int(offsets[k])
+        if n < 2 * _BLOCK:
+            rows.append(np.arange(s0, s0 + n))
+            u_len.append(n)
+            u_closed.append(bool(closed[k]))
+            core.append((0, n))
+            owner.append(k)
+            continue
+        for s in range(0, n, _BLOCK):
+            e = min(n, s + _BLOCK)
+            if closed[k]:
+                idx = np.arange(s - halo, e + halo) % n
+                c = (halo, halo + e - s)
+                piece_closed = True
+            else:
+                lo, hi = max(0, s - halo), min(n, e + halo)
+                idx = np.arange(lo, hi)
+                c = (s - lo, e - lo)
+                piece_closed = hi < n  # the true end of an open curve stays open
+            rows.append(s0 + idx)
+            u_len.append(idx.size)
+            u_closed.append(piece_closed)
+            core.append(c)
+            owner.append(k)
+    u_off = np.zeros(len(u_len) + 1, dtype=np.int64)
+    np.cumsum(u_len, out=u_off[1:])
+    return (
+        np.concatenate(rows) if rows else np.zeros(0, dtype=np.int64),
+        u_off,
+        np.array(u_closed, dtype=bool),
+        np.array(core, dtype=np.int64).reshape(-1, 2),
+        np.array(owner, dtype=np.int64),
+    )
 
 
 def _chunks(offsets: np.ndarray, workers: int) -> list[tuple[int, int]]:

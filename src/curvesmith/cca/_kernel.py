@@ -204,8 +204,20 @@ def step_ragged(
     balance_tol,
     max_passes,
     min_factor,
+    cap,
+    close_out,
+    core,
 ):
     """One CCA1 step on every curve of a ragged batch of ``(N, 2)`` points.
+
+    ``core`` ``(M, 2)``: per curve the vertices ``lo .. hi - 1`` whose output and counts
+    are wanted (``0, n`` for a whole curve; a block of a long curve with halos, see
+    :func:`curvesmith.cca._api._blocks`). ``span`` (returned) holds, per curve, the
+    output rows of the core; a block that meets a zero-length edge gets ``-1, -1``.
+
+    ``cap``: rows of the output buffer (at most 4 per input vertex and 1 per ring are
+    needed; when ``cap`` is too small the step stops and returns ``m = -1``). ``close_out``: repeat
+    the first output vertex of every closed curve at its end (shapely's ring layout).
 
     Returns ``OUT, ofixed, m, ooffsets, nred, nfig, nunsat``: the new points in
     ``OUT[:m]`` and the fixed mask of the output in ``ofixed[:m]`` (each fixed vertex
@@ -218,13 +230,13 @@ def step_ragged(
     nmax = 1
     for k in range(ncurves):
         nmax = max(nmax, offsets[k + 1] - offsets[k])
-    total = P.shape[0]
-    OUT = np.empty((4 * total, 2))
-    of = np.empty(4 * total, dtype=np.bool_)
+    OUT = np.empty((cap, 2))
+    of = np.empty(cap, dtype=np.bool_)
     oo = np.empty(ncurves + 1, dtype=np.int64)
     nred = np.zeros(ncurves, dtype=np.int64)
     nfig = np.zeros(ncurves, dtype=np.int64)
     nunsat = np.zeros(ncurves, dtype=np.int64)
+    span = np.zeros((ncurves, 2), dtype=np.int64)
     # scratch, sized for the largest curve
     m1 = nmax + 1
     Q = np.empty((m1, 2))
@@ -251,9 +263,16 @@ def step_ragged(
         if n == 0:
             oo[k + 1] = pos
             continue
+        start = pos
+        lo, hi = core[k, 0], core[k, 1]
         # the curve: rows b .. b + n - 1 of V (the input, or its copy without zero edges)
         if _has_zero_edge(P, s, n, cl):
+            if lo != 0 or hi != n:  # a block: compacting would shift its core
+                span[k, 0], span[k, 1] = -1, -1
+                oo[k + 1] = pos
+                continue
             n = _compact_curve(P, fixed, s, n, cl, Q, qf)
+            hi = n
             V, b = Q, 0
             for t in range(n):
                 fx[t] = qf[t]
@@ -308,12 +327,19 @@ def step_ragged(
             r = _restrict(
                 n, cl, anyfix, alpha, alpha0, half, cr, scross, dot, short, length, fx, c, C,
                 max_passes, min_factor, a, K, tanb, fv, turning, endish, pending, check,
-                cand, edges, edges2,
+                cand, edges, edges2, lo, hi,
             )  # fmt: skip
             nred[k], nunsat[k] = r
         # emit: vertex i -> [L_i, R_i] or [V_i]; edge i -> [G_i] or the Fig. 11 pair
         nf = 0
+        span[k, 1] = -2
         for i in range(n):
+            if pos + 5 > cap:  # at most 4 points per vertex and a closing one
+                return OUT, of, -1, oo, nred, nfig, nunsat, span  # the caller retries
+            if i == lo:
+                span[k, 0] = pos
+            if i == hi:
+                span[k, 1] = pos
             h = i - 1 if i > 0 else n - 1
             j = i + 1 if i + 1 < n else 0
             vx, vy = V[b + i, 0], V[b + i, 1]
@@ -355,7 +381,8 @@ def step_ragged(
                 pos += 1
                 continue
             # Fig. 11: two congruent triangles on the halves, on opposite sides
-            nf += 1
+            if lo <= i < hi:
+                nf += 1
             s1 = 1.0 if k1 > 0.0 else (-1.0 if k1 < 0.0 else 0.0)
             phi = tilt_n
             if restrict:
@@ -375,16 +402,24 @@ def step_ragged(
             of[pos + 1] = False
             pos += 2
         nfig[k] = nf
+        if span[k, 1] == -2:
+            span[k, 1] = pos
+        if close_out and cl:
+            OUT[pos, 0], OUT[pos, 1] = OUT[start, 0], OUT[start, 1]
+            of[pos] = False
+            pos += 1
         oo[k + 1] = pos
-    return OUT, of, pos, oo, nred, nfig, nunsat
+    return OUT, of, pos, oo, nred, nfig, nunsat, span
 
 
 @njit(cache=True, nogil=True)
 def _restrict(
     n, cl, anyfix, alpha, alpha0, half, cr, scross, dot, short, length, fx, c, C, max_passes,
-    min_factor, a, K, tanb, fv, turning, endish, pending, check, cand, edges, edges2,
+    min_factor, a, K, tanb, fv, turning, endish, pending, check, cand, edges, edges2, lo, hi,
 ):  # fmt: skip
     """Local alpha decrease of one curve; the rules and schedule of ``restrict_passes``.
+
+    The counts cover vertices and edges ``lo .. hi - 1`` (the core of a block).
 
     On entry ``alpha0 = alpha``, ``a``, ``K``, ``turning`` and ``tanb`` hold the
     profile's values, ``fv`` is all 1 and ``check`` all False (both are left so).
@@ -488,7 +523,7 @@ def _restrict(
         ne = ne2
     nred = 0
     nunsat = 0
-    for i in range(n):
+    for i in range(lo, hi):
         if alpha[i] < alpha0[i]:
             nred += 1
         if pending[i]:
@@ -516,6 +551,69 @@ def restrict_curve(alpha, half, cr, scross, dot, short, length, fixed, closed, c
     nred, nunsat = _restrict(
         n, closed, bool(fixed.any()), alpha, alpha.copy(), half, cr, scross, dot, short,
         length, fixed, c, C, limits[0], limits[1], a, K, tanb, fv, np.append(turning, False),
-        *flags, *ints,
+        *flags, *ints, 0, n,
     )  # fmt: skip
     return alpha, int(nred), int(nunsat)
+
+
+@njit(cache=True, nogil=True)
+def to_local(P, offsets):
+    """Every curve relative to its first vertex: ``(Q, origins)`` (``Q = P - origin``)."""
+    m = offsets.shape[0] - 1
+    Q = np.empty_like(P)
+    origin = np.zeros((m, 2))
+    for k in range(m):
+        s, e = offsets[k], offsets[k + 1]
+        if e > s:
+            ox, oy = P[s, 0], P[s, 1]
+            origin[k, 0], origin[k, 1] = ox, oy
+            for i in range(s, e):
+                Q[i, 0] = P[i, 0] - ox
+                Q[i, 1] = P[i, 1] - oy
+    return Q, origin
+
+
+@njit(cache=True, nogil=True)
+def add_origins(P, offsets, origin):
+    """``P += origin`` of every curve, in place."""
+    for k in range(offsets.shape[0] - 1):
+        ox, oy = origin[k, 0], origin[k, 1]
+        for i in range(offsets[k], offsets[k + 1]):
+            P[i, 0] += ox
+            P[i, 1] += oy
+
+
+@njit(cache=True, nogil=True)
+def abs_max_per_curve(P, offsets):
+    """Largest ``|coordinate|`` of every curve (0 for an empty curve)."""
+    m = offsets.shape[0] - 1
+    top = np.zeros(m)
+    for k in range(m):
+        t = 0.0
+        for i in range(offsets[k], offsets[k + 1]):
+            t = max(t, abs(P[i, 0]), abs(P[i, 1]))
+        top[k] = t
+    return top
+
+
+@njit(cache=True, nogil=True)
+def ring_areas(P, offsets):
+    """Signed area of every ring (closing vertex repeated or not), in its first vertex's frame.
+
+    The trapezoid form of :func:`curvesmith.geometry.signed_area`, without temporaries.
+    """
+    m = offsets.shape[0] - 1
+    out = np.zeros(m)
+    for k in range(m):
+        s, e = offsets[k], offsets[k + 1]
+        if e - s < 2:
+            continue
+        ox, oy = P[s, 0], P[s, 1]
+        acc = 0.0
+        for i in range(s, e):
+            j = i + 1 if i + 1 < e else s
+            xi, yi = P[i, 0] - ox, P[i, 1] - oy
+            xj, yj = P[j, 0] - ox, P[j, 1] - oy
+            acc += (xi - xj) * (yi + yj)
+        out[k] = 0.5 * acc
+    return out

@@ -120,20 +120,16 @@ def smooth_batch(
     closed,
     level: Level,
     fixed_mask: np.ndarray | None = None,
+    close_rings: bool = False,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Smooth many rings/lines at one level in one call of the ragged engine.
 
     ``coords``/``offsets`` as in :func:`curvesmith.cca.smooth_ragged` (rings may repeat
-    their first vertex); open curves keep their ends. Returns the smoothed curves (rings
-    without repeated vertex) and their offsets; every curve is what the single-curve
-    smoother gives it.
+    their first vertex); open curves keep their ends. Returns the smoothed curves and
+    their offsets (rings with their first vertex repeated only with ``close_rings``);
+    every curve is what the single-curve smoother gives it.
     """
-    if level.iterations == 0:
-        from .._ragged import as_ragged
-
-        rag = as_ragged(coords, offsets, closed=closed, dim=2)
-        return rag.points, rag.offsets
-    if method == "cca":
+    if method == "cca" and level.iterations > 0:
         from .. import cca
 
         anchors = fixed_mask if fixed_mask is not None and fixed_mask.any() else None
@@ -144,12 +140,22 @@ def smooth_batch(
             iterations=level.iterations,
             alpha=scale_alpha(alpha, level.alpha_scale),
             anchors=anchors,
+            close_rings=close_rings,
         )
-    from .. import subdivision
+    if level.iterations == 0:
+        from .._ragged import as_ragged
 
-    return subdivision.chaikin_ragged(
-        coords, offsets, closed=closed, iterations=level.iterations, preserve_endpoints=True
-    )
+        rag = as_ragged(coords, offsets, closed=closed, dim=2)
+        xy, off = rag.points, rag.offsets
+    else:
+        from .. import subdivision
+
+        xy, off = subdivision.chaikin_ragged(
+            coords, offsets, closed=closed, iterations=level.iterations, preserve_endpoints=True
+        )
+    if close_rings and closed is True:
+        xy, off = _close_rings(xy, off)
+    return xy, off
 
 
 class FixedVertices:
@@ -347,6 +353,13 @@ def _signed_areas(rings: list[np.ndarray]) -> np.ndarray:
     return signed_areas_ragged(np.concatenate(rings), off)
 
 
+def _ring_areas(xy: np.ndarray, off: np.ndarray) -> np.ndarray:
+    """Signed areas of ragged rings (closing vertex repeated or not), compiled, no temporaries."""
+    from ..cca import _kernel
+
+    return _kernel.ring_areas(np.ascontiguousarray(xy, dtype=float), off.astype(np.int64))
+
+
 def signed_areas_ragged(xy: np.ndarray, off: np.ndarray) -> np.ndarray:
     """Signed areas of ragged rings (without closing vertex; open lines: against the chord)."""
     lens = np.diff(off)
@@ -497,28 +510,30 @@ def _smooth_polygonal(g, feat_index, smoother, levels, batch):
     first_ring_of_geom = np.searchsorted(ring_geom, np.arange(len(g)))
     full = levels[0]
     fmask = fixed.mask(coords) if fixed is not None else None
-    new_xy, new_off = smooth_batch(method, alpha, coords, ring_off, True, full, fmask)
+    # rings come back closed (first vertex repeated), ready for from_ragged_array
+    new_xy, new_off = smooth_batch(
+        method, alpha, coords, ring_off, True, full, fmask, close_rings=True
+    )
+    a1 = _ring_areas(new_xy, new_off)
 
-    def build(xy, off, r_off, p_off, g_off, was_poly):
-        cxy, coff = _close_rings(xy, off)
-        if was_poly.all() and len(r_off) == len(g_off):  # Polygons, one part each
+    def build(cxy, coff, p_off, g_off, was_poly):
+        if was_poly.all() and len(coff) == len(g_off):  # Polygons, one part each
             return shapely.from_ragged_array(T.POLYGON, cxy, (coff, g_off))
         mp = shapely.from_ragged_array(T.MULTIPOLYGON, cxy, (coff, p_off, g_off))
         res = mp.copy()
         res[was_poly] = shapely.get_geometry(mp[was_poly], 0)
         return res
 
-    res = build(new_xy, new_off, ring_off, poly_off, geom_off, was_polygon)
+    res = build(new_xy, new_off, poly_off, geom_off, was_polygon)
     rings_per_geom = np.bincount(ring_geom, minlength=len(g))
     hard = (rings_per_geom > 1) | ~shapely.is_valid(res)
     reductions: list[GeometryReduction] = []
     rings = _RaggedView(coords, ring_off, drop_last=True)
-    a1 = signed_areas_ragged(new_xy, new_off)
     if hard.any():
         # only the features with holes or parts, or with an invalid output, are checked
         # for conflicts and re-smoothed locally; their full-strength rings are reused
         sel = np.nonzero(hard[ring_geom])[0]
-        new = _RaggedView(new_xy, new_off)
+        new = _RaggedView(new_xy, new_off, drop_last=True)
         repl: dict[int, np.ndarray] = {}
         reductions += _resolve_parts(
             rings,
@@ -536,22 +551,17 @@ def _smooth_polygonal(g, feat_index, smoother, levels, batch):
         sub = [repl[int(r)] for r in sel]
         sub_off = np.zeros(len(sub) + 1, dtype=np.int64)
         np.cumsum([len(x) for x in sub], out=sub_off[1:])
-        sub_xy = np.concatenate(sub)
-        a1[sel] = signed_areas_ragged(sub_xy, sub_off)
+        sub_xy, sub_off = _close_rings(np.concatenate(sub), sub_off)
+        a1[sel] = _ring_areas(sub_xy, sub_off)
         # the hard features alone, renumbered: their rings, polygons and geometries
         hard_idx = np.flatnonzero(hard)
         polys = np.unique(ring_poly[sel])
         p_off = np.append(np.searchsorted(ring_poly[sel], polys), len(sel))
         poly_geom = np.searchsorted(geom_off, polys, side="right") - 1
         g_off = np.append(np.searchsorted(poly_geom, hard_idx), len(polys))
-        res[hard_idx] = build(sub_xy, sub_off, sub_off, p_off, g_off, was_polygon[hard_idx])
-    # the input rings without their closing vertex, for the areas
-    lens_in = np.diff(ring_off) - 1
-    rows = np.repeat(ring_off[:-1] - (np.cumsum(lens_in) - lens_in), lens_in) + np.arange(
-        lens_in.sum()
-    )
-    off0 = np.concatenate([[0], np.cumsum(lens_in)]).astype(np.int64)
-    a0 = signed_areas_ragged(coords[rows], off0)
+        res[hard_idx] = build(sub_xy, sub_off, p_off, g_off, was_polygon[hard_idx])
+    del new_xy
+    a0 = _ring_areas(coords, ring_off)
     scale = np.where(a0 != 0, np.abs(a0), 1.0)
     change = float(np.max(np.abs(a1 - a0) / scale)) if len(a0) else 0.0
     return res, reductions, n_rings, change
