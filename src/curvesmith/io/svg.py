@@ -11,7 +11,7 @@ import math
 import re
 from collections.abc import Iterable
 from typing import Any
-from xml.sax.saxutils import escape, quoteattr
+from xml.sax.saxutils import quoteattr
 
 import numpy as np
 
@@ -27,7 +27,8 @@ from ._core import (
     _check_curves,
     _json_default,
     _read_text,
-    _write_text,
+    format_rows,
+    open_destination,
     register,
 )
 
@@ -541,14 +542,9 @@ def write_svg(
     groups: dict[int, list[Curve]] = {}
     for c in curves:
         groups.setdefault(c.feature, []).append(c)
+    heads = []
     for group in groups.values():
         first = group[0]
-        d = []
-        for c in group:
-            pts = c.points.tolist()
-            cmd = "M " + _num(pts[0][0]) + "," + _num(pts[0][1]) + " L"
-            cmd += "".join(" " + _num(x) + "," + _num(y) for x, y in pts[1:])
-            d.append(cmd + (" Z" if c.closed else ""))
         meta = {
             "properties": dict(first.properties),
             "feature_id": first.feature_id,
@@ -565,10 +561,21 @@ def write_svg(
         paint = fill if fill is not None and all(c.closed for c in group) else "none"
         attrs.append(f"fill={quoteattr(paint)}")
         attrs.append(f"{_META}={quoteattr(meta_text)}")
-        attrs.append(f'd="{escape(" ".join(d))}"')
-        lines.append("<path " + " ".join(attrs) + "/>")
-    lines += ["</g>", "</svg>", ""]
-    _write_text(dest, "\n".join(lines))
+        heads.append("<path " + " ".join(attrs) + ' d="')
+    with open_destination(dest) as out:
+        out.write("\n".join(lines) + "\n")
+        for head, group in zip(heads, groups.values(), strict=True):
+            out.write(head)
+            for k, c in enumerate(group):
+                # numbers need no XML escaping; rows streamed chunk by chunk
+                x0, y0 = c.points[0].tolist()
+                out.write(("" if k == 0 else " ") + f"M {x0!r},{y0!r} L")
+                for chunk in format_rows(c.points[1:], " %r,%r"):
+                    out.write(chunk)
+                if c.closed:
+                    out.write(" Z")
+            out.write('"/>\n')
+        out.write("</g>\n</svg>\n")
 
 
 FORMAT = register(Format("svg", "SVG", (".svg",), read_svg, write_svg))
