@@ -162,6 +162,12 @@ def _summary(report) -> None:
         )
     if report.n_reductions:
         parts.append(f"{report.n_reductions} piece(s) smoothed less to stay valid")
+    if report.not_equal_area:
+        shown = ", ".join(map(str, report.not_equal_area[:5]))
+        parts.append(
+            f"{len(report.not_equal_area)} feature(s) smoothed in the file's CRS, not equal-area "
+            f"(the projection would fold them: feature {shown})"
+        )
     if report.invalid_edges:
         parts.append(
             f"{len(report.invalid_edges)} feature(s) with invalid coverage edges left unchanged "
