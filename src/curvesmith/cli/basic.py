@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import math
+from pathlib import Path
 
 import click
 import numpy as np
@@ -61,8 +62,18 @@ def measure_command(source: str, fmt: str | None, as_json: bool) -> None:
     Signed area is positive for counter-clockwise rings; for an open polyline
     it is the area between the polyline and its chord. Turning angles are
     signed (left turns positive); the table shows degrees, --json radians.
+    GIS files (.gpkg, .shp, .fgb) are measured in their CRS's units.
     """
-    curves = read_curves(source, fmt)
+    from .geo import GEO_SUFFIXES
+
+    if source != "-" and Path(source).suffix.lower() in GEO_SUFFIXES:
+        from ..geo._io import curves_from_frame, read_file
+
+        curves = curves_from_frame(read_file(source))
+        if not curves:
+            raise CurveError(f"{source} contains no lines or polygons")
+    else:
+        curves = read_curves(source, fmt)
     rows = []
     for i, c in enumerate(curves):
         with np.errstate(over="ignore", invalid="ignore"):
@@ -273,6 +284,8 @@ def smooth_command(
         except CurveError as exc:
             raise CurveError(f"curve {i} of {source}: {exc}") from None
     out = _keep_valid(curves, out, method, iterations, alpha, fixable=not anchors)
+    if hasattr(curves, "with_curves"):  # GeoJSON: NULL/Point features and crs go back too
+        out = curves.with_curves(out)
     write_curves(out, dest, fmt)
 
 

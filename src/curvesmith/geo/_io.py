@@ -835,3 +835,52 @@ def keep_polygons_valid(
         resmoothed.append(feature)
     report = ValidityReport(len(known), tuple(resmoothed), tuple(invalid_input), tuple(still))
     return out, report
+
+
+def curves_from_frame(df: Any) -> list:
+    """The lines and rings of a GeoDataFrame as :class:`curvesmith.io.Curve` objects.
+
+    ``feature`` is the feature's position in the file; Polygon rings, MultiPolygon parts,
+    (Multi)LineStrings and the members of GeometryCollections map as in
+    :mod:`curvesmith.io`'s GeoJSON model. NULL, empty and point geometries give no curves.
+    Properties are not copied (this serves ``curvesmith measure``).
+    """
+    shapely = require("shapely", "geo", "reading GIS files")
+    from ..io import Curve
+
+    out: list = []
+
+    def coords(g) -> np.ndarray:
+        return shapely.get_coordinates(g, include_z=bool(shapely.has_z(g)))
+
+    def add(g, feature: int, member) -> None:
+        kind = g.geom_type
+        if kind == "LineString" and not g.is_empty:
+            pts = coords(g)
+            closed = len(pts) >= 4 and bool(np.array_equal(pts[0], pts[-1]))
+            out.append(Curve(pts, closed=closed, feature=feature, kind=kind, member=member))
+        elif kind == "MultiLineString":
+            for k, line in enumerate(g.geoms):
+                pts = coords(line)
+                closed = len(pts) >= 4 and bool(np.array_equal(pts[0], pts[-1]))
+                out.append(
+                    Curve(pts, closed=closed, feature=feature, part=k, kind=kind, member=member)
+                )
+        elif kind in ("Polygon", "MultiPolygon"):
+            polys = list(g.geoms) if kind == "MultiPolygon" else [g]
+            for k, poly in enumerate(polys):
+                if poly.is_empty:
+                    continue
+                for r, ring in enumerate([poly.exterior, *poly.interiors]):
+                    out.append(
+                        Curve(coords(ring), closed=True, feature=feature, part=k, ring=r,
+                              kind=kind, member=member)
+                    )  # fmt: skip
+        elif kind == "GeometryCollection" and member is None:
+            for j, m in enumerate(g.geoms):
+                add(m, feature, j)
+
+    for i, g in enumerate(np.asarray(df.geometry.values, dtype=object)):
+        if g is not None and not g.is_empty:
+            add(g, i, None)
+    return out

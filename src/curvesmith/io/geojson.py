@@ -29,7 +29,7 @@ from ._core import (
     register,
 )
 
-__all__ = ["read_geojson", "write_geojson"]
+__all__ = ["GeoJSONCurves", "read_geojson", "write_geojson"]
 
 _CURVE_TYPES = ("LineString", "Polygon", "MultiLineString", "MultiPolygon", "GeometryCollection")
 _GEOMETRY_TYPES = (*_CURVE_TYPES, "Point", "MultiPoint")
@@ -49,9 +49,38 @@ def _reject_constant(token: str):
     raise CurveFormatError(f"{token} is not valid JSON (numbers must be finite)")
 
 
+class GeoJSONCurves(list):
+    """The curves of a GeoJSON file read with ``others="keep"``, and what is not a curve.
+
+    A ``list`` of :class:`Curve`; :func:`write_geojson` writes `others` back at their
+    positions and `crs` as the collection's ``crs`` member, so that smoothing a layer with
+    Points or NULL geometries (RFC 7946 allows ``"geometry": null``) loses nothing.
+
+    Attributes
+    ----------
+    others : dict of int to dict
+        Features without a curve geometry (NULL, Point, MultiPoint), by feature index,
+        as read.
+    crs : dict or None
+        The (pre-RFC 7946) ``crs`` member of the file.
+    """
+
+    def __init__(self, curves=(), others=None, crs=None):
+        super().__init__(curves)
+        self.others: dict[int, dict] = dict(others or {})
+        self.crs = crs
+
+    def with_curves(self, curves) -> GeoJSONCurves:
+        """The same others and crs with other curves (e.g. the smoothed ones)."""
+        return GeoJSONCurves(curves, self.others, self.crs)
+
+
 class _GeoJSONReader:
-    def __init__(self, name: str):
+    def __init__(self, name: str, keep: bool = False):
         self.name = name
+        self.keep = keep
+        self.others: dict[int, dict] = {}
+        self.crs = None
         self.curves: list[Curve] = []
 
     def fail(self, where: str, message: str) -> CurveFormatError:
@@ -68,7 +97,12 @@ class _GeoJSONReader:
         crs = obj.get("crs")
         props = crs.get("properties") if isinstance(crs, dict) else None
         label = props.get("name") if isinstance(props, dict) else None
-        if crs is not None and not (isinstance(label, str) and label.endswith("CRS84")):
+        self.crs = crs
+        if (
+            crs is not None
+            and not self.keep
+            and not (isinstance(label, str) and label.endswith("CRS84"))
+        ):
             warnings.warn(
                 f"{self.name}: the 'crs' member ({label or crs!r}) is not kept; files written "
                 "from these curves have none, and RFC 7946 readers will take the coordinates as "
@@ -111,6 +145,10 @@ class _GeoJSONReader:
                 where, f"properties must be an object or null, found {_describe(props)}"
             )
         geom = feat.get("geometry")
+        kind = geom.get("type") if isinstance(geom, dict) else None
+        if self.keep and (geom is None or kind in ("Point", "MultiPoint")):
+            self.others[i] = feat
+            return
         if geom is None:
             raise self.fail(
                 where,
@@ -206,13 +244,17 @@ class _GeoJSONReader:
             self.add(w, pts, True, kind=kind, part=part, ring=r, **common)
 
 
-def read_geojson(source: Source) -> list[Curve]:
+def read_geojson(source: Source, *, others: str = "error") -> list[Curve]:
     """Read curves from a GeoJSON file (RFC 7946).
 
     Parameters
     ----------
     source : str or path-like or text file object
         A FeatureCollection, a Feature or a bare geometry.
+    others : {"error", "keep"}, optional
+        Features whose geometry is NULL, a Point or a MultiPoint: an error (default), or
+        kept aside: the result is then a :class:`GeoJSONCurves` holding them (and the
+        ``crs`` member, kept without a warning) for :func:`write_geojson` to write back.
 
     Returns
     -------
@@ -246,8 +288,17 @@ def read_geojson(source: Source) -> list[Curve]:
         ) from None
     except CurveFormatError as exc:
         raise CurveFormatError(f"{name}: {exc}") from None
-    reader = _GeoJSONReader(name)
+    if others not in ("error", "keep"):
+        raise CurveError(f"others must be 'error' or 'keep', got {others!r}")
+    reader = _GeoJSONReader(name, keep=others == "keep")
     reader.top(obj)
+    if others == "keep":
+        if not reader.curves:
+            raise CurveFormatError(
+                f"{name}: none of the {len(reader.others)} features has a curve geometry "
+                "(LineString, Polygon, MultiLineString, MultiPolygon)"
+            )
+        return GeoJSONCurves(reader.curves, reader.others, reader.crs)
     return reader.curves
 
 
@@ -476,9 +527,15 @@ def write_geojson(curves: Iterable[Curve], dest: Source, *, orient: bool = True)
     >>> json.loads(buf.getvalue())["features"][0]["geometry"]["coordinates"][0]
     [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0], [0.0, 0.0]]
     """
+    others = getattr(curves, "others", {}) or {}
+    crs = getattr(curves, "crs", None)
     curves = _check_curves(curves)
     coords = _Coords()
     features = _features(coords, curves, bool(orient))
+    if others:  # features without curves go back to their places among the others
+        keyed = list(zip(dict.fromkeys(c.feature for c in curves), features, strict=True))
+        keyed += list(others.items())
+        features = [f for _, f in sorted(keyed, key=lambda kf: kf[0])]
     try:
         texts = [
             json.dumps(f, allow_nan=False, ensure_ascii=False, default=_json_default)
@@ -486,8 +543,11 @@ def write_geojson(curves: Iterable[Curve], dest: Source, *, orient: bool = True)
         ]
     except (TypeError, ValueError) as exc:
         raise CurveFormatError(f"cannot write the properties as JSON: {exc}") from None
+    head = '{"type": "FeatureCollection", '
+    if crs is not None:
+        head += f'"crs": {json.dumps(crs, ensure_ascii=False)}, '
     with open_destination(dest) as out:
-        out.write('{"type": "FeatureCollection", "features": [\n')
+        out.write(head + '"features": [\n')
         for k, text in enumerate(texts):
             coords.write(out, text if k == 0 else ",\n" + text)
         out.write("\n]}\n")
