@@ -412,3 +412,35 @@ def test_geojson_null_and_point_features_pass_through(tmp_path):
     assert doc["features"][0] == feats[0] and doc["features"][2] == feats[2]
     ring = np.array(doc["features"][1]["geometry"]["coordinates"][0])
     assert len(ring) == 3 * 60 + 1
+
+
+def test_geopackage_table_layers_are_skipped_or_named(tmp_path):
+    import pandas as pd
+
+    path = tmp_path / "mixed.gpkg"
+    pyogrio.write_dataframe(pd.DataFrame({"x": [1, 2]}), path, layer="a_attrs", driver="GPKG")
+    geo.write_file(_frame(), path, layer="z_shapes")
+    assert len(geo.read_file(path)) == 4  # the first layer with geometries
+    with pytest.raises(CurveFormatError, match="'a_attrs' .* is a table without geometries"):
+        geo.read_file(path, layer="a_attrs")
+    res = CliRunner().invoke(
+        main, ["smooth", str(path), "-o", str(tmp_path / "o.gpkg"), "--layer", "a_attrs"]
+    )
+    _one_line_error(res, "table without geometries", "['z_shapes']")
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["smooth", "{src}", "-o", "{out}", "--coverage", "--snap", "-1"],
+        ["batch", "smooth", "{src}", "-o", "{out}", "--partition-size", "0"],
+        ["batch", "smooth", "{src}", "-o", "{out}", "--workers", "0"],
+    ],
+)
+def test_bad_option_values_are_usage_errors(tmp_path, args):
+    src = tmp_path / "zones.gpkg"
+    geo.write_file(_frame(), src)
+    argv = [a.format(src=src, out=tmp_path / "o.gpkg") for a in args]
+    res = CliRunner().invoke(main, argv)
+    assert res.exit_code == 2 and "Invalid value" in res.output
+    assert not (tmp_path / "o.gpkg").exists()

@@ -16,6 +16,7 @@ from click.testing import CliRunner
 
 from curvesmith import geo
 from curvesmith.cli import main
+from curvesmith.errors import CurveError
 from curvesmith.geo._io import _lon_arc, equal_area_crs, equal_area_regions
 
 NATURAL_EARTH = (
@@ -109,3 +110,20 @@ def test_cli_world_make_valid_is_valid_exit_0(tmp_path):
     assert res.exit_code == 0, res.output
     assert "2 feature(s) smoothed in the file's CRS, not equal-area" in res.output
     assert shapely.is_valid(geo.read_file(out).geometry.values).all()
+
+
+def test_domain_edge_mask_on_natural_earth(world):
+    from curvesmith.geo._io import domain_edge_mask
+
+    masks = domain_edge_mask(world)
+    names = list(world["name"])
+    counts = {names[i]: int(m.sum()) for i, m in enumerate(masks) if m.any()}
+    # the countries cut at the antimeridian and Antarctica's edge at the pole
+    assert {"Fiji", "Russia", "Antarctica"} <= set(counts)
+    xy = shapely.get_coordinates(world.geometry.values)
+    flat = np.concatenate(masks)
+    assert len(flat) == len(xy)
+    ref = (np.abs(xy[:, 0]) >= 180.0 - 1e-9) | (np.abs(xy[:, 1]) >= 90.0 - 1e-9)
+    assert np.array_equal(flat, ref) and flat.sum() == 18  # 16 exact, 2 at 180.00000000000006
+    with pytest.raises(CurveError, match="needs a geographic CRS"):
+        domain_edge_mask(world.to_crs("EPSG:3857").iloc[:3])

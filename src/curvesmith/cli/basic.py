@@ -170,7 +170,10 @@ def _alpha_value(text: str):
 )
 @click.option("--make-valid", is_flag=True, help="GIS: repair invalid input polygons first.")
 @click.option(
-    "--snap", type=float, default=None, help="GIS coverage: snap distance to clean it first."
+    "--snap",
+    type=click.FloatRange(min=0.0),
+    default=None,
+    help="GIS coverage: snap distance to clean it first.",
 )
 @click.option(
     "--allow-null",

@@ -204,12 +204,22 @@ def batch_group() -> None:
 @click.option("--layer", default=None, help="Input layer name (or index).")
 @click.option("--equal-area", is_flag=True, help="Smooth in an equal-area projection.")
 @click.option("--make-valid", is_flag=True, help="Repair invalid polygons instead of failing them.")
-@click.option("--snap", type=float, default=None, help="Coverage: snapping distance (CRS units).")
-@click.option("--workers", type=int, default=None, help="Local worker processes [default: 2].")
+@click.option(
+    "--snap",
+    type=click.FloatRange(min=0.0),
+    default=None,
+    help="Coverage: snapping distance (CRS units).",
+)
+@click.option(
+    "--workers",
+    type=click.IntRange(min=1),
+    default=None,
+    help="Local worker processes [default: 2].",
+)
 @click.option("--scheduler", default=None, metavar="ADDRESS", help="Existing Dask scheduler.")
 @click.option(
     "--partition-size",
-    type=int,
+    type=click.IntRange(min=1),
     default=1000,
     show_default=True,
     help="Features per task (arcs per task with --coverage).",

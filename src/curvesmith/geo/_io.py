@@ -143,6 +143,19 @@ def read_file(path: str | Path, *, layer: str | int | None = None, columns=None)
                 )
         elif str(layer) not in names:
             raise CurveFormatError(f"layer {layer!r} not found in {str(path)!r}; layers: {names}")
+    spatial = [str(n) for n, kind in layers[:, :2] if kind is not None]
+    chosen = names[0] if layer is None else layer
+    if isinstance(chosen, int | np.integer):
+        chosen = names[int(chosen)]
+    if str(chosen) not in spatial:
+        if layer is None and spatial:
+            chosen = spatial[0]  # the first layer is a plain table: take the first with shapes
+        else:
+            raise CurveFormatError(
+                f"layer {str(chosen)!r} of {str(path)!r} is a table without geometries; "
+                f"layers with geometries: {spatial}"
+            )
+    layer = chosen
     try:
         return pyogrio.read_dataframe(path, layer=layer, columns=columns)
     except Exception as exc:
