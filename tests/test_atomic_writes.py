@@ -444,3 +444,26 @@ def test_bad_option_values_are_usage_errors(tmp_path, args):
     res = CliRunner().invoke(main, argv)
     assert res.exit_code == 2 and "Invalid value" in res.output
     assert not (tmp_path / "o.gpkg").exists()
+
+
+def test_map_data_to_svg_is_drawn_upright_and_reads_back(tmp_path):
+    # a triangle pointing north (y up): in the SVG, its apex must be drawn at the top
+    tri = {"type": "Polygon", "coordinates": [[[0, 0], [10, 0], [0, 20], [0, 0]]]}
+    src = tmp_path / "t.geojson"
+    src.write_text(json.dumps(tri))
+    svg, gj = tmp_path / "t.svg", tmp_path / "t2.geojson"
+    for out in (svg, gj):
+        res = CliRunner().invoke(main, ["smooth", str(src), "-o", str(out)])
+        assert res.exit_code == 0, res.output
+    text = svg.read_text()
+    assert 'transform="scale(1,-1)"' in text
+    _, y0, _, h = map(float, text.split('viewBox="')[1].split('"')[0].split())
+    back, ref = cio.read_curves(svg)[0].points, cio.read_curves(gj)[0].points
+    np.testing.assert_array_equal(back, ref)  # map coordinates again, bit for bit
+    top, bottom = ref[:, 1].max(), ref[:, 1].min()
+    assert top > 15.0 and bottom < 1.0  # north is +y again
+    # the flipped drawing: the apex (largest map y) at the smallest SVG y, the top of the page
+    assert y0 < -top < -bottom < y0 + h and y0 > -top - 0.05 * top
+    # curves that come from SVG stay unflipped
+    res = CliRunner().invoke(main, ["smooth", str(svg), "-o", str(tmp_path / "again.svg")])
+    assert res.exit_code == 0 and "scale(1,-1)" not in (tmp_path / "again.svg").read_text()

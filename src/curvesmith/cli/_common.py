@@ -74,6 +74,11 @@ def read_curves(source: str, fmt: str | None = None) -> list[Curve]:
     return curves
 
 
+def _map_options(curves, fmt: str) -> dict:
+    """GeoJSON (map data, y pointing north) to SVG: drawn upright (``flip_y``)."""
+    return {"flip_y": True} if fmt == "svg" and hasattr(curves, "others") else {}
+
+
 def _warn_lost_crs(curves, dest: str, fmt: str) -> None:
     crs = getattr(curves, "crs", None)
     if crs is None or fmt in ("geojson", "json"):
@@ -96,11 +101,12 @@ def write_curves(curves: list[Curve], dest: str, fmt: str | None = None) -> None
         if fmt is None:
             raise CurveError("--format is required when writing to standard output (-)")
         buf = _stdio.StringIO()
-        _write(curves, buf, format=fmt)
+        _write(curves, buf, format=fmt, **_map_options(curves, fmt))
         click.echo(buf.getvalue(), nl=False)
     else:
         try:
-            _write(curves, Path(dest), format=_format_of(dest, fmt))
+            fmt = _format_of(dest, fmt)
+            _write(curves, Path(dest), format=fmt, **_map_options(curves, fmt))
         except CurveError as exc:
             text = str(exc)
             if not text.startswith(dest):  # the writers name the file only for OS errors

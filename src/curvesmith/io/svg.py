@@ -361,6 +361,8 @@ def _svg_curves(element, subpaths, feature: int, name: str) -> list[Curve]:
             props = dict(meta["properties"])
             fid = meta.get("feature_id")
             index = [tuple(entry) for entry in meta["index"]]
+            if meta.get("flip_y") is True:  # written by write_svg(flip_y=True): y back up
+                subpaths = [(pts * [1.0, -1.0], closed) for pts, closed in subpaths]
         except (ValueError, KeyError, TypeError) as exc:
             raise CurveFormatError(
                 f"{name}: element {element.id or feature}: malformed {_META} attribute: {exc}"
@@ -475,6 +477,7 @@ def write_svg(
     stroke: str = "black",
     stroke_width: float | None = None,
     fill: str | None = None,
+    flip_y: bool = False,
 ) -> None:
     """Write 2D curves as an SVG drawing, one ``<path>`` per feature.
 
@@ -492,6 +495,11 @@ def write_svg(
     fill : str, optional
         Fill paint for features whose curves are all closed (``fill-rule``
         evenodd, so holes stay empty); default: no fill.
+    flip_y : bool, optional
+        Map data (y axis pointing up, north): draw them upright. The paths keep the
+        curves' coordinates inside a ``<g transform="scale(1,-1)">`` and the viewBox is
+        fitted to the flipped drawing, so :func:`read_svg` (which applies transforms)
+        reads the same coordinates back, bit for bit.
 
     Raises
     ------
@@ -527,17 +535,23 @@ def write_svg(
     pad = 0.02 * size
     x0, y0 = lo - pad
     w, h = hi - lo + 2 * pad
+    if flip_y:
+        y0 = -hi[1] - pad  # the viewBox of the flipped drawing
     if stroke_width is None:
         stroke_width = size / 400.0
     stroke_width = as_float(stroke_width, name="stroke_width", low=0.0)
     pixels = 800.0 / max(w, h)
     lines = [
         '<?xml version="1.0" encoding="UTF-8"?>',
-        "<!-- written by curvesmith: SVG user coordinates, y axis pointing down -->",
+        "<!-- written by curvesmith: map coordinates (y up), drawn flipped by the group's "
+        "transform -->"
+        if flip_y
+        else "<!-- written by curvesmith: SVG user coordinates, y axis pointing down -->",
         f'<svg xmlns="http://www.w3.org/2000/svg" version="1.1" width="{w * pixels:.6g}" '
         f'height="{h * pixels:.6g}" viewBox="{_num(x0)} {_num(y0)} {_num(w)} {_num(h)}">',
         f'<g stroke={quoteattr(stroke)} stroke-width="{_num(stroke_width)}" '
-        'stroke-linejoin="round" stroke-linecap="round" fill-rule="evenodd">',
+        'stroke-linejoin="round" stroke-linecap="round" fill-rule="evenodd"'
+        + (' transform="scale(1,-1)">' if flip_y else ">"),
     ]
     groups: dict[int, list[Curve]] = {}
     for c in curves:
@@ -550,6 +564,8 @@ def write_svg(
             "feature_id": first.feature_id,
             "index": [[c.member, c.part, c.ring, c.kind] for c in group],
         }
+        if flip_y:
+            meta["flip_y"] = True  # read_svg undoes the drawing's flip: map coordinates back
         try:
             meta_text = json.dumps(meta, allow_nan=False, ensure_ascii=False, default=_json_default)
         except (TypeError, ValueError) as exc:
