@@ -8,6 +8,7 @@ failed write (a full disk) leaves the previous output exactly as it was and no p
 from __future__ import annotations
 
 import errno
+import json
 import os
 import shutil
 import subprocess
@@ -341,3 +342,128 @@ def test_in_place_smoothing_of_gis_files(tmp_path, suffix):
     assert _listing(tmp_path) == names
     if suffix == ".gpkg":
         assert len(pyogrio.list_layers(path)) == 1  # replaced, not a second layer
+
+
+# ----------------------------------------------------------------------------------------------
+# small traps (issue 13.7)
+
+
+def test_measure_reads_gis_files(tmp_path):
+    df = _frame()
+    src = tmp_path / "zones.gpkg"
+    geo.write_file(df, src)
+    res = CliRunner().invoke(main, ["measure", str(src), "--json"])
+    assert res.exit_code == 0, res.output
+    rows = json.loads(res.output)["curves"]
+    assert [r["feature"] for r in rows] == [0, 1, 2, 3]
+    areas = [abs(r["signed_area"]) for r in rows]
+    np.testing.assert_allclose(areas, df.area.values, rtol=1e-12)
+
+
+def test_gis_input_to_stdout_as_geojson(tmp_path):
+    src = tmp_path / "zones.gpkg"
+    geo.write_file(_frame(), src)
+    res = CliRunner().invoke(main, ["smooth", str(src), "-o", "-", "--format", "geojson"])
+    assert res.exit_code == 0, res.output
+    text = res.output[res.output.index("{") : res.output.rindex("}") + 1]
+    assert len(json.loads(text)["features"]) == 4
+    res = CliRunner().invoke(main, ["smooth", str(src), "-o", "-"])
+    assert res.exit_code == 2 and "--format geojson" in res.output
+
+
+def test_output_suffix_and_folder_checked_before_the_run(tmp_path, monkeypatch):
+    src = tmp_path / "zones.gpkg"
+    geo.write_file(_frame(), src)
+    called = []
+    monkeypatch.setattr(geo, "smooth_file", lambda *a, **k: called.append(1))
+    res = CliRunner().invoke(main, ["smooth", str(src), "-o", str(tmp_path / "o.csv")])
+    assert res.exit_code == 2 and "a GIS input is written as" in res.output
+    res = CliRunner().invoke(main, ["smooth", str(src), "-o", str(tmp_path / "no" / "o.gpkg")])
+    _one_line_error(res, "does not exist")
+    assert called == []
+
+
+def test_geojson_null_and_point_features_pass_through(tmp_path):
+    closed = [*_ring(60).tolist(), _ring(60)[0].tolist()]
+    feats = [
+        {"type": "Feature", "properties": {"n": 0}, "geometry": None},
+        {"type": "Feature", "properties": {"n": 1},
+         "geometry": {"type": "Polygon", "coordinates": [closed]}},
+        {"type": "Feature", "properties": {"n": 2},
+         "geometry": {"type": "Point", "coordinates": [3.0, 4.0]}},
+    ]  # fmt: skip
+    crs = {"type": "name", "properties": {"name": "urn:ogc:def:crs:EPSG::2056"}}
+    src = tmp_path / "mixed.geojson"
+    src.write_text(json.dumps({"type": "FeatureCollection", "crs": crs, "features": feats}))
+    with (
+        pytest.warns(UserWarning, match="'crs' member .* is not kept"),
+        pytest.raises(CurveFormatError, match="feature 0: the geometry is null"),
+    ):
+        cio.read_geojson(src)  # the API's default stays strict
+    out = tmp_path / "o.geojson"
+    res = CliRunner().invoke(main, ["smooth", str(src), "-o", str(out)])
+    assert res.exit_code == 0, res.output
+    assert "2 feature(s) without a curve geometry (NULL, Point, MultiPoint) passed through" in (
+        res.output
+    )
+    doc = json.loads(out.read_text())
+    assert doc["crs"] == crs
+    assert [f["properties"]["n"] for f in doc["features"]] == [0, 1, 2]
+    assert doc["features"][0] == feats[0] and doc["features"][2] == feats[2]
+    ring = np.array(doc["features"][1]["geometry"]["coordinates"][0])
+    assert len(ring) == 3 * 60 + 1
+
+
+def test_geopackage_table_layers_are_skipped_or_named(tmp_path):
+    import pandas as pd
+
+    path = tmp_path / "mixed.gpkg"
+    pyogrio.write_dataframe(pd.DataFrame({"x": [1, 2]}), path, layer="a_attrs", driver="GPKG")
+    geo.write_file(_frame(), path, layer="z_shapes")
+    assert len(geo.read_file(path)) == 4  # the first layer with geometries
+    with pytest.raises(CurveFormatError, match="'a_attrs' .* is a table without geometries"):
+        geo.read_file(path, layer="a_attrs")
+    res = CliRunner().invoke(
+        main, ["smooth", str(path), "-o", str(tmp_path / "o.gpkg"), "--layer", "a_attrs"]
+    )
+    _one_line_error(res, "table without geometries", "['z_shapes']")
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["smooth", "{src}", "-o", "{out}", "--coverage", "--snap", "-1"],
+        ["batch", "smooth", "{src}", "-o", "{out}", "--partition-size", "0"],
+        ["batch", "smooth", "{src}", "-o", "{out}", "--workers", "0"],
+    ],
+)
+def test_bad_option_values_are_usage_errors(tmp_path, args):
+    src = tmp_path / "zones.gpkg"
+    geo.write_file(_frame(), src)
+    argv = [a.format(src=src, out=tmp_path / "o.gpkg") for a in args]
+    res = CliRunner().invoke(main, argv)
+    assert res.exit_code == 2 and "Invalid value" in res.output
+    assert not (tmp_path / "o.gpkg").exists()
+
+
+def test_map_data_to_svg_is_drawn_upright_and_reads_back(tmp_path):
+    # a triangle pointing north (y up): in the SVG, its apex must be drawn at the top
+    tri = {"type": "Polygon", "coordinates": [[[0, 0], [10, 0], [0, 20], [0, 0]]]}
+    src = tmp_path / "t.geojson"
+    src.write_text(json.dumps(tri))
+    svg, gj = tmp_path / "t.svg", tmp_path / "t2.geojson"
+    for out in (svg, gj):
+        res = CliRunner().invoke(main, ["smooth", str(src), "-o", str(out)])
+        assert res.exit_code == 0, res.output
+    text = svg.read_text()
+    assert 'transform="scale(1,-1)"' in text
+    _, y0, _, h = map(float, text.split('viewBox="')[1].split('"')[0].split())
+    back, ref = cio.read_curves(svg)[0].points, cio.read_curves(gj)[0].points
+    np.testing.assert_array_equal(back, ref)  # map coordinates again, bit for bit
+    top, bottom = ref[:, 1].max(), ref[:, 1].min()
+    assert top > 15.0 and bottom < 1.0  # north is +y again
+    # the flipped drawing: the apex (largest map y) at the smallest SVG y, the top of the page
+    assert y0 < -top < -bottom < y0 + h and y0 > -top - 0.05 * top
+    # curves that come from SVG stay unflipped
+    res = CliRunner().invoke(main, ["smooth", str(svg), "-o", str(tmp_path / "again.svg")])
+    assert res.exit_code == 0 and "scale(1,-1)" not in (tmp_path / "again.svg").read_text()

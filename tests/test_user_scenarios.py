@@ -353,12 +353,18 @@ def test_affine_on_polygons_with_holes_and_multipolygons(runner, tmp_path):
 
 
 def test_old_geojson_crs_is_reported_not_silently_dropped(runner, tmp_path):
-    # A projected crs (QGIS exports it) would silently turn into WGS 84 in the written file
+    # A projected crs (QGIS exports it) would silently turn into WGS 84 in the written file.
+    # Issue 13: GeoJSON output now keeps it; a format without a place for it says so.
     doc = dict(GEOJSON, crs={"type": "name", "properties": {"name": "urn:ogc:def:crs:EPSG::2056"}})
     src = tmp_path / "swiss.geojson"
     src.write_text(json.dumps(doc))
     out = tmp_path / "out.geojson"
     res = runner.invoke(main, ["smooth", str(src), "-o", str(out), "--method", "chaikin"])
+    assert res.exit_code == 0 and res.output == ""
+    assert json.loads(out.read_text())["crs"] == doc["crs"]
+    res = runner.invoke(
+        main, ["smooth", str(src), "-o", str(tmp_path / "o.csv"), "--method", "chaikin"]
+    )
     assert res.exit_code == 0, res.output
     (line,) = [ln for ln in res.output.splitlines() if ln.strip()]
     assert line.startswith("Warning: ") and "EPSG::2056" in line and "not kept" in line

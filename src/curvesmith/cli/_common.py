@@ -11,7 +11,7 @@ import click
 
 from ..errors import CurveError, CurveFormatError
 from ..io import Curve, check_destination, detect_format, formats
-from ..io import read_curves as _read
+from ..io import read_curves as _read_registry
 from ..io import write_curves as _write
 
 __all__ = [
@@ -30,6 +30,22 @@ FORMAT_OPTION = click.option(
     default=None,
     help="File format (default: from the suffix; required with - for stdin/stdout).",
 )
+
+
+def _read(source, format: str):
+    """Read with the registry; GeoJSON keeps NULL/Point features and the crs aside."""
+    if format in ("geojson", "json"):
+        from ..io.geojson import read_geojson
+
+        curves = read_geojson(source, others="keep")
+        if curves.others:
+            click.echo(
+                f"{len(curves.others)} feature(s) without a curve geometry (NULL, Point, "
+                "MultiPoint) passed through unchanged",
+                err=True,
+            )
+        return curves
+    return _read_registry(source, format=format)
 
 
 def read_curves(source: str, fmt: str | None = None) -> list[Curve]:
@@ -58,17 +74,39 @@ def read_curves(source: str, fmt: str | None = None) -> list[Curve]:
     return curves
 
 
+def _map_options(curves, fmt: str) -> dict:
+    """GeoJSON (map data, y pointing north) to SVG: drawn upright (``flip_y``)."""
+    return {"flip_y": True} if fmt == "svg" and hasattr(curves, "others") else {}
+
+
+def _warn_lost_crs(curves, dest: str, fmt: str) -> None:
+    crs = getattr(curves, "crs", None)
+    if crs is None or fmt in ("geojson", "json"):
+        return
+    props = crs.get("properties") if isinstance(crs, dict) else None
+    label = props.get("name") if isinstance(props, dict) else None
+    if isinstance(label, str) and label.endswith("CRS84"):
+        return
+    click.echo(
+        f"Warning: {dest}: the 'crs' member ({label or crs!r}) is not kept: a {fmt.upper()} "
+        "file has no place for it (write GeoJSON to keep it)",
+        err=True,
+    )
+
+
 def write_curves(curves: list[Curve], dest: str, fmt: str | None = None) -> None:
     """Write curves to a path, or to standard output when `dest` is ``-``."""
+    _warn_lost_crs(curves, dest, fmt or (_format_of(dest, None) if dest != "-" else ""))
     if dest == "-":
         if fmt is None:
             raise CurveError("--format is required when writing to standard output (-)")
         buf = _stdio.StringIO()
-        _write(curves, buf, format=fmt)
+        _write(curves, buf, format=fmt, **_map_options(curves, fmt))
         click.echo(buf.getvalue(), nl=False)
     else:
         try:
-            _write(curves, Path(dest), format=_format_of(dest, fmt))
+            fmt = _format_of(dest, fmt)
+            _write(curves, Path(dest), format=fmt, **_map_options(curves, fmt))
         except CurveError as exc:
             text = str(exc)
             if not text.startswith(dest):  # the writers name the file only for OS errors

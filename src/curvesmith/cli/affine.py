@@ -7,6 +7,7 @@ from pathlib import Path
 import click
 
 from ..errors import CurveError
+from ..io import open_destination
 from ..io.svg import path_document, quadratic_path_data
 from ._common import FORMAT_OPTION, read_curves, write_curves
 
@@ -123,4 +124,5 @@ def affine_command(
     out = _with_results(out)
     write_curves(out, dest, fmt)
     if spline_svg is not None:
-        Path(spline_svg).write_text(path_document(paths, (lo, hi)), encoding="utf-8")
+        with open_destination(Path(spline_svg)) as fh:  # atomic: no partial file on failure
+            fh.write(path_document(paths, (lo, hi)))

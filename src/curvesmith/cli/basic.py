@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import math
+from pathlib import Path
 
 import click
 import numpy as np
@@ -61,8 +62,18 @@ def measure_command(source: str, fmt: str | None, as_json: bool) -> None:
     Signed area is positive for counter-clockwise rings; for an open polyline
     it is the area between the polyline and its chord. Turning angles are
     signed (left turns positive); the table shows degrees, --json radians.
+    GIS files (.gpkg, .shp, .fgb) are measured in their CRS's units.
     """
-    curves = read_curves(source, fmt)
+    from .geo import GEO_SUFFIXES
+
+    if source != "-" and Path(source).suffix.lower() in GEO_SUFFIXES:
+        from ..geo._io import curves_from_frame, read_file
+
+        curves = curves_from_frame(read_file(source))
+        if not curves:
+            raise CurveError(f"{source} contains no lines or polygons")
+    else:
+        curves = read_curves(source, fmt)
     rows = []
     for i, c in enumerate(curves):
         with np.errstate(over="ignore", invalid="ignore"):
@@ -159,7 +170,10 @@ def _alpha_value(text: str):
 )
 @click.option("--make-valid", is_flag=True, help="GIS: repair invalid input polygons first.")
 @click.option(
-    "--snap", type=float, default=None, help="GIS coverage: snap distance to clean it first."
+    "--snap",
+    type=click.FloatRange(min=0.0),
+    default=None,
+    help="GIS coverage: snap distance to clean it first.",
 )
 @click.option(
     "--allow-null",
@@ -308,6 +322,8 @@ def smooth_command(
         return write_fitted(
             curves, out, dest, fmt, kind=curve_kind, tolerance=tolerance, anchors=anchors
         )
+    if hasattr(curves, "with_curves"):  # GeoJSON: NULL/Point features and crs go back too
+        out = curves.with_curves(out)
     write_curves(out, dest, fmt)
 
 

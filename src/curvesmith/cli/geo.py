@@ -162,6 +162,12 @@ def _summary(report) -> None:
         )
     if report.n_reductions:
         parts.append(f"{report.n_reductions} piece(s) smoothed less to stay valid")
+    if report.not_equal_area:
+        shown = ", ".join(map(str, report.not_equal_area[:5]))
+        parts.append(
+            f"{len(report.not_equal_area)} feature(s) smoothed in the file's CRS, not equal-area "
+            f"(the projection would fold them: feature {shown})"
+        )
     if report.invalid_edges:
         parts.append(
             f"{len(report.invalid_edges)} feature(s) with invalid coverage edges left unchanged "
@@ -198,12 +204,22 @@ def batch_group() -> None:
 @click.option("--layer", default=None, help="Input layer name (or index).")
 @click.option("--equal-area", is_flag=True, help="Smooth in an equal-area projection.")
 @click.option("--make-valid", is_flag=True, help="Repair invalid polygons instead of failing them.")
-@click.option("--snap", type=float, default=None, help="Coverage: snapping distance (CRS units).")
-@click.option("--workers", type=int, default=None, help="Local worker processes [default: 2].")
+@click.option(
+    "--snap",
+    type=click.FloatRange(min=0.0),
+    default=None,
+    help="Coverage: snapping distance (CRS units).",
+)
+@click.option(
+    "--workers",
+    type=click.IntRange(min=1),
+    default=None,
+    help="Local worker processes [default: 2].",
+)
 @click.option("--scheduler", default=None, metavar="ADDRESS", help="Existing Dask scheduler.")
 @click.option(
     "--partition-size",
-    type=int,
+    type=click.IntRange(min=1),
     default=1000,
     show_default=True,
     help="Features per task (arcs per task with --coverage).",

@@ -71,6 +71,10 @@ class FileSmoothReport:
         ``allow_null=True``; otherwise they are an error).
     n_empty : int
         Features with an empty geometry, written through unchanged.
+    not_equal_area : tuple of int
+        With ``equal_area``: features smoothed in the data's own CRS instead, because the
+        projection folded them (valid in degrees, self-intersecting projected) or they
+        were not valid after projecting back.
     """
 
     n_features: int
@@ -84,6 +88,7 @@ class FileSmoothReport:
     coverage_valid: bool | None
     n_null: int = 0
     n_empty: int = 0
+    not_equal_area: tuple[int, ...] = ()
 
 
 def _driver_for(path: Path) -> str:
@@ -138,6 +143,19 @@ def read_file(path: str | Path, *, layer: str | int | None = None, columns=None)
                 )
         elif str(layer) not in names:
             raise CurveFormatError(f"layer {layer!r} not found in {str(path)!r}; layers: {names}")
+    spatial = [str(n) for n, kind in layers[:, :2] if kind is not None]
+    chosen = names[0] if layer is None else layer
+    if isinstance(chosen, int | np.integer):
+        chosen = names[int(chosen)]
+    if str(chosen) not in spatial:
+        if layer is None and spatial:
+            chosen = spatial[0]  # the first layer is a plain table: take the first with shapes
+        else:
+            raise CurveFormatError(
+                f"layer {str(chosen)!r} of {str(path)!r} is a table without geometries; "
+                f"layers with geometries: {spatial}"
+            )
+    layer = chosen
     try:
         return pyogrio.read_dataframe(path, layer=layer, columns=columns)
     except Exception as exc:
@@ -354,16 +372,234 @@ def _verify_written(tmp: Path, path: Path, n_features: int, n_null: int, layer) 
         )
 
 
+def _lon_arc(lon: np.ndarray) -> tuple[float, float]:
+    """Centre and half-width (degrees) of the shortest arc of the circle holding all `lon`.
+
+    The complement of the largest gap between consecutive sorted longitudes (the gap
+    across ±180° included): data that cross the antimeridian (the Aleutians, Fiji,
+    Chukotka) get a centre near 180°, not the bounding box's near 0°.
+    """
+    x = np.sort(np.mod(np.asarray(lon, dtype=np.float64) + 180.0, 360.0) - 180.0)
+    if len(x) == 0:
+        return 0.0, 0.0
+    gaps = np.diff(np.concatenate([x, x[:1] + 360.0]))
+    k = int(np.argmax(gaps))
+    start = x[(k + 1) % len(x)]
+    width = 360.0 - float(gaps[k])
+    centre = float(np.mod(start + width / 2.0 + 180.0, 360.0) - 180.0)
+    return centre, width / 2.0
+
+
+def _laea(lon: float, lat: float) -> str:
+    return f"+proj=laea +lat_0={lat:.6f} +lon_0={lon:.6f} +datum=WGS84 +units=m +no_defs"
+
+
+def _geographic_xy(df: Any) -> tuple[np.ndarray, np.ndarray]:
+    """Longitude/latitude of every vertex and the feature index of each."""
+    shapely = require("shapely", "geo", "equal-area smoothing")
+    geo4326 = df.to_crs("EPSG:4326") if not df.crs.equals("EPSG:4326") else df
+    xy, index = shapely.get_coordinates(geo4326.geometry.values, return_index=True)
+    return xy, index
+
+
 def equal_area_crs(df: Any) -> str:
     """A Lambert azimuthal equal-area projection centred on the data (PROJ string).
 
     Areas measured in it are ground areas on the WGS84 ellipsoid (to the datum shift),
-    so smoothing there keeps true areas.
+    so smoothing there keeps true areas. The centre is the middle of the shortest
+    longitude arc holding the data (antimeridian-aware: the US with the Aleutians is
+    centred near -150°, not at the bounding box's 0.3°) and of the latitude range.
+    One projection serves a region; for data spread over the globe, see
+    :func:`equal_area_regions`.
     """
     require("pyproj", "geo", "equal-area smoothing")
-    x0, y0, x1, y1 = df.to_crs("EPSG:4326").total_bounds
-    lon, lat = (x0 + x1) / 2.0, (y0 + y1) / 2.0
-    return f"+proj=laea +lat_0={lat:.6f} +lon_0={lon:.6f} +datum=WGS84 +units=m +no_defs"
+    xy, _ = _geographic_xy(df)
+    if len(xy) == 0:
+        return _laea(0.0, 0.0)
+    lon, _ = _lon_arc(xy[:, 0])
+    lat = 0.5 * (float(xy[:, 1].min()) + float(xy[:, 1].max()))
+    return _laea(lon, lat)
+
+
+def equal_area_regions(df: Any, *, cell: float = 30.0) -> list[tuple[str, np.ndarray]]:
+    """Split features into regions that one equal-area projection each serves well.
+
+    CCA keeps the planar area in the projection exactly, but a smoothed edge is a straight
+    line there, and far from the projection's centre straight lines are far from the
+    ground's geodesics (and near the antipode shapes shear without bound): one projection
+    for the world changed Vanuatu's ground area by -8 % and folded Sudan. Each feature's
+    centre (antimeridian-aware, :func:`equal_area_crs`) falls in a `cell` x `cell` degree
+    cell; the features of a cell share a projection centred on them, and a feature wider
+    than a cell gets its own.
+
+    Returns
+    -------
+    list of (crs, indices)
+        PROJ strings of Lambert azimuthal equal-area projections and the positions of the
+        features (NULL and empty geometries are in no region).
+    """
+    xy, index = _geographic_xy(df)
+    order = np.argsort(index, kind="stable")
+    xy, index = xy[order], index[order]
+    starts = np.searchsorted(index, np.arange(len(df) + 1))
+    info = {}
+    for i in range(len(df)):
+        pts = xy[starts[i] : starts[i + 1]]
+        if len(pts):
+            lon, half = _lon_arc(pts[:, 0])
+            info[i] = (lon, half, float(pts[:, 1].min()), float(pts[:, 1].max()))
+    cells: dict[tuple, list[int]] = {}
+    for i, (lon, half, lat0, lat1) in info.items():
+        if 2 * half > cell or lat1 - lat0 > cell:
+            cells[("own", i)] = [i]
+        else:
+            key = (math.floor((lon + 180.0) / cell), math.floor((0.5 * (lat0 + lat1) + 90) / cell))
+            cells.setdefault(key, []).append(i)
+    regions = []
+    for members in cells.values():
+        lon_all = np.concatenate(
+            [[info[i][0] - info[i][1], info[i][0] + info[i][1]] for i in members]
+        )
+        lon, _ = _lon_arc(lon_all)
+        lat = 0.5 * (min(info[i][2] for i in members) + max(info[i][3] for i in members))
+        regions.append((_laea(lon, lat), np.array(sorted(members), dtype=np.int64)))
+    return regions
+
+
+def _unwrap_ring(xy: np.ndarray) -> np.ndarray:
+    """Longitudes of a ring made continuous (no 360° jumps), its mean kept in [-180, 180].
+
+    Projecting back to degrees wraps a vertex smoothed past the antimeridian (180.01°) to
+    -179.99°, which makes the ring run round the globe; unwrapped it stays at 180.01°,
+    exactly as smoothing in degrees would leave it.
+    """
+    lon = np.unwrap(xy[:, 0], period=360.0)
+    lon -= 360.0 * np.round(lon.mean() / 360.0)
+    return np.column_stack([lon, xy[:, 1:]])
+
+
+def _unwrap(geom):
+    shapely = require("shapely", "geo", "equal-area smoothing")
+    if geom is None or shapely.is_empty(geom):
+        return geom
+    kind = geom.geom_type
+    if kind == "Polygon":
+        rings = [geom.exterior, *geom.interiors]
+        xy = [_unwrap_ring(shapely.get_coordinates(r, include_z=geom.has_z)) for r in rings]
+        return shapely.Polygon(xy[0], xy[1:])
+    if kind == "LineString":
+        return shapely.LineString(_unwrap_ring(shapely.get_coordinates(geom, include_z=geom.has_z)))
+    if kind in ("MultiPolygon", "MultiLineString", "GeometryCollection"):
+        return type(geom)([_unwrap(g) for g in geom.geoms])
+    return geom
+
+
+def _split_antimeridian(geom):
+    """Parts of a Multi* geometry split at ±180° into (west, east) groups, or None.
+
+    Such a feature (Fiji, Russia's Chukotka) is valid in degrees, its halves 360° apart;
+    in one projection around it the halves would touch along the antimeridian (invalid).
+    """
+    shapely = require("shapely", "geo", "equal-area smoothing")
+    if geom is None or not geom.geom_type.startswith("Multi"):
+        return None
+    x0, _, x1, _ = shapely.bounds(geom)
+    if x1 - x0 <= 180.0:
+        return None
+    sides = [bool(shapely.bounds(g)[0] + shapely.bounds(g)[2] > 0) for g in geom.geoms]
+    if all(sides) or not any(sides):
+        return None
+    return sides
+
+
+def _smooth_equal_area(df: Any, *, make_valid: bool, **options):
+    """Smooth region by region in equal-area projections; check validity back home.
+
+    Each region of :func:`equal_area_regions` is projected, smoothed and projected back to
+    the data's CRS (features split at the antimeridian are smoothed as their two halves,
+    longitudes unwrapped on the way back). A feature that is not valid there is smoothed
+    again alone in a projection centred on it; if that is still invalid the run stops
+    with an error naming the feature, rather than writing it.
+    """
+    import geopandas
+
+    shapely = require("shapely", "geo", "equal-area smoothing")
+    from ._smooth import smooth
+
+    crs = df.crs
+    geographic = bool(crs.is_geographic)
+    source = np.asarray(df.geometry.values, dtype=object)
+    pieces: list[Any] = []  # (feature, side or None, geometry)
+    owners: list[tuple[int, Any]] = []
+    for i, g in enumerate(source):
+        sides = _split_antimeridian(g) if geographic else None
+        if sides is None:
+            pieces.append(g)
+            owners.append((i, None))
+            continue
+        for side in (False, True):
+            parts = [p for p, s in zip(g.geoms, sides, strict=True) if s == side]
+            pieces.append(type(g)(parts))
+            owners.append((i, (side, sides)))
+    work = geopandas.GeoDataFrame(geometry=pieces, crs=crs)
+    done = np.array(pieces, dtype=object)
+    n_red, change = 0, 0.0
+    planar: set[int] = set()  # pieces smoothed in the data's own CRS instead
+
+    def smooth_piece(geom_array, name_of) -> np.ndarray:
+        nonlocal n_red, change
+        try:
+            res = smooth(geom_array, make_valid=make_valid, full_output=True, **options)
+        except CurveError as exc:
+            raise CurveError(f"{name_of()}: {exc}") from None
+        n_red += len(res.reductions)
+        change = max(change, float(res.max_area_change))
+        return np.asarray(res.geometry, dtype=object)
+
+    def run(idx: np.ndarray, laea: str) -> None:
+        home = np.asarray(work.geometry.values[idx], dtype=object)
+        there = np.asarray(work.iloc[idx].to_crs(laea).geometry.values, dtype=object)
+        # valid in degrees but folded by the projection (sparse vertices along a narrow
+        # neck, Sudan): smoothed in the data's CRS, where it is valid
+        folded = shapely.is_valid(home) & ~shapely.is_valid(there)
+        keep = ~folded
+        if keep.any():
+            names = [owners[j][0] for j in idx[keep]]
+            out = smooth_piece(
+                there[keep], lambda: f"in the equal-area projection, features {names}"
+            )
+            back = geopandas.GeoSeries(out, crs=laea).to_crs(crs).values
+            back = np.array([_unwrap(g) for g in back], dtype=object) if geographic else back
+            done[idx[keep]] = back
+        planar.update(int(j) for j in idx[folded])
+
+    for laea, idx in equal_area_regions(work):
+        run(idx, laea)
+    present = ~(shapely.is_missing(done) | shapely.is_empty(done))
+    planar.update(int(j) for j in np.flatnonzero(present & ~shapely.is_valid(done)))
+    for j in sorted(planar):  # folded there, or invalid back home: smooth in the data's CRS
+        done[j] = smooth_piece(
+            np.array([pieces[j]], dtype=object), lambda j=j: f"feature {owners[j][0]}"
+        )[0]
+    geoms = np.array(source, dtype=object, copy=True)
+    halves: dict[int, dict[bool, Any]] = {}
+    for j, (i, split) in enumerate(owners):
+        if split is None:
+            geoms[i] = done[j]
+        else:
+            halves.setdefault(i, {})[split[0]] = (done[j], split[1])
+    for i, h in halves.items():
+        sides = h[True][1]
+        its = {side: iter(h[side][0].geoms) for side in (False, True)}
+        geoms[i] = type(source[i])([next(its[s]) for s in sides])
+    present = ~(shapely.is_missing(geoms) | shapely.is_empty(geoms))
+    for i in np.flatnonzero(present & ~shapely.is_valid(geoms)):
+        raise CurveError(  # pragma: no cover - geo.smooth's output is valid in its CRS
+            f"feature {i} is not valid after smoothing ({shapely.is_valid_reason(geoms[i])})"
+        )
+    out = df.copy()
+    out[df.geometry.name] = geopandas.GeoSeries(geoms, index=df.index, crs=crs)
+    return out, n_red, change, sorted({owners[j][0] for j in planar})
 
 
 def smooth_file(
@@ -437,10 +673,9 @@ def smooth_file(
             GeographicCRSWarning,
             stacklevel=2,
         )
-    work = df
-    if equal_area:
-        work = df.to_crs(equal_area_crs(df))
+    planar: list[int] = []
     if coverage:
+        work = df.to_crs(equal_area_crs(df)) if equal_area else df
         res = smooth_coverage(
             work,
             method=method,
@@ -451,21 +686,19 @@ def smooth_file(
             full_output=True,
         )
         n_red, invalid, valid = len(res.reductions), res.invalid_edges, res.coverage_valid
+        out, change = res.geometry, float(res.max_area_change)
+        if equal_area:
+            out = out.to_crs(crs)
     else:
         if snap is not None:
             raise CurveError("snap applies to coverage mode only (coverage=True)")
-        res = smooth(
-            work,
-            method=method,
-            iterations=iterations,
-            alpha=alpha,
-            make_valid=make_valid,
-            full_output=True,
-        )
-        n_red, invalid, valid = len(res.reductions), {}, None
-    out = res.geometry
-    if equal_area:
-        out = out.to_crs(crs)
+        options = {"method": method, "iterations": iterations, "alpha": alpha}
+        if equal_area:
+            out, n_red, change, planar = _smooth_equal_area(df, make_valid=make_valid, **options)
+        else:
+            res = smooth(df, make_valid=make_valid, full_output=True, **options)
+            out, n_red, change = res.geometry, len(res.reductions), float(res.max_area_change)
+        invalid, valid = {}, None
     if out_layer is None and layer is not None and not isinstance(layer, int | np.integer):
         out_layer = str(layer)
     write_file(out, out_path, layer=out_layer)
@@ -477,10 +710,11 @@ def smooth_file(
         coverage=bool(coverage),
         n_reductions=n_red,
         invalid_edges=dict(invalid),
-        max_area_change=float(res.max_area_change),
+        max_area_change=change,
         coverage_valid=valid,
         n_null=n_null,
         n_empty=n_empty,
+        not_equal_area=tuple(planar),
     )
 
 
@@ -614,3 +848,52 @@ def keep_polygons_valid(
         resmoothed.append(feature)
     report = ValidityReport(len(known), tuple(resmoothed), tuple(invalid_input), tuple(still))
     return out, report
+
+
+def curves_from_frame(df: Any) -> list:
+    """The lines and rings of a GeoDataFrame as :class:`curvesmith.io.Curve` objects.
+
+    ``feature`` is the feature's position in the file; Polygon rings, MultiPolygon parts,
+    (Multi)LineStrings and the members of GeometryCollections map as in
+    :mod:`curvesmith.io`'s GeoJSON model. NULL, empty and point geometries give no curves.
+    Properties are not copied (this serves ``curvesmith measure``).
+    """
+    shapely = require("shapely", "geo", "reading GIS files")
+    from ..io import Curve
+
+    out: list = []
+
+    def coords(g) -> np.ndarray:
+        return shapely.get_coordinates(g, include_z=bool(shapely.has_z(g)))
+
+    def add(g, feature: int, member) -> None:
+        kind = g.geom_type
+        if kind == "LineString" and not g.is_empty:
+            pts = coords(g)
+            closed = len(pts) >= 4 and bool(np.array_equal(pts[0], pts[-1]))
+            out.append(Curve(pts, closed=closed, feature=feature, kind=kind, member=member))
+        elif kind == "MultiLineString":
+            for k, line in enumerate(g.geoms):
+                pts = coords(line)
+                closed = len(pts) >= 4 and bool(np.array_equal(pts[0], pts[-1]))
+                out.append(
+                    Curve(pts, closed=closed, feature=feature, part=k, kind=kind, member=member)
+                )
+        elif kind in ("Polygon", "MultiPolygon"):
+            polys = list(g.geoms) if kind == "MultiPolygon" else [g]
+            for k, poly in enumerate(polys):
+                if poly.is_empty:
+                    continue
+                for r, ring in enumerate([poly.exterior, *poly.interiors]):
+                    out.append(
+                        Curve(coords(ring), closed=True, feature=feature, part=k, ring=r,
+                              kind=kind, member=member)
+                    )  # fmt: skip
+        elif kind == "GeometryCollection" and member is None:
+            for j, m in enumerate(g.geoms):
+                add(m, feature, j)
+
+    for i, g in enumerate(np.asarray(df.geometry.values, dtype=object)):
+        if g is not None and not g.is_empty:
+            add(g, i, None)
+    return out

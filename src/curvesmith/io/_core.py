@@ -418,6 +418,32 @@ def open_destination(dest: Source) -> Iterator[Any]:
         raise CurveFormatError(f"{name}: cannot write the file: {exc.strerror or exc}") from None
 
 
+#: Rows formatted per chunk by :func:`format_rows` (bounded memory whatever the curve size).
+CHUNK_ROWS = 65536
+
+
+def format_rows(points: np.ndarray, row: str, *, chunk: int | None = None) -> Iterator[str]:
+    """Format the rows of a float array chunk by chunk with a ``%``-template per row.
+
+    ``row`` holds one ``%r`` per column (``"%r,%r;"``; a literal percent sign written as
+    ``%%``). ``%r`` of a Python float is :func:`repr`, the shortest text that reads back to
+    the same float, so the output round-trips bit-exactly; the template is applied by
+    ``str.__mod__`` to a whole chunk at once (``row * n % values``), in C, without a Python
+    call per number. Each yielded string holds at most `chunk` rows (default
+    :data:`CHUNK_ROWS`), so memory stays bounded for curves of any size.
+
+    Examples
+    --------
+    >>> "".join(format_rows(np.array([[0.1, 2.0], [1e-300, -0.0]]), "%r %r;"))
+    '0.1 2.0;1e-300 -0.0;'
+    """
+    arr = np.asarray(points, dtype=np.float64)
+    chunk = CHUNK_ROWS if chunk is None else int(chunk)
+    for start in range(0, len(arr), chunk):
+        block = arr[start : start + chunk]
+        yield (row * len(block)) % tuple(block.ravel().tolist())
+
+
 def _write_text(dest: Source, text: str) -> None:
     with open_destination(dest) as out:
         out.write(text)

@@ -17,7 +17,16 @@ from typing import Any
 import numpy as np
 
 from ..errors import CurveError, CurveFormatError
-from ._core import Curve, Format, Source, _check_curves, _read_text, _write_text, register
+from ._core import (
+    Curve,
+    Format,
+    Source,
+    _check_curves,
+    _read_text,
+    format_rows,
+    open_destination,
+    register,
+)
 
 __all__ = ["read_csv", "write_csv"]
 
@@ -380,30 +389,31 @@ def write_csv(curves: Iterable[Curve], dest: Source) -> None:
     if need_closed:
         header.append("closed")
     header.extend(str(k) for k in keys)
-    buf = _stdio.StringIO()
-    writer = csv.writer(buf, lineterminator="\n")
-    writer.writerow(header)
-    for i, c in enumerate(curves):
-        tail = []
-        if id_cells is not None:
-            tail.append(id_cells[i])
-        if need_closed:
-            tail.append("true" if c.closed else "false")
-        tail.extend(_cell(c.properties.get(k)) for k in keys)
-        pts = c.points.tolist()
-        if c.closed:
-            pts.append(pts[0])
-        # The coordinates (float reprs) never need quoting, so only the first row goes through
-        # the csv writer; its quoted tail is reused verbatim by the other rows (same bytes,
-        # several times faster on large curves).
-        one = _stdio.StringIO()
-        csv.writer(one, lineterminator="\n").writerow([*map(repr, pts[0]), *tail])
-        first = one.getvalue()
-        buf.write(first)
-        suffix = first[len(",".join(map(repr, pts[0]))) :]
-        cols = [list(map(repr, col)) for col in zip(*pts[1:], strict=True)]
-        buf.write("".join([",".join(row) + suffix for row in zip(*cols, strict=True)]))
-    _write_text(dest, buf.getvalue())
+    with open_destination(dest) as out:
+        head = _stdio.StringIO()
+        csv.writer(head, lineterminator="\n").writerow(header)
+        out.write(head.getvalue())
+        for i, c in enumerate(curves):
+            tail = []
+            if id_cells is not None:
+                tail.append(id_cells[i])
+            if need_closed:
+                tail.append("true" if c.closed else "false")
+            tail.extend(_cell(c.properties.get(k)) for k in keys)
+            pts = c.points
+            # The coordinates (float reprs) never need quoting, so only the first row goes
+            # through the csv writer; its quoted tail is reused verbatim by every row, and the
+            # rows are formatted chunk by chunk (bounded memory, no Python call per number).
+            first_xy = [float(v) for v in pts[0]]
+            one = _stdio.StringIO()
+            csv.writer(one, lineterminator="\n").writerow([*map(repr, first_xy), *tail])
+            first = one.getvalue()
+            suffix = first[len(",".join(map(repr, first_xy))) :]
+            row = ",".join(["%r"] * c.dim) + suffix.replace("%", "%%")
+            for text in format_rows(pts, row):
+                out.write(text)
+            if c.closed:
+                out.write(first)
 
 
 FORMAT = register(Format("csv", "CSV", (".csv", ".txt"), read_csv, write_csv))

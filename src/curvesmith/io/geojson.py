@@ -7,6 +7,8 @@ from __future__ import annotations
 
 import json
 import math
+import re
+import uuid
 import warnings
 from collections.abc import Iterable
 from typing import Any
@@ -14,6 +16,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import CurveError, CurveFormatError
+from . import _core
 from ._core import (
     Curve,
     Format,
@@ -21,11 +24,12 @@ from ._core import (
     _check_curves,
     _json_default,
     _read_text,
-    _write_text,
+    format_rows,
+    open_destination,
     register,
 )
 
-__all__ = ["read_geojson", "write_geojson"]
+__all__ = ["GeoJSONCurves", "read_geojson", "write_geojson"]
 
 _CURVE_TYPES = ("LineString", "Polygon", "MultiLineString", "MultiPolygon", "GeometryCollection")
 _GEOMETRY_TYPES = (*_CURVE_TYPES, "Point", "MultiPoint")
@@ -45,9 +49,38 @@ def _reject_constant(token: str):
     raise CurveFormatError(f"{token} is not valid JSON (numbers must be finite)")
 
 
+class GeoJSONCurves(list):
+    """The curves of a GeoJSON file read with ``others="keep"``, and what is not a curve.
+
+    A ``list`` of :class:`Curve`; :func:`write_geojson` writes `others` back at their
+    positions and `crs` as the collection's ``crs`` member, so that smoothing a layer with
+    Points or NULL geometries (RFC 7946 allows ``"geometry": null``) loses nothing.
+
+    Attributes
+    ----------
+    others : dict of int to dict
+        Features without a curve geometry (NULL, Point, MultiPoint), by feature index,
+        as read.
+    crs : dict or None
+        The (pre-RFC 7946) ``crs`` member of the file.
+    """
+
+    def __init__(self, curves=(), others=None, crs=None):
+        super().__init__(curves)
+        self.others: dict[int, dict] = dict(others or {})
+        self.crs = crs
+
+    def with_curves(self, curves) -> GeoJSONCurves:
+        """The same others and crs with other curves (e.g. the smoothed ones)."""
+        return GeoJSONCurves(curves, self.others, self.crs)
+
+
 class _GeoJSONReader:
-    def __init__(self, name: str):
+    def __init__(self, name: str, keep: bool = False):
         self.name = name
+        self.keep = keep
+        self.others: dict[int, dict] = {}
+        self.crs = None
         self.curves: list[Curve] = []
 
     def fail(self, where: str, message: str) -> CurveFormatError:
@@ -64,7 +97,12 @@ class _GeoJSONReader:
         crs = obj.get("crs")
         props = crs.get("properties") if isinstance(crs, dict) else None
         label = props.get("name") if isinstance(props, dict) else None
-        if crs is not None and not (isinstance(label, str) and label.endswith("CRS84")):
+        self.crs = crs
+        if (
+            crs is not None
+            and not self.keep
+            and not (isinstance(label, str) and label.endswith("CRS84"))
+        ):
             warnings.warn(
                 f"{self.name}: the 'crs' member ({label or crs!r}) is not kept; files written "
                 "from these curves have none, and RFC 7946 readers will take the coordinates as "
@@ -107,6 +145,10 @@ class _GeoJSONReader:
                 where, f"properties must be an object or null, found {_describe(props)}"
             )
         geom = feat.get("geometry")
+        kind = geom.get("type") if isinstance(geom, dict) else None
+        if self.keep and (geom is None or kind in ("Point", "MultiPoint")):
+            self.others[i] = feat
+            return
         if geom is None:
             raise self.fail(
                 where,
@@ -202,13 +244,17 @@ class _GeoJSONReader:
             self.add(w, pts, True, kind=kind, part=part, ring=r, **common)
 
 
-def read_geojson(source: Source) -> list[Curve]:
+def read_geojson(source: Source, *, others: str = "error") -> list[Curve]:
     """Read curves from a GeoJSON file (RFC 7946).
 
     Parameters
     ----------
     source : str or path-like or text file object
         A FeatureCollection, a Feature or a bare geometry.
+    others : {"error", "keep"}, optional
+        Features whose geometry is NULL, a Point or a MultiPoint: an error (default), or
+        kept aside: the result is then a :class:`GeoJSONCurves` holding them (and the
+        ``crs`` member, kept without a warning) for :func:`write_geojson` to write back.
 
     Returns
     -------
@@ -242,8 +288,17 @@ def read_geojson(source: Source) -> list[Curve]:
         ) from None
     except CurveFormatError as exc:
         raise CurveFormatError(f"{name}: {exc}") from None
-    reader = _GeoJSONReader(name)
+    if others not in ("error", "keep"):
+        raise CurveError(f"others must be 'error' or 'keep', got {others!r}")
+    reader = _GeoJSONReader(name, keep=others == "keep")
     reader.top(obj)
+    if others == "keep":
+        if not reader.curves:
+            raise CurveFormatError(
+                f"{name}: none of the {len(reader.others)} features has a curve geometry "
+                "(LineString, Polygon, MultiLineString, MultiPolygon)"
+            )
+        return GeoJSONCurves(reader.curves, reader.others, reader.crs)
     return reader.curves
 
 
@@ -251,19 +306,29 @@ def _area_sign(points: np.ndarray) -> int:
     """Sign of the signed area of a closed ring (x, y), exact also for extreme coordinates.
 
     The shoelace sum is evaluated in floating point after an exact power-of-two
-    scaling (no overflow) with ``math.fsum``; when its magnitude is below the
-    rounding error bound, the sign is recomputed exactly with fractions.
+    scaling (no overflow) with ``math.fsum`` over blocks of the ring (bounded memory:
+    a few blocks of temporaries, whatever the ring's size; the correctly rounded block
+    sums add at most ``eps / 2`` of the absolute sum to the error); when its magnitude
+    is below the rounding error bound, the sign is recomputed exactly with fractions.
     """
     p = points[:, :2]
-    top = float(np.abs(p).max())
+    top = max(float(p.max()), -float(p.min()))
     if top == 0.0:
         return 0
-    q = np.ldexp(p, -math.frexp(top)[1])
-    x, y = q[:, 0], q[:, 1]
-    xn, yn = np.roll(x, -1), np.roll(y, -1)
-    a, b = x * yn, xn * y
-    total = math.fsum(a) - math.fsum(b)
-    bound = 4.0 * np.finfo(np.float64).eps * float(np.sum(np.abs(a) + np.abs(b))) + len(p) * 1e-300
+    shift = -math.frexp(top)[1]
+    n = len(p)
+    plus, minus, magnitude = [], [], 0.0
+    block = _core.CHUNK_ROWS
+    for s in range(0, n, block):
+        stop = min(s + block, n)
+        q = np.ldexp(p[s:stop], shift)
+        nxt = np.ldexp(np.concatenate([p[s + 1 : stop + 1], p[:1]])[: stop - s], shift)
+        a, b = q[:, 0] * nxt[:, 1], nxt[:, 0] * q[:, 1]
+        plus.append(math.fsum(a.tolist()))
+        minus.append(math.fsum(b.tolist()))
+        magnitude += float(np.sum(np.abs(a)) + np.sum(np.abs(b)))
+    total = math.fsum(plus) - math.fsum(minus)
+    bound = 4.0 * np.finfo(np.float64).eps * magnitude + n * 1e-300
     if abs(total) > bound:
         return 1 if total > 0 else -1
     from fractions import Fraction
@@ -274,22 +339,60 @@ def _area_sign(points: np.ndarray) -> int:
     return (exact > 0) - (exact < 0)
 
 
-def _oriented_ring(points: np.ndarray, ccw: bool, orient: bool) -> list:
-    pts = points
+class _Coords:
+    """Coordinate arrays of the features being written, by placeholder.
+
+    Features are serialised by :func:`json.dumps` with a placeholder string in place of
+    each position array; the writer then streams the positions of each placeholder chunk
+    by chunk (:func:`format_rows`), so no feature's coordinates are ever held as one
+    list of Python floats or one string. ``%r`` of a float is the text ``json.dumps``
+    writes for it, so the file is byte for byte what ``json.dumps`` of the whole
+    collection gives.
+    """
+
+    def __init__(self) -> None:
+        self.nonce = uuid.uuid4().hex
+        self.arrays: list[tuple[np.ndarray, bool, bool]] = []
+        self.pattern = re.compile(rf'"\\u0000{self.nonce}:(\d+)\\u0000"')
+
+    def add(self, points: np.ndarray, close: bool, reverse: bool = False) -> str:
+        """A placeholder for `points` (`close`: repeat the first; `reverse`: rest backwards)."""
+        self.arrays.append((points, close, reverse))
+        return f"\x00{self.nonce}:{len(self.arrays) - 1}\x00"
+
+    def write(self, out, text: str) -> None:
+        """Write `text` (JSON with placeholders) with the positions streamed in."""
+        pos = 0
+        for m in self.pattern.finditer(text):
+            out.write(text[pos : m.start()])
+            k = int(m.group(1))
+            points, close, reverse = self.arrays[k]
+            self.arrays[k] = (np.empty((0, 2)), False, False)  # written: let the array go
+            one = ", ".join(["%r"] * points.shape[1])
+            out.write("[")
+            out.write(f"[{one}]" % tuple(points[0].tolist()))
+            rest = points[:0:-1] if reverse else points[1:]  # views: no copy of the ring
+            for chunk in format_rows(rest, f", [{one}]"):
+                out.write(chunk)
+            if close:
+                out.write(f", [{one}]" % tuple(points[0].tolist()))
+            out.write("]")
+            pos = m.end()
+        out.write(text[pos:])
+
+
+def _oriented_ring(coords: _Coords, points: np.ndarray, ccw: bool, orient: bool) -> str:
+    reverse = False
     if orient:
         sign = _area_sign(points)
-        if (sign < 0 and ccw) or (sign > 0 and not ccw):
-            pts = np.concatenate([points[:1], points[:0:-1]])
-    out = pts.tolist()
-    out.append(out[0])
-    return out
+        reverse = (sign < 0 and ccw) or (sign > 0 and not ccw)
+    return coords.add(points, True, reverse)
 
 
-def _line_coords(c: Curve) -> list:
-    out = c.points.tolist()
+def _line_coords(coords: _Coords, c: Curve) -> str:
     if c.closed:
-        out.append(out[0])
-    elif len(out) >= 4 and out[0] == out[-1]:
+        return coords.add(c.points, True)
+    if len(c.points) >= 4 and np.array_equal(c.points[0], c.points[-1]):
         # GeoJSON has no closedness flag for LineStrings: such a line reads back as a ring.
         warnings.warn(
             f"an open curve of feature {c.feature} ends where it starts; GeoJSON readers "
@@ -297,14 +400,14 @@ def _line_coords(c: Curve) -> list:
             UserWarning,
             stacklevel=4,
         )
-    return out
+    return coords.add(c.points, False)
 
 
-def _polygon_coords(rings: list[Curve], where: str, orient: bool) -> list:
+def _polygon_coords(coords: _Coords, rings: list[Curve], where: str, orient: bool) -> list:
     rings = sorted(rings, key=lambda c: c.ring)
     if rings[0].ring != 0:
         raise CurveFormatError(f"{where}: the polygon has holes but no exterior ring (ring 0)")
-    return [_oriented_ring(c.points, c.ring == 0, orient) for c in rings]
+    return [_oriented_ring(coords, c.points, c.ring == 0, orient) for c in rings]
 
 
 def _unique(curves: list[Curve], key, where: str) -> None:
@@ -319,7 +422,7 @@ def _unique(curves: list[Curve], key, where: str) -> None:
         seen.add(k)
 
 
-def _geometry(curves: list[Curve], where: str, orient: bool) -> dict:
+def _geometry(coords: _Coords, curves: list[Curve], where: str, orient: bool) -> dict:
     kinds = {c.kind for c in curves}
     if len(kinds) > 1:
         raise CurveFormatError(
@@ -332,26 +435,26 @@ def _geometry(curves: list[Curve], where: str, orient: bool) -> dict:
             raise CurveFormatError(
                 f"{where}: {len(curves)} curves of kind LineString in one geometry"
             )
-        return {"type": kind, "coordinates": _line_coords(curves[0])}
+        return {"type": kind, "coordinates": _line_coords(coords, curves[0])}
     if kind == "MultiLineString":
         return {
             "type": kind,
-            "coordinates": [_line_coords(c) for c in sorted(curves, key=lambda c: c.part)],
+            "coordinates": [_line_coords(coords, c) for c in sorted(curves, key=lambda c: c.part)],
         }
     if kind == "Polygon":
-        return {"type": kind, "coordinates": _polygon_coords(curves, where, orient)}
+        return {"type": kind, "coordinates": _polygon_coords(coords, curves, where, orient)}
     parts: dict[int, list[Curve]] = {}
     for c in curves:
         parts.setdefault(c.part, []).append(c)
     return {
         "type": kind,
         "coordinates": [
-            _polygon_coords(parts[k], f"{where} part {k}", orient) for k in sorted(parts)
+            _polygon_coords(coords, parts[k], f"{where} part {k}", orient) for k in sorted(parts)
         ],
     }
 
 
-def _features(curves: list[Curve], orient: bool) -> list[dict]:
+def _features(coords: _Coords, curves: list[Curve], orient: bool) -> list[dict]:
     groups: dict[int, list[Curve]] = {}
     for c in curves:
         groups.setdefault(c.feature, []).append(c)
@@ -372,7 +475,7 @@ def _features(curves: list[Curve], orient: bool) -> list[dict]:
                 f"{where}: some curves are members of a GeometryCollection and some are not"
             )
         if None in members:
-            geometry = _geometry(group, where, orient)
+            geometry = _geometry(coords, group, where, orient)
         else:
             by_member: dict[int, list[Curve]] = {}
             for c in group:
@@ -380,7 +483,7 @@ def _features(curves: list[Curve], orient: bool) -> list[dict]:
             geometry = {
                 "type": "GeometryCollection",
                 "geometries": [
-                    _geometry(by_member[m], f"{where} member {m}", orient)
+                    _geometry(coords, by_member[m], f"{where} member {m}", orient)
                     for m in sorted(by_member)
                 ],
             }
@@ -424,16 +527,30 @@ def write_geojson(curves: Iterable[Curve], dest: Source, *, orient: bool = True)
     >>> json.loads(buf.getvalue())["features"][0]["geometry"]["coordinates"][0]
     [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0], [0.0, 0.0]]
     """
+    others = getattr(curves, "others", {}) or {}
+    crs = getattr(curves, "crs", None)
     curves = _check_curves(curves)
-    features = _features(curves, bool(orient))
+    coords = _Coords()
+    features = _features(coords, curves, bool(orient))
+    if others:  # features without curves go back to their places among the others
+        keyed = list(zip(dict.fromkeys(c.feature for c in curves), features, strict=True))
+        keyed += list(others.items())
+        features = [f for _, f in sorted(keyed, key=lambda kf: kf[0])]
     try:
-        body = ",\n".join(
+        texts = [
             json.dumps(f, allow_nan=False, ensure_ascii=False, default=_json_default)
             for f in features
-        )
+        ]
     except (TypeError, ValueError) as exc:
         raise CurveFormatError(f"cannot write the properties as JSON: {exc}") from None
-    _write_text(dest, '{"type": "FeatureCollection", "features": [\n' + body + "\n]}\n")
+    head = '{"type": "FeatureCollection", '
+    if crs is not None:
+        head += f'"crs": {json.dumps(crs, ensure_ascii=False)}, '
+    with open_destination(dest) as out:
+        out.write(head + '"features": [\n')
+        for k, text in enumerate(texts):
+            coords.write(out, text if k == 0 else ",\n" + text)
+        out.write("\n]}\n")
 
 
 FORMAT = register(

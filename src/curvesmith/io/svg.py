@@ -11,7 +11,7 @@ import math
 import re
 from collections.abc import Iterable
 from typing import Any
-from xml.sax.saxutils import escape, quoteattr
+from xml.sax.saxutils import quoteattr
 
 import numpy as np
 
@@ -27,7 +27,8 @@ from ._core import (
     _check_curves,
     _json_default,
     _read_text,
-    _write_text,
+    format_rows,
+    open_destination,
     register,
 )
 
@@ -360,6 +361,8 @@ def _svg_curves(element, subpaths, feature: int, name: str) -> list[Curve]:
             props = dict(meta["properties"])
             fid = meta.get("feature_id")
             index = [tuple(entry) for entry in meta["index"]]
+            if meta.get("flip_y") is True:  # written by write_svg(flip_y=True): y back up
+                subpaths = [(pts * [1.0, -1.0], closed) for pts, closed in subpaths]
         except (ValueError, KeyError, TypeError) as exc:
             raise CurveFormatError(
                 f"{name}: element {element.id or feature}: malformed {_META} attribute: {exc}"
@@ -474,6 +477,7 @@ def write_svg(
     stroke: str = "black",
     stroke_width: float | None = None,
     fill: str | None = None,
+    flip_y: bool = False,
 ) -> None:
     """Write 2D curves as an SVG drawing, one ``<path>`` per feature.
 
@@ -491,6 +495,11 @@ def write_svg(
     fill : str, optional
         Fill paint for features whose curves are all closed (``fill-rule``
         evenodd, so holes stay empty); default: no fill.
+    flip_y : bool, optional
+        Map data (y axis pointing up, north): draw them upright. The paths keep the
+        curves' coordinates inside a ``<g transform="scale(1,-1)">`` and the viewBox is
+        fitted to the flipped drawing, so :func:`read_svg` (which applies transforms)
+        reads the same coordinates back, bit for bit.
 
     Raises
     ------
@@ -526,34 +535,37 @@ def write_svg(
     pad = 0.02 * size
     x0, y0 = lo - pad
     w, h = hi - lo + 2 * pad
+    if flip_y:
+        y0 = -hi[1] - pad  # the viewBox of the flipped drawing
     if stroke_width is None:
         stroke_width = size / 400.0
     stroke_width = as_float(stroke_width, name="stroke_width", low=0.0)
     pixels = 800.0 / max(w, h)
     lines = [
         '<?xml version="1.0" encoding="UTF-8"?>',
-        "<!-- written by curvesmith: SVG user coordinates, y axis pointing down -->",
+        "<!-- written by curvesmith: map coordinates (y up), drawn flipped by the group's "
+        "transform -->"
+        if flip_y
+        else "<!-- written by curvesmith: SVG user coordinates, y axis pointing down -->",
         f'<svg xmlns="http://www.w3.org/2000/svg" version="1.1" width="{w * pixels:.6g}" '
         f'height="{h * pixels:.6g}" viewBox="{_num(x0)} {_num(y0)} {_num(w)} {_num(h)}">',
         f'<g stroke={quoteattr(stroke)} stroke-width="{_num(stroke_width)}" '
-        'stroke-linejoin="round" stroke-linecap="round" fill-rule="evenodd">',
+        'stroke-linejoin="round" stroke-linecap="round" fill-rule="evenodd"'
+        + (' transform="scale(1,-1)">' if flip_y else ">"),
     ]
     groups: dict[int, list[Curve]] = {}
     for c in curves:
         groups.setdefault(c.feature, []).append(c)
+    heads = []
     for group in groups.values():
         first = group[0]
-        d = []
-        for c in group:
-            pts = c.points.tolist()
-            cmd = "M " + _num(pts[0][0]) + "," + _num(pts[0][1]) + " L"
-            cmd += "".join(" " + _num(x) + "," + _num(y) for x, y in pts[1:])
-            d.append(cmd + (" Z" if c.closed else ""))
         meta = {
             "properties": dict(first.properties),
             "feature_id": first.feature_id,
             "index": [[c.member, c.part, c.ring, c.kind] for c in group],
         }
+        if flip_y:
+            meta["flip_y"] = True  # read_svg undoes the drawing's flip: map coordinates back
         try:
             meta_text = json.dumps(meta, allow_nan=False, ensure_ascii=False, default=_json_default)
         except (TypeError, ValueError) as exc:
@@ -565,10 +577,21 @@ def write_svg(
         paint = fill if fill is not None and all(c.closed for c in group) else "none"
         attrs.append(f"fill={quoteattr(paint)}")
         attrs.append(f"{_META}={quoteattr(meta_text)}")
-        attrs.append(f'd="{escape(" ".join(d))}"')
-        lines.append("<path " + " ".join(attrs) + "/>")
-    lines += ["</g>", "</svg>", ""]
-    _write_text(dest, "\n".join(lines))
+        heads.append("<path " + " ".join(attrs) + ' d="')
+    with open_destination(dest) as out:
+        out.write("\n".join(lines) + "\n")
+        for head, group in zip(heads, groups.values(), strict=True):
+            out.write(head)
+            for k, c in enumerate(group):
+                # numbers need no XML escaping; rows streamed chunk by chunk
+                x0, y0 = c.points[0].tolist()
+                out.write(("" if k == 0 else " ") + f"M {x0!r},{y0!r} L")
+                for chunk in format_rows(c.points[1:], " %r,%r"):
+                    out.write(chunk)
+                if c.closed:
+                    out.write(" Z")
+            out.write('"/>\n')
+        out.write("</g>\n</svg>\n")
 
 
 FORMAT = register(Format("svg", "SVG", (".svg",), read_svg, write_svg))
