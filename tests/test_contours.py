@@ -138,6 +138,12 @@ def test_nan_region_and_values_on_levels():
     # no line enters the no-data corner
     assert not shapely.intersects(out.geometry.values, shapely.box(0, 0, 4.9, 4.9)).any()
     assert out.geometry.is_simple.all()
+    bands = geo.contours(z, levels=[40, 55, 70, 85], bands=True, iterations=2, full_output=True)
+    assert bands.smoothing.coverage_valid and bands.smoothing.max_area_change < 1e-12
+    raw = geo.contours(z, levels=[40, 55, 70, 85], bands=True, iterations=0)
+    np.testing.assert_allclose(bands.geometry.area, raw.area, rtol=1e-12)
+    nodata = shapely.box(0, 0, 4.9, 4.9)  # the NaN corner (z[:6, :6])
+    assert not shapely.intersects(bands.geometry.geometry.values, nodata).any()
 
 
 def test_contour_errors():
@@ -168,7 +174,14 @@ def test_jacksboro_bands_areas_exact_no_gaps():
     assert res.smoothing.coverage_valid and res.smoothing.max_area_change < 1e-12
     np.testing.assert_allclose(out.area, raw.area, rtol=1e-12)
     grid_area = (x[-1] - x[0]) * (y[0] - y[-1])
-    assert abs(shapely.union_all(out.geometry.values).area - grid_area) < 1e-9 * grid_area
+    union = shapely.union_all(out.geometry.values)
+    assert abs(union.area - grid_area) < 1e-9 * grid_area
+    # the outline of the grid (its corners included) stays where it is: the rectangle, up to
+    # the 9 um notches where a grid value on a level was nudged (also in the raw bands)
+    np.testing.assert_allclose(union.bounds, (0, 0, x[-1], y[0]), atol=1e-9)
+    outline = shapely.union_all(raw.geometry.values).exterior
+    assert shapely.hausdorff_distance(union.exterior, outline) < 1e-9
+    assert shapely.hausdorff_distance(outline, shapely.box(0, 0, x[-1], y[0]).exterior) < 1e-5
     assert shapely.is_valid(out.geometry.values).all()
     assert (
         shapely.get_num_coordinates(out.geometry.values).sum()
@@ -245,16 +258,37 @@ def test_cli_contours(tmp_path):
     write_asc(tmp_path / "dem.asc", z[:120, :150], cell=90.0)
     out = tmp_path / "lines.gpkg"
     r = CliRunner().invoke(
-        main, ["contours", str(tmp_path / "dem.asc"), "-o", str(out), "--interval", "50"]
+        main,
+        [
+            "contours",
+            str(tmp_path / "dem.asc"),
+            "-o",
+            str(out),
+            "--interval",
+            "50",
+            "--crs",
+            "EPSG:32616",
+        ],
     )
     assert r.exit_code == 0, r.output
     assert "contour lines at" in r.output
     df = gpd.read_file(out)
+    assert df.crs.to_epsg() == 32616
     assert "level" in df and (df["level"] % 50 == 0).all() and level_contacts(df) == 0
     bands = tmp_path / "bands.fgb"
     r = CliRunner().invoke(
         main,
-        ["contours", str(tmp_path / "dem.asc"), "-o", str(bands), "--levels", "400,600", "--bands"],
+        [
+            "contours",
+            str(tmp_path / "dem.asc"),
+            "-o",
+            str(bands),
+            "--levels",
+            "400,600",
+            "--bands",
+            "--crs",
+            "EPSG:32616",
+        ],
     )
     assert r.exit_code == 0, r.output
     b = gpd.read_file(bands)
