@@ -276,6 +276,32 @@ def test_osm_network_no_new_contacts_and_exact_areas():
     assert shapely.covers(out_vertices, topo_nodes)
 
 
+def test_natural_earth_borders_as_lines_shared_borders_identical():
+    """Country outlines (pyogrio's naturalearth_lowres) as lines: shared borders are shared arcs."""
+    path = OSM.parent / "naturalearth_lowres" / "naturalearth_lowres.shp"
+    df = gpd.read_file(path)
+    lines = df.set_geometry(df.boundary)
+    res = geo.smooth_network(lines, iterations=2, full_output=True)
+    before, after = lines.geometry.values, res.geometry.geometry.values
+    assert res.n_lines == 289 and res.n_arcs > 500
+    assert list(res.geometry["name"]) == list(df["name"])
+    assert_no_new_contacts(before, after)
+    assert_areas_exact(before, after)
+    c0, c1 = contacts(before), contacts(after)
+    borders = [k for k, x in c0.items() if shapely.get_dimensions(x) == 1]
+    assert len(borders) > 250
+    for k in borders:
+        # the shared border is one smoothed polyline, identical in both countries
+        assert shapely.get_dimensions(c1[k]) == 1
+        assert shapely.hausdorff_distance(c1[k], c0[k]) < 1.0  # degrees; edges are longer
+    # the faces between the outlines (noded and deduplicated by union_all): as many as before
+    # (no slivers between two versions of a border), with the same total area
+    f0 = shapely.get_parts(shapely.polygonize(shapely.get_parts(shapely.union_all(before))))
+    f1 = shapely.get_parts(shapely.polygonize(shapely.get_parts(shapely.union_all(after))))
+    assert len(f1) == len(f0) > 177
+    assert abs(shapely.area(f1).sum() - shapely.area(f0).sum()) < 1e-9
+
+
 def test_osm_per_line_smoothing_changes_contacts():
     """The peers: smoothing line by line moves junctions and makes roads cross."""
     df = osm_roads()
