@@ -109,6 +109,33 @@ def test_topobathy_negative_levels():
     assert res.smoothing.max_area_change < 1e-9
 
 
+def test_bivariate_normal_npy_sample():
+    """matplotlib's axes_grid/bivariate_normal.npy read as a .npy grid: nested closed rings."""
+    path = cbook.get_sample_data("axes_grid/bivariate_normal.npy", asfileobj=False)
+    g = geo.read_grid(path)
+    assert g.z.shape == (15, 15) and g.crs is None
+    raw = geo.contours(g, levels=[0.2, 0.5, 1.0, 1.5], iterations=0)
+    res = geo.contours(g, levels=[0.2, 0.5, 1.0, 1.5], iterations=3, full_output=True)
+    out = res.geometry
+    assert level_contacts(out) == 0 and len(out) == len(raw)
+    for a, b in zip(raw.geometry.values, out.geometry.values, strict=True):
+        if a.is_closed:
+            da = exact_area(shapely.get_coordinates(b)[:-1]) - exact_area(
+                shapely.get_coordinates(a)[:-1]
+            )
+            assert abs(float(da)) <= 64 * np.finfo(float).eps * 15 * a.length
+    # the rings of different levels stay nested: each smoothed ring contains the higher ones
+    closed = out[out.geometry.is_closed]
+    polys = {
+        lv: shapely.polygons(shapely.linearrings([shapely.get_coordinates(r) for r in rs]))
+        for lv in (0.5, 1.0)
+        for rs in [closed.geometry[closed["level"] == lv].values]
+    }
+    assert len(polys[1.0]) >= 1
+    for inner in polys[1.0]:
+        assert shapely.contains(polys[0.5], inner).sum() == 1
+
+
 @pytest.mark.slow
 @pytest.mark.parametrize("seed", [0, 1])
 def test_steep_terrain_per_line_smoothing_crosses_network_does_not(seed):
@@ -227,7 +254,7 @@ def test_read_grid_formats(tmp_path):
 
 def test_read_geotiff(tmp_path):
     rasterio = pytest.importorskip("rasterio")
-    from rasterio.transform import from_origin
+    from rasterio.transform import Affine
 
     z, _, _ = jacksboro()
     z = z[:60, :80].copy()
@@ -242,7 +269,7 @@ def test_read_geotiff(tmp_path):
         count=1,
         dtype="float32",
         crs="EPSG:32616",
-        transform=from_origin(750000, 4070000, 90, 90),
+        transform=Affine(90.0, 0.0, 750000.0, 0.0, -90.0, 4070000.0),
         nodata=-32768,
     ) as dst:
         dst.write(z.astype("float32"), 1)

@@ -90,6 +90,24 @@ def assert_areas_exact(before, after):
 # --- small exact cases ---------------------------------------------------------------------
 
 
+def test_end_on_a_vertex_free_segment_and_self_crossing():
+    # a's vertices (1, 2) and (5, 2) lie on the interiors of b's segments: inserted into b
+    a = shapely.LineString([(0, 0), (1, 2), (3, 3), (5, 2), (6, 0)])
+    b = shapely.LineString([(0, 3), (2, 1), (4, 1), (6, 3)])
+    res = geo.smooth_network([a, b], iterations=2, full_output=True)
+    assert res.n_inserted == 2
+    assert shapely.equals(shapely.intersection(*res.geometry), shapely.MultiPoint([(1, 2), (5, 2)]))
+    # a figure eight crosses itself twice: both crossings fixed, still the only self-contacts
+    eight = shapely.LineString([(0, 0), (2, 2), (4, 0), (4, 2), (2, 0), (0, 2)])
+    res = geo.smooth_network([eight], iterations=2, full_output=True)
+    assert res.n_inserted == 4 and res.n_arcs == 5
+    out = res.geometry[0]
+    assert_areas_exact([eight], [out])
+    ring = shapely.get_parts(shapely.polygonize([shapely.union_all(out)]))
+    assert len(ring) == 2  # the two lobes, as in the input
+    assert (1.0, 1.0) in list(out.coords) and (3.0, 1.0) in list(out.coords)
+
+
 def test_t_junction_ends_and_junction_fixed():
     main_road = shapely.LineString([(0, 0), (2, 1), (4, 0), (6, 1), (8, 0)])
     side = shapely.LineString([(4, 0), (5, -2), (4, -4)])
@@ -109,11 +127,12 @@ def test_t_junction_ends_and_junction_fixed():
 
 def test_crossing_is_inserted_and_fixed():
     a = shapely.LineString([(0, 0), (1, 2), (3, 3), (5, 2), (6, 0)])
-    b = shapely.LineString([(0, 3), (2, 1), (4, 1), (6, 3)])
+    b = shapely.LineString([(0, 2.5), (2, 0.5), (4, 0.5), (6, 2.5)])
     x0 = shapely.intersection(a, b)
     assert len(shapely.get_parts(x0)) == 2  # they cross twice, never at a vertex
+    assert not set(shapely.get_coordinates(x0).ravel()) & {0.5, 1.0, 2.0, 5.0, 6.0}
     res = geo.smooth_network([a, b], iterations=2, full_output=True)
-    assert res.n_inserted == 2
+    assert res.n_inserted == 4  # each crossing becomes a vertex of both lines
     assert res.n_nodes == 4 + 2
     assert_no_new_contacts([a, b], res.geometry, tol=1e-12)
     assert_areas_exact([a, b], res.geometry)
