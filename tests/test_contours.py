@@ -325,5 +325,7 @@ def test_cli_contours(tmp_path):
         ["contours", str(tmp_path / "dem.asc"), "-o", str(out), "--levels", "1", "--interval", "2"],
     )
     assert r.exit_code == 2
+    r = CliRunner().invoke(main, ["contours", str(tmp_path / "dem.asc"), "-o", "lines.xyz"])
+    assert r.exit_code == 1 and "cannot tell the format of 'lines.xyz'" in r.output
     r = CliRunner().invoke(main, ["contours", str(tmp_path / "nope.asc"), "-o", str(out)])
     assert r.exit_code == 1 and r.output.startswith("Error: no such file")
