@@ -402,3 +402,21 @@ def test_property_no_new_contacts_areas_exact_nodes_fixed(lines, iterations):
     # ends fixed bit for bit
     for a, b in zip(lines, out, strict=True):
         assert a.coords[0] == b.coords[0] and a.coords[-1] == b.coords[-1]
+
+
+@pytest.mark.slow
+def test_demo_network_section(tmp_path):
+    from curvesmith import demo
+
+    summary = demo.run_demo(tmp_path, sections=["network"])
+    (section,) = summary["sections"]
+    files = {f["file"] for f in section["figures"]}
+    assert files == {"network_roads.png", "network_contours.png", "network_steep.png"}
+    assert all((tmp_path / f).stat().st_size > 10_000 for f in files)
+    num = {k: v["value"] for k, v in section["numbers"].items()}
+    assert num["network_roads"] == 36 and num["network_reductions"] == 0
+    assert num["contours_level_contacts_network"] == 0
+    assert num["steep_crossing_points_cca_network"] == 0
+    assert num["steep_crossing_points_cca_line_by_line"] > 0
+    assert num["steep_crossing_points_chaikin_line_by_line"] > 0
+    assert "| cca network (smooth_network) | 0 |" in (tmp_path / "summary.md").read_text()
