@@ -80,8 +80,8 @@ def test_jacksboro_lines_levels_never_touch_areas_exact():
     # smoothed: many more vertices; the lines stay within a cell of the raw ones
     n0 = shapely.get_num_coordinates(raw.geometry.values).sum()
     assert shapely.get_num_coordinates(out.geometry.values).sum() > 4 * n0
-    d = shapely.hausdorff_distance(out.geometry.values, raw.geometry.values)
-    assert d.max() < 92.6
+    near = shapely.buffer(raw.geometry.values, 92.6, quad_segs=2)
+    assert shapely.covered_by(out.geometry.values, near).all()
 
 
 def test_jacksboro_geographic_coordinates_and_default_levels():
