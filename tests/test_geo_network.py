@@ -90,6 +90,24 @@ def assert_areas_exact(before, after):
 # --- small exact cases ---------------------------------------------------------------------
 
 
+def test_end_on_a_vertex_free_segment_and_self_crossing():
+    # a's vertices (1, 2) and (5, 2) lie on the interiors of b's segments: inserted into b
+    a = shapely.LineString([(0, 0), (1, 2), (3, 3), (5, 2), (6, 0)])
+    b = shapely.LineString([(0, 3), (2, 1), (4, 1), (6, 3)])
+    res = geo.smooth_network([a, b], iterations=2, full_output=True)
+    assert res.n_inserted == 2
+    assert shapely.equals(shapely.intersection(*res.geometry), shapely.MultiPoint([(1, 2), (5, 2)]))
+    # a figure eight crosses itself twice: both crossings fixed, still the only self-contacts
+    eight = shapely.LineString([(0, 0), (2, 2), (4, 0), (4, 2), (2, 0), (0, 2)])
+    res = geo.smooth_network([eight], iterations=2, full_output=True)
+    assert res.n_inserted == 4 and res.n_arcs == 5
+    out = res.geometry[0]
+    assert_areas_exact([eight], [out])
+    ring = shapely.get_parts(shapely.polygonize([shapely.union_all(out)]))
+    assert len(ring) == 2  # the two lobes, as in the input
+    assert (1.0, 1.0) in list(out.coords) and (3.0, 1.0) in list(out.coords)
+
+
 def test_t_junction_ends_and_junction_fixed():
     main_road = shapely.LineString([(0, 0), (2, 1), (4, 0), (6, 1), (8, 0)])
     side = shapely.LineString([(4, 0), (5, -2), (4, -4)])
@@ -109,11 +127,12 @@ def test_t_junction_ends_and_junction_fixed():
 
 def test_crossing_is_inserted_and_fixed():
     a = shapely.LineString([(0, 0), (1, 2), (3, 3), (5, 2), (6, 0)])
-    b = shapely.LineString([(0, 3), (2, 1), (4, 1), (6, 3)])
+    b = shapely.LineString([(0, 2.5), (2, 0.5), (4, 0.5), (6, 2.5)])
     x0 = shapely.intersection(a, b)
     assert len(shapely.get_parts(x0)) == 2  # they cross twice, never at a vertex
+    assert not set(shapely.get_coordinates(x0).ravel()) & {0.5, 1.0, 2.0, 5.0, 6.0}
     res = geo.smooth_network([a, b], iterations=2, full_output=True)
-    assert res.n_inserted == 2
+    assert res.n_inserted == 4  # each crossing becomes a vertex of both lines
     assert res.n_nodes == 4 + 2
     assert_no_new_contacts([a, b], res.geometry, tol=1e-12)
     assert_areas_exact([a, b], res.geometry)
@@ -276,6 +295,32 @@ def test_osm_network_no_new_contacts_and_exact_areas():
     assert shapely.covers(out_vertices, topo_nodes)
 
 
+def test_natural_earth_borders_as_lines_shared_borders_identical():
+    """Country outlines (pyogrio's naturalearth_lowres) as lines: shared borders are shared arcs."""
+    path = OSM.parent / "naturalearth_lowres" / "naturalearth_lowres.shp"
+    df = gpd.read_file(path)
+    lines = df.set_geometry(df.boundary)
+    res = geo.smooth_network(lines, iterations=2, full_output=True)
+    before, after = lines.geometry.values, res.geometry.geometry.values
+    assert res.n_lines == 289 and res.n_arcs > 500
+    assert list(res.geometry["name"]) == list(df["name"])
+    assert_no_new_contacts(before, after)
+    assert_areas_exact(before, after)
+    c0, c1 = contacts(before), contacts(after)
+    borders = [k for k, x in c0.items() if shapely.get_dimensions(x) == 1]
+    assert len(borders) > 250
+    for k in borders:
+        # the shared border is one smoothed polyline, identical in both countries
+        assert shapely.get_dimensions(c1[k]) == 1
+        assert shapely.hausdorff_distance(c1[k], c0[k]) < 1.0  # degrees; edges are longer
+    # the faces between the outlines (noded and deduplicated by union_all): as many as before
+    # (no slivers between two versions of a border), with the same total area
+    f0 = shapely.get_parts(shapely.polygonize(shapely.get_parts(shapely.union_all(before))))
+    f1 = shapely.get_parts(shapely.polygonize(shapely.get_parts(shapely.union_all(after))))
+    assert len(f1) == len(f0) > 177
+    assert abs(shapely.area(f1).sum() - shapely.area(f0).sum()) < 1e-9
+
+
 def test_osm_per_line_smoothing_changes_contacts():
     """The peers: smoothing line by line moves junctions and makes roads cross."""
     df = osm_roads()
@@ -315,13 +360,13 @@ def test_cli_smooth_network(tmp_path):
 def networks(draw):
     """Random walks on a jittered lattice in map units, some ending on other lines."""
     seed = draw(st.integers(0, 2**32 - 1))
-    n_lines = draw(st.integers(2, 6))
+    n_lines = draw(st.integers(2, 8))
     rng = np.random.default_rng(seed)
     scale = draw(st.sampled_from([1.0, 37.5, 1e4]))
     origin = draw(st.sampled_from([(0.0, 0.0), (4.5e5, 1.2e6)]))
     lines = []
     for _ in range(n_lines):
-        k = int(rng.integers(3, 12))
+        k = int(rng.integers(3, 30))
         steps = rng.normal(size=(k, 2))
         xy = np.cumsum(steps, axis=0) + rng.uniform(-3, 3, size=2)
         lines.append(xy)
@@ -329,10 +374,14 @@ def networks(draw):
     if draw(st.booleans()):
         other = lines[0]
         lines.append(np.vstack([other[len(other) // 2], other[len(other) // 2] + (2.0, -1.5)]))
+    # a line running along a stretch of another one, backwards (a shared piece)
+    if draw(st.booleans()) and len(lines[1]) >= 4:
+        run = lines[1][1:4][::-1]
+        lines.append(np.vstack([run[0] + (1.0, 1.0), run, run[-1] + (-1.0, 0.5)]))
     return [shapely.LineString(xy * scale + origin) for xy in lines]
 
 
-@settings(max_examples=25, deadline=None)
+@settings(deadline=None)
 @given(networks(), st.integers(1, 2))
 def test_property_no_new_contacts_areas_exact_nodes_fixed(lines, iterations):
     lines = np.array(lines, dtype=object)
@@ -344,6 +393,30 @@ def test_property_no_new_contacts_areas_exact_nodes_fixed(lines, iterations):
     assert_areas_exact(lines, out)
     # lines that did not cross themselves still do not
     assert (shapely.is_simple(out) | ~simple).all()
+    # lines sharing a stretch still share it (the same smoothed piece in both)
+    for (a, b), x0 in contacts(lines).items():
+        if shapely.get_dimensions(x0) == 1:
+            x1 = shapely.intersection(out[a], out[b])
+            assert shapely.get_dimensions(x1) == 1
+            assert abs(shapely.length(x1) - shapely.length(x0)) <= 0.5 * shapely.length(x0)
     # ends fixed bit for bit
     for a, b in zip(lines, out, strict=True):
         assert a.coords[0] == b.coords[0] and a.coords[-1] == b.coords[-1]
+
+
+@pytest.mark.slow
+def test_demo_network_section(tmp_path):
+    from curvesmith import demo
+
+    summary = demo.run_demo(tmp_path, sections=["network"])
+    (section,) = summary["sections"]
+    files = {f["file"] for f in section["figures"]}
+    assert files == {"network_roads.png", "network_contours.png", "network_steep.png"}
+    assert all((tmp_path / f).stat().st_size > 10_000 for f in files)
+    num = {k: v["value"] for k, v in section["numbers"].items()}
+    assert num["network_roads"] == 36 and num["network_reductions"] == 0
+    assert num["contours_level_contacts_network"] == 0
+    assert num["steep_crossing_points_cca_network"] == 0
+    assert num["steep_crossing_points_cca_line_by_line"] > 0
+    assert num["steep_crossing_points_chaikin_line_by_line"] > 0
+    assert "| cca network (smooth_network) | 0 |" in (tmp_path / "summary.md").read_text()

@@ -8,6 +8,7 @@
 from __future__ import annotations
 
 import warnings
+from pathlib import Path
 from typing import Any
 
 import click
@@ -15,6 +16,40 @@ import click
 from ..errors import CurveError
 
 __all__ = ["contours_command", "smooth_network_geofile"]
+
+
+def _check_output(path: str) -> None:
+    """Fail before any work when the output format cannot be told from the suffix."""
+    from .. import geo
+
+    if Path(path).suffix.lower() not in geo.DRIVERS:
+        raise CurveError(
+            f"cannot tell the format of {path!r} from its suffix; use one of "
+            f"{', '.join(sorted(geo.DRIVERS))}"
+        )
+
+
+def _write(df, path: str) -> None:
+    """Write a GIS file atomically: a temporary file beside it, renamed once complete.
+
+    A Shapefile is several files, and an existing GeoPackage may hold other layers to keep:
+    those are written in place.
+    """
+    import os
+
+    from .. import geo
+
+    target = Path(path)
+    suffix = target.suffix.lower()
+    if suffix == ".shp" or (suffix == ".gpkg" and target.exists()):
+        geo.write_file(df, target)
+        return
+    tmp = target.with_name(f".{target.stem}.{os.getpid()}.tmp{target.suffix}")
+    try:
+        geo.write_file(df, tmp, layer=target.stem)  # the layer named as without the rename
+        os.replace(tmp, target)
+    finally:
+        tmp.unlink(missing_ok=True)
 
 
 def _alpha(text: Any) -> Any:
@@ -61,6 +96,7 @@ def smooth_network_geofile(
 
     if method not in ("cca", "chaikin"):
         raise CurveError(f"--method {method} is not available for networks; use cca or chaikin")
+    _check_output(out_path)
     df = geo.read_file(in_path, layer=int(layer) if layer and layer.isdigit() else layer)
     crs = df.crs
     if equal_area and crs is None:
@@ -76,7 +112,7 @@ def smooth_network_geofile(
         work, method=method, iterations=iterations, alpha=_alpha(alpha), full_output=True
     )
     out = res.geometry.to_crs(crs) if equal_area else res.geometry
-    geo.write_file(out, out_path)
+    _write(out, out_path)
     parts = [
         f"{len(out)} features, {res.n_lines} lines smoothed as one network "
         f"({res.n_arcs} arcs between {res.n_nodes} fixed nodes)"
@@ -144,6 +180,7 @@ def contours_command(
 
     if interval is not None and levels is not None:
         raise click.UsageError("give --interval or --levels, not both")
+    _check_output(dest)
     g = geo.read_grid(grid, band=raster_band)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", geo.GeographicCRSWarning)
@@ -158,7 +195,7 @@ def contours_command(
             crs=g.crs if g.crs is not None else crs,
             full_output=True,
         )
-    geo.write_file(res.geometry, dest)
+    _write(res.geometry, dest)
     what = "bands" if bands else "contour lines"
     red = len(res.smoothing.reductions)
     click.echo(

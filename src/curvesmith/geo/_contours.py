@@ -14,6 +14,7 @@ grids (``.asc``) by :func:`read_grid`.
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -212,6 +213,49 @@ def _axis(v, n: int, name: str) -> np.ndarray:
     return a
 
 
+def _frame(polys: np.ndarray, xs: np.ndarray, ys: np.ndarray, *, pad: float) -> np.ndarray:
+    """Four trapezoids around the grid's rectangle, edge-matched with the bands along it.
+
+    Added to the band coverage while it is smoothed, they make the rectangle's corners
+    nodes of the coverage, so that the straight sides between nodes stay straight and the
+    corners stay where they are; they are dropped afterwards.
+    """
+    shapely = require("shapely", "geo", "contours")
+    x0, x1 = float(min(xs[0], xs[-1])), float(max(xs[0], xs[-1]))
+    y0, y1 = float(min(ys[0], ys[-1])), float(max(ys[0], ys[-1]))
+    c = np.unique(shapely.get_coordinates(polys), axis=0)
+    tol = 1e-9 * pad  # contourpy's boundary points are on the sides up to round-off
+
+    def side(axis: int, value: float, lo: float, hi: float) -> np.ndarray:
+        # the bands' own vertices on this side, exactly as they are, sorted along it
+        pts = c[np.abs(c[:, 1 - axis] - value) <= tol]
+        corners = np.zeros((2, 2))
+        corners[:, axis] = lo, hi
+        corners[:, 1 - axis] = value
+        for q in corners:
+            if not len(pts) or np.abs(pts - q).max(axis=1).min() > tol:
+                pts = np.vstack([pts, q])
+        return pts[np.argsort(pts[:, axis], kind="stable")]
+
+    bottom = side(0, y0, x0, x1)
+    top = side(0, y1, x0, x1)[::-1]
+    left = side(1, x0, y0, y1)[::-1]
+    right = side(1, x1, y0, y1)
+    # consecutive sides share their corner vertex exactly
+    right[0], top[0], left[0] = bottom[-1], right[-1], top[-1]
+    a, b = (x0 - pad, y0 - pad), (x1 + pad, y0 - pad)
+    d, e = (x1 + pad, y1 + pad), (x0 - pad, y1 + pad)
+    return np.array(
+        [
+            shapely.Polygon(np.vstack([bottom, [b, a]])),
+            shapely.Polygon(np.vstack([right, [d, b]])),
+            shapely.Polygon(np.vstack([top, [e, d]])),
+            shapely.Polygon(np.vstack([left[:-1], bottom[:1], [a, e]])),
+        ],
+        dtype=object,
+    )
+
+
 def contour_levels(z: np.ndarray, *, levels: Any = None, interval: float | None = None):
     """The levels strictly between the grid's minimum and maximum.
 
@@ -302,7 +346,9 @@ def contours(
     lines narrower than a thousandth of a cell (the trace of a lone grid point exactly on a
     level) are dropped. Band polygons are computed by contourpy with the shared borders
     rounded independently (they differ by round-off), so they are first snapped together by
-    :func:`shapely.coverage_clean` with a distance of ``1e-6`` of a cell.
+    :func:`shapely.coverage_clean` with a distance of ``1e-6`` of a cell. While the bands are
+    smoothed, four frame polygons around the grid's rectangle make its corners nodes of the
+    coverage, so that the outline of the grid stays exactly where it is.
 
     Examples
     --------
@@ -378,15 +424,26 @@ def contours(
             polys.append(parts[0] if len(parts) == 1 else shapely.MultiPolygon(parts))
             lower.append(zmin if k == 0 else float(edges[k]))
             upper.append(float(edges[k + 1]))
-        df = gpd.GeoDataFrame({"lower": lower, "upper": upper}, geometry=polys, crs=crs)
-        res = smooth_coverage(
-            df,
-            method=method,
-            iterations=iterations,
-            alpha=alpha,
-            snap=1e-6 * cell,
-            make_valid=True,
-            full_output=True,
+        g = shapely.remove_repeated_points(
+            shapely.coverage_clean(np.array(polys, dtype=object), snapping_distance=1e-6 * cell),
+            0.0,
+        )
+        g = np.concatenate([g, _frame(g, xs, ys, pad=cell)])
+        full = smooth_coverage(
+            g, method=method, iterations=iterations, alpha=alpha, make_valid=True, full_output=True
+        )
+        nb = len(polys)
+        df = gpd.GeoDataFrame(
+            {"lower": lower, "upper": upper}, geometry=full.geometry[:nb], crs=crs
+        )
+        res = dataclasses.replace(
+            full,
+            geometry=df,
+            reductions=tuple(
+                dataclasses.replace(r, polygons=tuple(p for p in r.polygons if p < nb))
+                for r in full.reductions
+            ),
+            invalid_edges={k: v for k, v in full.invalid_edges.items() if k < nb},
         )
     if full_output:
         return ContourResult(res.geometry, lv, res)
