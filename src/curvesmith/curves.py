@@ -478,6 +478,7 @@ class _Piece:
         self.kind = kind  # "open", "ring" (closed, convex or with inflections)
         self.area = _ring_area(self.points) if kind == "ring" else _open_area(self.points)
         self.samples: np.ndarray | None = None
+        self.convex = False  # set by the first construction of a closed convex curve
         from .affine.approximation import replacement_curve
 
         rc = replacement_curve(self.points, closed=kind == "ring")
@@ -510,6 +511,10 @@ class _Piece:
         base = self.dense(vertices)
         closed = self.kind == "ring"
         out = self._build_on(base, vertices)
+        if self.convex:
+            # a closed convex curve: the scaling to the exact area already centres the spline
+            # on the curve (ellipse 30 x 20, 9 segments: 0.031 with or without the rounds)
+            return out
         p = base
         for _ in range(_OFFSET_ROUNDS):
             p = p + _normal_residual(out[0], base, closed)
@@ -530,12 +535,13 @@ class _Piece:
             x[0], x[-1] = self.points[0], self.points[-1]  # within 1e-10 edges already
             # a join vertex x_j carries the cross area A_j: joints j - 2 and j - 1 (clamped)
             joints = [j + d for j in res.joins.tolist() for d in (-2, -1)]
-            seg = _correct_open(_clamped_segments(x), x, _open_area(self.points))
+            seg = _correct_open(_clamped_segments(x), x, self.area)
             return seg[0], seg[1], joints
         rc = replacement_curve(p, closed=True)
         infl = rc.inflections()
         signs = np.sign(rc.lengths[rc.lengths != 0])
         if infl.size == 0 and (signs.size == 0 or np.all(signs == signs[0])):
+            self.convex = True
             res = approximate(p, vertices=vertices, closed=True)
             if not res.success:
                 raise CurveError(res.message)
@@ -644,6 +650,7 @@ def fit(
     degree: int = 2,
     anchors: Sequence[int] | None = None,
     max_segments: int = 4000,
+    area: float | None = None,
 ) -> CurveFit:
     """Fewest Bézier segments of a G2 quadratic B-spline within `tolerance` of a curve.
 
@@ -669,6 +676,10 @@ def fit(
         its end points.
     max_segments : int, optional
         Upper limit of the search per piece.
+    area : float, optional
+        Closed curves: the area to keep, when the polyline samples a curve whose
+        exact area is known (a glyph outline: the polygon of its samples has
+        slightly less); default the polyline's own signed area.
 
     Returns
     -------
@@ -723,6 +734,20 @@ def fit(
                     "(or resample the curve densely first)"
                 )
             pieces.append(_Piece(part, "open"))
+    if area is not None:
+        area = as_float(area, name="area")
+        if not closed:
+            raise CurveError("area applies to closed curves only")
+        poly = _ring_area(p)
+        if area * poly <= 0:
+            raise CurveError(f"area must have the sign of the curve's area {poly:.6g}, got {area}")
+        if len(pieces) == 1 and pieces[0].kind == "ring":
+            pieces[0].area = area
+        else:  # distribute the difference over the pieces' areas against their chords
+            total = sum(abs(pc.area) for pc in pieces)
+            if total > 0:
+                for pc in pieces:
+                    pc.area += (area - poly) * abs(pc.area) / total
     segs, controls, fails = [], [], []
     corners, flagged = [], []
     start = 0
@@ -747,6 +772,8 @@ def fit(
         start += len(seg)
     segments = np.concatenate(segs)
     target = _ring_area(p) if closed else _open_area(p)
+    if area is not None:
+        target = area
     area = bezier_area(segments, closed=closed)
     deviation = bezier_deviation(segments, p, closed=closed)
     left, right = joint_curvatures(segments, closed=closed)
