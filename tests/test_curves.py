@@ -283,3 +283,14 @@ def test_demo_section_records_the_comb_numbers(tmp_path):
     assert numbers["deviation"]["value"] <= numbers["tolerance"]["value"]
     assert numbers["g2_after"]["value"] < 1e-8 < 0.01 < numbers["g2_before"]["value"]
     assert (tmp_path / "curves_comb.png").exists()
+
+
+def test_open_curve_with_straight_runs_keeps_its_chord_area():
+    # a cca-smoothed zigzag: straight runs become lines, their area goes to the curves
+    zig = np.array([[10, 190], [50, 160], [90, 190], [130, 160], [170, 190]], float)
+    smooth = cca.smooth(zig, closed=False, iterations=4)
+    f = curves.fit(smooth, closed=False, tolerance=0.2)
+    assert f.success and f.deviation <= 0.2
+    assert abs(f.area / f.target_area - 1) < 1e-12
+    np.testing.assert_array_equal(f.segments[0, 0], zig[0])
+    np.testing.assert_array_equal(f.segments[-1, -1], zig[-1])

@@ -828,7 +828,7 @@ def fit(
         pc.kind == "line" or (pc.kind == "open" and _chord_distance(pc.points) <= 0.5 * tolerance)
         for pc in pieces
     ]
-    if any(straight) and closed and len(pieces) > 1:
+    if any(straight) and len(pieces) > 1:
         deficit = sum(pc.area for pc, st in zip(pieces, straight, strict=True) if st)
         curved = [pc for pc, st in zip(pieces, straight, strict=True) if not st]
         if not curved and deficit != 0.0:
