@@ -85,6 +85,7 @@ _MU = 0.5 - 1.0 / math.sqrt(2.0)  # end segment control point: x_1 + _MU * v_1
 _SAMPLES_PER_VERTEX = 24
 _MAX_SAMPLES = 60_000
 _OFFSET_ROUNDS = 2
+_LINE_FACTOR = 8.0
 
 
 @dataclass(frozen=True)
@@ -478,6 +479,10 @@ class _Piece:
         self.kind = kind  # "open", "ring" (closed, convex or with inflections)
         self.area = _ring_area(self.points) if kind == "ring" else _open_area(self.points)
         self.samples: np.ndarray | None = None
+        self.convex = False  # set by the first construction of a closed convex curve
+        if kind == "line":
+            self.min_vertices = 2
+            return
         from .affine.approximation import replacement_curve
 
         rc = replacement_curve(self.points, closed=kind == "ring")
@@ -510,6 +515,10 @@ class _Piece:
         base = self.dense(vertices)
         closed = self.kind == "ring"
         out = self._build_on(base, vertices)
+        if self.convex:
+            # a closed convex curve: the scaling to the exact area already centres the spline
+            # on the curve (ellipse 30 x 20, 9 segments: 0.031 with or without the rounds)
+            return out
         p = base
         for _ in range(_OFFSET_ROUNDS):
             p = p + _normal_residual(out[0], base, closed)
@@ -530,12 +539,13 @@ class _Piece:
             x[0], x[-1] = self.points[0], self.points[-1]  # within 1e-10 edges already
             # a join vertex x_j carries the cross area A_j: joints j - 2 and j - 1 (clamped)
             joints = [j + d for j in res.joins.tolist() for d in (-2, -1)]
-            seg = _correct_open(_clamped_segments(x), x, _open_area(self.points))
+            seg = _correct_open(_clamped_segments(x), x, self.area)
             return seg[0], seg[1], joints
         rc = replacement_curve(p, closed=True)
         infl = rc.inflections()
         signs = np.sign(rc.lengths[rc.lengths != 0])
         if infl.size == 0 and (signs.size == 0 or np.all(signs == signs[0])):
+            self.convex = True
             res = approximate(p, vertices=vertices, closed=True)
             if not res.success:
                 raise CurveError(res.message)
@@ -586,6 +596,19 @@ def _search(piece: _Piece, tol: float, max_vertices: int):
     lo = max(lo, piece.min_vertices - 1)
     while True:
         dev = trial(nv)
+        # a count whose construction fails (the line misses the curve next to an inflection,
+        # the polygon does not close) says nothing about the deviation: try the next ones
+        for extra in range(1, 4):
+            if (
+                math.isfinite(dev)
+                or nv + extra > max_vertices
+                or (hi is not None and nv + extra >= hi)
+            ):
+                break
+            if trial(nv + extra) < math.inf:
+                nv += extra
+                dev = trial(nv)
+                break
         if dev <= tol:
             hi = nv
         else:
@@ -612,6 +635,49 @@ def _search(piece: _Piece, tol: float, max_vertices: int):
 
 
 # ------------------------------------------------------------------------------- fit
+
+
+def _straight_runs(p: np.ndarray, closed: bool, tol: float) -> list[int]:
+    """End vertices of the straight runs of a polyline (to become line pieces).
+
+    A run is a maximal stretch of vertices turning by less than ``1e-3`` rad each,
+    at least 8 median edges long, whose vertices stay within ``tol / 4`` of its
+    chord; an edge longer than 8 median edges is a run by itself.
+    """
+    n = len(p)
+    ring = np.vstack([p, p[:1]]) if closed else p
+    e = np.hypot(*np.diff(ring, axis=0).T)
+    med = float(np.median(e))
+    out: set[int] = set()
+    for i in np.flatnonzero(e > _LINE_FACTOR * med):
+        out |= {int(i), int(i + 1) % n}
+    v = np.diff(np.vstack([p[-1:], p, p[:1]]) if closed else p, axis=0)
+    turn = np.abs(
+        np.arctan2(v[:-1, 0] * v[1:, 1] - v[:-1, 1] * v[1:, 0], np.sum(v[:-1] * v[1:], 1))
+    )
+    flat = np.zeros(n, dtype=bool)
+    if closed:
+        flat = turn < 1e-3
+    else:
+        flat[1:-1] = turn < 1e-3
+    if flat.all():
+        return sorted(out)
+    # maximal runs of flat vertices (cyclic for a ring): start after a non-flat vertex
+    start = int(np.flatnonzero(~flat)[0]) if closed else 0
+    order = [(start + k) % n for k in range(n)] if closed else list(range(n))
+    run: list[int] = []
+    for k in [*order, order[0]] if closed else order:
+        if flat[k]:
+            run.append(k)
+            continue
+        if run:
+            a, b = (run[0] - 1) % n, (run[-1] + 1) % n  # the bent vertices around the run
+            seq = [(a + j) % n for j in range((b - a) % n + 1)]
+            length = float(np.sum(e[seq[:-1]]))
+            if length >= _LINE_FACTOR * med and _chord_distance(p[seq]) <= 0.25 * tol:
+                out |= {a, b}
+        run = []
+    return sorted(out)
 
 
 def _chord_distance(points: np.ndarray) -> float:
@@ -644,6 +710,8 @@ def fit(
     degree: int = 2,
     anchors: Sequence[int] | None = None,
     max_segments: int = 4000,
+    area: float | None = None,
+    lines: bool = True,
 ) -> CurveFit:
     """Fewest Bézier segments of a G2 quadratic B-spline within `tolerance` of a curve.
 
@@ -669,6 +737,15 @@ def fit(
         its end points.
     max_segments : int, optional
         Upper limit of the search per piece.
+    lines : bool, optional
+        Edges longer than 8 times the median edge are straight lines between two
+        corners (a sparse polygon's sides: an affine arc length polyline cannot
+        follow a straight line). Their joints with the curves are G1 at best
+        (quadratics have no zero curvature) and count as corners.
+    area : float, optional
+        Closed curves: the area to keep, when the polyline samples a curve whose
+        exact area is known (a glyph outline: the polygon of its samples has
+        slightly less); default the polyline's own signed area.
 
     Returns
     -------
@@ -706,6 +783,11 @@ def fit(
         if bad:
             raise CurveError(f"anchors must be vertex indices in [0, {n}), got {bad[0]}")
         idx = sorted({a % n for a in idx})
+    if lines:
+        # long straight edges (a sparse polygon's sides, a cca-smoothed polygon keeps their
+        # middles) have no affine arc length: the construction cannot cross them, so they
+        # become line pieces between two corners
+        idx = sorted(set(idx) | set(_straight_runs(p, closed, tolerance)))
     if not closed:
         idx = sorted(set(idx) | {0, n - 1})
     # the pieces, each fitted on coordinates relative to its first point
@@ -718,28 +800,72 @@ def fit(
         for a, b in itertools.pairwise(cuts):
             part = ext[a : b + 1]
             if len(part) < 4:
-                raise CurveError(
-                    f"anchors {a % n} and {b % n} must be at least 3 vertices apart "
-                    "(or resample the curve densely first)"
-                )
+                if _chord_distance(part) > 0.5 * tolerance:
+                    raise CurveError(
+                        f"anchors {a % n} and {b % n} must be at least 3 vertices apart "
+                        "(or resample the curve densely first)"
+                    )
+                pieces.append(_Piece(part, "line"))
+                continue
             pieces.append(_Piece(part, "open"))
+    if area is not None:
+        area = as_float(area, name="area")
+        if not closed:
+            raise CurveError("area applies to closed curves only")
+        poly = _ring_area(p)
+        if area * poly <= 0:
+            raise CurveError(f"area must have the sign of the curve's area {poly:.6g}, got {area}")
+        if len(pieces) == 1 and pieces[0].kind == "ring":
+            pieces[0].area = area
+        else:  # distribute the difference over the pieces' areas against their chords
+            total = sum(abs(pc.area) for pc in pieces)
+            if total > 0:
+                for pc in pieces:
+                    pc.area += (area - poly) * abs(pc.area) / total
+    # straight pieces (within half the tolerance of their chord) become lines, which have no
+    # area against their chord: their pieces' areas are given to the curved pieces instead
+    straight = [
+        pc.kind == "line" or (pc.kind == "open" and _chord_distance(pc.points) <= 0.5 * tolerance)
+        for pc in pieces
+    ]
+    if any(straight) and len(pieces) > 1:
+        deficit = sum(pc.area for pc, st in zip(pieces, straight, strict=True) if st)
+        curved = [pc for pc, st in zip(pieces, straight, strict=True) if not st]
+        if not curved and deficit != 0.0:
+            big = max(
+                (i for i, pc in enumerate(pieces) if pc.kind == "open"),
+                key=lambda i: abs(pieces[i].area),
+                default=None,
+            )
+            if big is not None:
+                straight[big] = False
+                curved = [pieces[big]]
+                deficit -= pieces[big].area
+        total = sum(abs(pc.area) for pc in curved)
+        for pc in curved:
+            pc.area += deficit * (abs(pc.area) / total if total > 0 else 1.0 / len(curved))
     segs, controls, fails = [], [], []
     corners, flagged = [], []
     start = 0
     for k, piece in enumerate(pieces):
         max_v = max_segments + (1 if piece.kind == "open" else 0)
-        if piece.kind == "open" and _chord_distance(piece.points) <= 0.5 * tolerance:
+        if straight[k]:
             # a straight piece (no affine arc length): one straight quadratic segment
             a, b = piece.points[0], piece.points[-1]
             seg = np.array([[a, 0.5 * (a + b), b]])
             dev, x, joints, err, ok = _chord_distance(piece.points), seg[0], [], None, True
         else:
             (dev, seg, x, joints, err), ok = _search(piece, tolerance, max_v)
+            if seg is None and piece.kind == "open" and _chord_distance(piece.points) <= tolerance:
+                # nearly straight (no usable affine arc length) but within the tolerance
+                a, b = piece.points[0], piece.points[-1]
+                seg = np.array([[a, 0.5 * (a + b), b]])
+                dev, x, joints, ok = _chord_distance(piece.points), seg[0], [], True
         if seg is None:
             raise CurveError(f"piece {k} of the curve: {err}")
         if not ok:
             fails.append(f"piece {k}: best deviation {dev:.3g} > tolerance {tolerance:.3g}")
-        if piece.kind == "open":
+        if piece.kind in ("open", "line"):
             corners.append(start)
         flagged += [start + j for j in joints]
         segs.append(seg + piece.origin)
@@ -747,11 +873,14 @@ def fit(
         start += len(seg)
     segments = np.concatenate(segs)
     target = _ring_area(p) if closed else _open_area(p)
+    if area is not None:
+        target = area
     area = bezier_area(segments, closed=closed)
     deviation = bezier_deviation(segments, p, closed=closed)
     left, right = joint_curvatures(segments, closed=closed)
     with np.errstate(divide="ignore", invalid="ignore"):
-        jump = np.abs(left - right) / np.maximum(np.abs(left), np.abs(right))
+        big = np.maximum(np.abs(left), np.abs(right))
+        jump = np.where(big > 0, np.abs(left - right) / np.where(big > 0, big, 1.0), 0.0)
     joint_corner = np.zeros(left.size, dtype=bool)
     for c in corners:  # joint j ends segment j: a corner at segment c is joint c - 1
         j = c - 1

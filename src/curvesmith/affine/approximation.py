@@ -886,6 +886,7 @@ def _approximate_open(
     msg = []
     t1_first = math.nan
     gap_last = 0.0
+    extrapolated: list[int] = []
     for pi in range(len(bounds) - 1):
         m = int(edges[pi])
         t_end = float(bounds[pi + 1])
@@ -907,9 +908,19 @@ def _approximate_open(
             tol_steps, refits = (_END_TOL, 60) if match_end else (math.inf, 0)
         else:
             tol_steps, refits = 0.25, 8
+        area0 = area
         area, t1, xs, ys, ts, done, gap = _fit_piece(
             piece, area, search, xtol, iterations, t_end, tol_steps, refits
         )
+        if done < m and not piece.extrapolate:
+            # no A puts x_m on the curve before the inflection: fall back to the paper's
+            # construction, x_m on the extrapolated last arc (the next piece then starts at
+            # f~(t_m), a slightly different point, and the join is not exactly equal-area)
+            piece.extrapolate = True
+            area, t1, xs, ys, ts, done, gap = _fit_piece(
+                piece, area0, search, xtol, iterations, t_end, tol_steps, refits
+            )
+            extrapolated.append(pi)
         evaluations += piece.evaluations
         if pi == 0:
             t1_first = t1
@@ -937,6 +948,11 @@ def _approximate_open(
             f"constructed {n} edges in {len(areas)} piece(s); psi = {objective:.3g}; "
             f"end gap {gap_last:+.3g} edge(s)"
         )
+        if extrapolated:
+            msg.append(
+                f"piece(s) {', '.join(map(str, extrapolated))} end on their extrapolated last "
+                "arc: the following piece starts at a slightly different point"
+            )
         if match_end and abs(gap_last) > 1e3 * _END_TOL:
             msg.append(
                 f"match_end did not converge: x_n is {gap_last:+.3g} edge(s) from the end of "

@@ -51,6 +51,7 @@ def _register() -> None:
     from .derham import derham_command
     from .fair import fair_command
     from .geo import batch_group
+    from .glyphs import glyphs_command
     from .keyline import keyline_command
 
     commands = (
@@ -60,6 +61,7 @@ def _register() -> None:
         affine_command,
         fair_command,
         keyline_command,
+        glyphs_command,
         batch_group,
         contours_command,
         demo_command,
