@@ -19,6 +19,8 @@ os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
 from qgis.core import (
     QgsApplication,
     QgsCoordinateTransformContext,
+    QgsFeature,
+    QgsGeometry,
     QgsProcessingContext,
     QgsProcessingFeatureSourceDefinition,
     QgsProcessingFeedback,
@@ -123,7 +125,15 @@ def run_scenario(sc, processing, registry):
     if "path_env" in sc:
         os.environ["PATH"] = sc["path_env"]
     params = dict(sc["params"])
-    layer = QgsVectorLayer(sc["input"], "input", "ogr")
+    if "memory" in sc:  # a temporary layer made from WKT: [attribute, WKT] rows
+        layer = QgsVectorLayer(sc["memory"]["uri"], "input", "memory")
+        for value, wkt in sc["memory"]["features"]:
+            feat = QgsFeature(layer.fields())
+            feat.setAttributes([value])
+            feat.setGeometry(QgsGeometry.fromWkt(wkt))
+            layer.dataProvider().addFeature(feat)
+    else:
+        layer = QgsVectorLayer(sc["input"], "input", "ogr")
     if not layer.isValid():
         raise RuntimeError(f"cannot open {sc['input']}")
     QgsProject.instance().addMapLayer(layer)
@@ -175,8 +185,10 @@ def run_scenario(sc, processing, registry):
             timer.cancel()
         os.environ["PATH"] = old_path
         QgsProject.instance().removeMapLayer(layer.id())
-    if "descendants" in res:
-        time.sleep(0.2)
+    if "descendants" in res:  # SIGKILL is delivered asynchronously: give it 5 s
+        deadline = time.monotonic() + 5
+        while alive(res["descendants"]) and time.monotonic() < deadline:
+            time.sleep(0.05)
         res["alive_after"] = alive(res["descendants"])
     res["log"], res["reported_errors"], res["progress"] = fb.log, fb.errors, fb.progress
     return res
