@@ -227,7 +227,7 @@ def test_build_zip(tmp_path):
         "name=curvesmith",
         "qgisMinimumVersion=3.22",
         "version=0.1.0",
-        "icon=icon.svg",
+        "icon=icon.png",
         "hasProcessingProvider=yes",
     ):
         assert key in meta.splitlines()
@@ -533,6 +533,7 @@ def _same_geometries(a, b):
     )
 
 
+@pytest.mark.slow  # a headless QGIS session
 def test_provider_in_the_toolbox(qgis):
     prov = qgis["provider"]
     assert (prov["id"], prov["name"]) == ("curvesmith", "curvesmith")
@@ -556,6 +557,7 @@ def test_provider_in_the_toolbox(qgis):
     assert qgis["unloaded"]
 
 
+@pytest.mark.slow  # a headless QGIS session
 def test_smooth_to_shapefile_keeps_areas_attributes_crs(qgis, data, tmp_path):
     res = _ran(qgis, "smooth_shp")
     src, out = data["counties"], _read(res["output"])
@@ -567,6 +569,7 @@ def test_smooth_to_shapefile_keeps_areas_attributes_crs(qgis, data, tmp_path):
     assert any(line[0] == "command" and "--iterations 2" in line[1] for line in res["log"])
 
 
+@pytest.mark.slow  # a headless QGIS session
 def test_smoothcoverage_keeps_areas_and_leaves_no_gaps(qgis, data, tmp_path):
     res = _ran(qgis, "coverage")
     src, out = data["counties"], _read(res["output"])
@@ -591,6 +594,7 @@ def test_smoothcoverage_keeps_areas_and_leaves_no_gaps(qgis, data, tmp_path):
     assert _same_geometries(out, _read(tmp_path / "ref.gpkg"))
 
 
+@pytest.mark.slow  # a headless QGIS session
 def test_smoothcoverage_batch_mode_same_result_with_progress(qgis):
     res = _ran(qgis, "coverage_batch")
     # a FlatGeobuf written by QGIS has a spatial index, which orders the features by it
@@ -604,12 +608,14 @@ def test_smoothcoverage_batch_mode_same_result_with_progress(qgis):
     assert any(10 < p < 90 for p in res["progress"])
 
 
+@pytest.mark.slow  # a headless QGIS session
 def test_progress_by_stage(qgis):
     progress = _ran(qgis, "coverage")["progress"]
     assert progress == sorted(progress) and progress[-1] == 100
     assert {10.0, 90.0} <= set(progress)  # input written; curvesmith finished
 
 
+@pytest.mark.slow  # a headless QGIS session
 def test_selected_features_only_with_defaults(qgis, data):
     res = _ran(qgis, "selected")
     out = _read(res["output"])
@@ -631,6 +637,7 @@ def _chord_area(coords):
     return 0.5 * np.sum(x[:-1] * y[1:] - x[1:] * y[:-1])
 
 
+@pytest.mark.slow  # a headless QGIS session
 def test_lines_to_temporary_layer(qgis, data):
     res = _ran(qgis, "lines_temporary")
     assert res["output_layer"]["provider"] == "memory"
@@ -644,6 +651,7 @@ def test_lines_to_temporary_layer(qgis, data):
         assert abs(_chord_area(q) - _chord_area(p)) <= 1e-12 * scale
 
 
+@pytest.mark.slow  # a headless QGIS session
 def test_features_without_geometry_pass_through(qgis, data):
     res = _ran(qgis, "nulls")
     src, out = data["nulls"], _read(res["output"])
@@ -656,6 +664,7 @@ def test_features_without_geometry_pass_through(qgis, data):
     assert (shapely.get_num_coordinates(kept) > shapely.get_num_coordinates(before)).all()
 
 
+@pytest.mark.slow  # a headless QGIS session
 def test_curved_geometries_made_linear(qgis):
     """Circular arcs (GeoPackage, PostGIS) are made polylines first: curvesmith smooths those."""
     res = _ran(qgis, "curved")
@@ -668,6 +677,7 @@ def test_curved_geometries_made_linear(qgis):
     assert (np.abs(shapely.area(out.geometry.values) / exact - 1) < 1e-3).all()
 
 
+@pytest.mark.slow  # a headless QGIS session
 def test_smoothnetwork(qgis, data):
     """Needs ``curvesmith smooth --network`` (issue 14): fails until that is merged."""
     res = _ran(qgis, "network")
@@ -692,6 +702,7 @@ def test_smoothnetwork(qgis, data):
     assert (np.abs(shapely.area(pb) / shapely.area(pa) - 1) < 1e-9).all()
 
 
+@pytest.mark.slow  # a headless QGIS session
 def test_z_values(qgis, data, tmp_path):
     """Z goes to curvesmith as it is: kept when curvesmith keeps it, else its one-line error."""
     res = qgis["scenarios"]["z"]
@@ -726,6 +737,7 @@ def test_z_values(qgis, data, tmp_path):
     assert (flat[:, 2] == 250.0).all()
 
 
+@pytest.mark.slow  # a headless QGIS session
 @pytest.mark.parametrize("name", ["cancel", "cancel_batch"])
 def test_cancel_stops_curvesmith(qgis, name):
     res = qgis["scenarios"][name]
@@ -745,6 +757,7 @@ def test_cancel_stops_curvesmith(qgis, name):
         ("bad_alpha_range", "curvesmith: alpha must be in (0, 1/3), got 0.5"),
     ],
 )
+@pytest.mark.slow  # a headless QGIS session
 def test_bad_parameter_one_readable_error(qgis, name, message):
     res = qgis["scenarios"][name]
     assert not res["ok"] and res["error"] is None  # reported, not raised, as in the dialog
@@ -752,6 +765,7 @@ def test_bad_parameter_one_readable_error(qgis, name, message):
     assert not any("Traceback" in text for _, text in res["log"])
 
 
+@pytest.mark.slow  # a headless QGIS session
 def test_curvesmith_not_found(qgis, data):
     res = qgis["scenarios"]["not_found_setting"]
     missing = str(data["dir"] / "no-such-env")
@@ -760,6 +774,7 @@ def test_curvesmith_not_found(qgis, data):
     assert res["reported_errors"] == [f"{runner.NOT_FOUND} (not on PATH)"]
 
 
+@pytest.mark.slow  # a headless QGIS session
 def test_path_from_processing_options(qgis, data):
     """The setting may name the virtual environment; curvesmith need not be on PATH."""
     res = qgis["scenarios"]["setting_venv"]
@@ -780,6 +795,7 @@ def qgis_process(qgis_python):
     pytest.fail("QGIS is installed but qgis_process is not")
 
 
+@pytest.mark.slow  # a headless QGIS session
 def test_qgis_process_with_the_built_zip(qgis_process, data, tmp_path):
     """The zip installed as a user installs it; qgis_process runs the algorithm headless.
 
@@ -821,6 +837,7 @@ def test_qgis_process_with_the_built_zip(qgis_process, data, tmp_path):
     assert "Traceback" not in proc.stdout + proc.stderr
 
 
+@pytest.mark.slow  # a headless QGIS session
 def test_geographic_layer_warning_and_equal_area(qgis, data):
     """Data in degrees: curvesmith's warning reaches the log as a warning; with EQUAL_AREA it
     smooths in an equal-area projection and the output is in the input's CRS again."""
