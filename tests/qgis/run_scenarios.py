@@ -37,6 +37,7 @@ class RecordingFeedback(QgsProcessingFeedback):
     def __init__(self):
         super().__init__()
         self.log, self.errors, self.progress = [], [], []
+        self.command_given = threading.Event()  # the algorithm is about to start curvesmith
         self.progressChanged.connect(self.progress.append)
 
     def pushInfo(self, text):
@@ -44,6 +45,7 @@ class RecordingFeedback(QgsProcessingFeedback):
 
     def pushCommandInfo(self, text):
         self.log.append(["command", text])
+        self.command_given.set()
 
     def pushConsoleInfo(self, text):
         self.log.append(["console", text])
@@ -144,16 +146,21 @@ def run_scenario(sc, processing, registry):
         params["INPUT"] = layer.id()
     fb = RecordingFeedback()
     res = {"ok": False, "error": None}
-    timer = None
+    canceller = None
     if "cancel_after" in sc:
+        # cancel `cancel_after` seconds after curvesmith was started, as a user would
 
         def cancel():
-            res["descendants"] = descendants(os.getpid())
-            fb.cancel()
+            if fb.command_given.wait(120):
+                time.sleep(sc["cancel_after"])
+                res["descendants"] = descendants(os.getpid())
+                res["cancelled_at"] = time.monotonic() - start
+                fb.cancel()
 
-        timer = threading.Timer(sc["cancel_after"], cancel)
-        timer.start()
+        canceller = threading.Thread(target=cancel, daemon=True)
     start = time.monotonic()
+    if canceller is not None:
+        canceller.start()
     try:
         if sc.get("gui_like"):
             # as the algorithm dialog runs it: exceptions caught, reported to the feedback
@@ -181,8 +188,9 @@ def run_scenario(sc, processing, registry):
         res["traceback"] = traceback.format_exc()
     finally:
         res["elapsed"] = time.monotonic() - start
-        if timer is not None:
-            timer.cancel()
+        if canceller is not None:
+            fb.command_given.set()  # a run that failed before curvesmith: let the thread end
+            canceller.join()
         os.environ["PATH"] = old_path
         QgsProject.instance().removeMapLayer(layer.id())
     if "descendants" in res:  # SIGKILL is delivered asynchronously: give it 5 s
