@@ -3,7 +3,7 @@
 Run with the Python that has curvesmith (``python qgis_plugin/screenshots.py``): it writes
 the Kentucky and West Virginia counties (plotly-geo's US Census file) to a GeoPackage,
 then starts QGIS's own Python (``--qgis-python``, default ``/usr/bin/python3``) on this
-same file, offscreen, to draw
+same file, offscreen, to draw the plugin's ``icon.png`` (from ``icon.svg``) and
 
 - ``qgis_toolbox.png``: the Processing toolbox searched for "smooth" (QGIS's own Smooth
   beside curvesmith's three algorithms),
@@ -173,6 +173,21 @@ def _before_after(path: Path, counties, processing, center, width) -> None:
         raise RuntimeError(f"cannot write {path}")
 
 
+def _icon(svg: Path, png: Path, size: int = 64) -> None:
+    """The plugin manager's icon: ``icon.svg`` rasterized."""
+    from qgis.PyQt.QtCore import Qt
+    from qgis.PyQt.QtGui import QImage, QPainter
+    from qgis.PyQt.QtSvg import QSvgRenderer
+
+    image = QImage(size, size, QImage.Format_ARGB32)
+    image.fill(Qt.transparent)
+    painter = QPainter(image)
+    QSvgRenderer(str(svg)).render(painter)
+    painter.end()
+    if not image.save(str(png)):
+        raise RuntimeError(f"cannot write {png}")
+
+
 def draw(data: Path, out: Path, center=CENTER, width=WIDTH) -> None:
     """In QGIS's Python: load the plugin from this folder and draw the three pictures."""
     from qgis.core import QgsApplication, QgsProject, QgsVectorLayer
@@ -193,6 +208,7 @@ def draw(data: Path, out: Path, center=CENTER, width=WIDTH) -> None:
     plugin.initProcessing()
     counties = QgsVectorLayer(f"{data}|layername=counties", "counties", "ogr")
     QgsProject.instance().addMapLayer(counties)
+    _icon(HERE / "curvesmith_qgis" / "icon.svg", HERE / "curvesmith_qgis" / "icon.png")
     _toolbox(out / "qgis_toolbox.png")
     _dialog(out / "qgis_dialog.png", counties)
     _before_after(out / "qgis_before_after.png", counties, processing, center, width)

@@ -146,7 +146,6 @@ OPTIONS = (
         "cca keeps every ring's area exactly (and a line's area against its chord); chaikin "
         "is linear corner cutting, which shrinks polygons.",
         choices=("cca", "chaikin"),
-        algorithms=("smooth", "smoothcoverage"),
     ),
     Option(
         "ITERATIONS",

@@ -19,6 +19,8 @@ os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
 from qgis.core import (
     QgsApplication,
     QgsCoordinateTransformContext,
+    QgsFeature,
+    QgsGeometry,
     QgsProcessingContext,
     QgsProcessingFeatureSourceDefinition,
     QgsProcessingFeedback,
@@ -35,6 +37,7 @@ class RecordingFeedback(QgsProcessingFeedback):
     def __init__(self):
         super().__init__()
         self.log, self.errors, self.progress = [], [], []
+        self.command_given = threading.Event()  # the algorithm is about to start curvesmith
         self.progressChanged.connect(self.progress.append)
 
     def pushInfo(self, text):
@@ -42,6 +45,7 @@ class RecordingFeedback(QgsProcessingFeedback):
 
     def pushCommandInfo(self, text):
         self.log.append(["command", text])
+        self.command_given.set()
 
     def pushConsoleInfo(self, text):
         self.log.append(["console", text])
@@ -123,7 +127,15 @@ def run_scenario(sc, processing, registry):
     if "path_env" in sc:
         os.environ["PATH"] = sc["path_env"]
     params = dict(sc["params"])
-    layer = QgsVectorLayer(sc["input"], "input", "ogr")
+    if "memory" in sc:  # a temporary layer made from WKT: [attribute, WKT] rows
+        layer = QgsVectorLayer(sc["memory"]["uri"], "input", "memory")
+        for value, wkt in sc["memory"]["features"]:
+            feat = QgsFeature(layer.fields())
+            feat.setAttributes([value])
+            feat.setGeometry(QgsGeometry.fromWkt(wkt))
+            layer.dataProvider().addFeature(feat)
+    else:
+        layer = QgsVectorLayer(sc["input"], "input", "ogr")
     if not layer.isValid():
         raise RuntimeError(f"cannot open {sc['input']}")
     QgsProject.instance().addMapLayer(layer)
@@ -134,16 +146,21 @@ def run_scenario(sc, processing, registry):
         params["INPUT"] = layer.id()
     fb = RecordingFeedback()
     res = {"ok": False, "error": None}
-    timer = None
+    canceller = None
     if "cancel_after" in sc:
+        # cancel `cancel_after` seconds after curvesmith was started, as a user would
 
         def cancel():
-            res["descendants"] = descendants(os.getpid())
-            fb.cancel()
+            if fb.command_given.wait(120):
+                time.sleep(sc["cancel_after"])
+                res["descendants"] = descendants(os.getpid())
+                res["cancelled_at"] = time.monotonic() - start
+                fb.cancel()
 
-        timer = threading.Timer(sc["cancel_after"], cancel)
-        timer.start()
+        canceller = threading.Thread(target=cancel, daemon=True)
     start = time.monotonic()
+    if canceller is not None:
+        canceller.start()
     try:
         if sc.get("gui_like"):
             # as the algorithm dialog runs it: exceptions caught, reported to the feedback
@@ -171,12 +188,15 @@ def run_scenario(sc, processing, registry):
         res["traceback"] = traceback.format_exc()
     finally:
         res["elapsed"] = time.monotonic() - start
-        if timer is not None:
-            timer.cancel()
+        if canceller is not None:
+            fb.command_given.set()  # a run that failed before curvesmith: let the thread end
+            canceller.join()
         os.environ["PATH"] = old_path
         QgsProject.instance().removeMapLayer(layer.id())
-    if "descendants" in res:
-        time.sleep(0.2)
+    if "descendants" in res:  # SIGKILL is delivered asynchronously: give it 5 s
+        deadline = time.monotonic() + 5
+        while alive(res["descendants"]) and time.monotonic() < deadline:
+            time.sleep(0.05)
         res["alive_after"] = alive(res["descendants"])
     res["log"], res["reported_errors"], res["progress"] = fb.log, fb.errors, fb.progress
     return res
