@@ -118,7 +118,7 @@ Examples
 
 from __future__ import annotations
 
-from . import csv, geojson, svg
+from . import csv, geojson, scan, svg
 from ._core import KINDS, Curve, Format, detect_format, formats, read_curves, register, write_curves
 from .csv import read_csv, write_csv
 from .geojson import read_geojson, write_geojson
@@ -138,6 +138,7 @@ __all__ = [
     "read_geojson",
     "read_svg",
     "register",
+    "scan",
     "svg",
     "write_csv",
     "write_curves",
