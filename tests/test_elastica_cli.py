@@ -73,28 +73,79 @@ def test_fair_step_option(tmp_path):
 
 
 def test_fair_errors_exit_nonzero(tmp_path):
-    src, out = tmp_path / "line.csv", tmp_path / "out.csv"
-    write_csv(src, np.column_stack((np.arange(10.0), np.zeros(10))))
+    src, out = tmp_path / "short.csv", tmp_path / "out.csv"
+    write_csv(src, np.column_stack((np.arange(4.0), np.arange(4.0) ** 2)))
     result = CliRunner().invoke(cli(), ["fair", str(src), "-o", str(out)])
     assert result.exit_code == 1
-    assert "Error: curve 0: points are collinear" in result.output
+    assert "Error: curve 0: points must have at least 5 points" in result.output
+    assert not out.exists()
 
 
-def test_fair_basin_factor_decides_success(tmp_path):
+def test_fair_straight_line_is_an_exact_elastica(tmp_path):
+    """Issue 11: a line is an elastica (z = 0), not an error."""
+    src, out, rep = tmp_path / "line.csv", tmp_path / "out.csv", tmp_path / "r.json"
+    write_csv(src, np.column_stack((np.arange(10.0), np.zeros(10))))
+    result = CliRunner().invoke(cli(), ["fair", str(src), "-o", str(out), "--report", str(rep)])
+    assert result.exit_code == 0, result.output
+    np.testing.assert_allclose(
+        read_csv(out), np.column_stack((np.arange(10.0), np.zeros(10))), atol=1e-12
+    )
+    assert json.loads(rep.read_text())["curves"][0]["case"] == "line"
+
+
+def test_fair_model_error_is_a_converged_fit_and_tolerance_decides(tmp_path):
     """A curve that is not an elastica (a sine wave of growing amplitude) fits with an rms far
-    above its noise: a failure by default, accepted with a large --basin-factor."""
+    above its noise: a converged fit (exit 0, issue 11) whose message says it is model error;
+    --tolerance below its max deviation exits 1 and writes no output."""
     t = np.linspace(0, 4 * np.pi, 200)
     wave = np.column_stack((t, 0.2 * t * np.sin(t)))
     from curvesmith.geometry import _resample_walk as equilateral
 
     src, out, rep = tmp_path / "w.csv", tmp_path / "o.csv", tmp_path / "r.json"
     write_csv(src, equilateral(wave, 0.1))
-    strict = CliRunner().invoke(cli(), ["fair", str(src), "-o", str(out), "--report", str(rep)])
-    assert strict.exit_code == 1 and "wrong basin" in strict.output
-    row = json.loads(rep.read_text())["curves"][0]
-    assert not row["success"] and row["rms"] > 20 * 1e-6
-    loose = CliRunner().invoke(
-        cli(), ["fair", str(src), "-o", str(out), "--basin-factor", "1e9", "--report", str(rep)]
-    )
+    loose = CliRunner().invoke(cli(), ["fair", str(src), "-o", str(out), "--report", str(rep)])
     assert loose.exit_code == 0, loose.output
-    assert json.loads(rep.read_text())["curves"][0]["success"]
+    row = json.loads(rep.read_text())["curves"][0]
+    assert row["success"] and row["rms"] > 20 * 1e-6 and "model error" in row["message"]
+    assert row["rms"] > 20 * row["noise"]
+    out.unlink()
+    tol = row["max_deviation"] / 2
+    strict = CliRunner().invoke(
+        cli(), ["fair", str(src), "-o", str(out), "--tolerance", str(tol), "--report", str(rep)]
+    )
+    assert strict.exit_code == 1 and "miss the tolerance" in strict.output
+    assert not out.exists()
+    assert json.loads(rep.read_text())["curves"][0]["within_tolerance"] is False
+
+
+def test_fair_3d_scan_in_its_plane_and_back(tmp_path):
+    """A tilted planar 3D elastica scan (.xyz, no header): faired in its PCA plane, written
+    in the input's x, y, z; the report gives the plane."""
+    from curvesmith.geometry import pca_frame
+
+    rng = np.random.default_rng(4)
+    flat = sample((0.0, 0.0, 2.0, 0.1, 0.0015, 0.3, 3.0), 700)
+    q, _ = np.linalg.qr(rng.normal(size=(3, 3)))
+    pts = np.column_stack([flat, np.zeros(len(flat))]) @ q.T + [100.0, -50.0, 20.0]
+    noisy = pts + rng.normal(scale=0.002, size=pts.shape)
+    src, out, rep = tmp_path / "scan.xyz", tmp_path / "out.csv", tmp_path / "r.json"
+    np.savetxt(src, noisy)
+    result = CliRunner().invoke(
+        cli(), ["fair", str(src), "-o", str(out), "--report", str(rep), "--max-iter", "800"]
+    )
+    assert result.exit_code == 0, result.output
+    faired = np.loadtxt(out, delimiter=",", skiprows=1)
+    assert faired.shape == (700, 3)
+    np.testing.assert_allclose(faired, pts, atol=0.01)  # back in scan coordinates
+    row = json.loads(rep.read_text())["curves"][0]
+    centroid, _, _ = pca_frame(noisy)
+    np.testing.assert_allclose(row["plane"]["origin"], centroid, rtol=1e-12)
+    assert abs(abs(np.dot(row["plane"]["normal"], q[:, 2])) - 1) < 1e-6
+    assert row["plane"]["rms"] == pytest.approx(0.002, rel=0.2)
+    assert "Warning" not in result.output
+    # a bent (non-planar) scan gets a one-line warning
+    bent = pts + np.outer(np.linspace(-1, 1, 700) ** 2, q[:, 2]) * 20.0
+    np.savetxt(src, bent)
+    result = CliRunner().invoke(cli(), ["fair", str(src), "-o", str(out)])
+    assert result.exit_code == 0, result.output
+    assert "Warning: curve 0 is not planar" in result.output

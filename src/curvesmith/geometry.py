@@ -29,6 +29,7 @@ __all__ = [
     "line_intersection",
     "menger_curvature",
     "orientation",
+    "pca_frame",
     "resample_equilateral",
     "segment_intersection",
     "signed_area",
@@ -623,3 +624,65 @@ def _resample_walk(p: np.ndarray, step: float) -> np.ndarray:
         if not found:
             break
     return np.array(out)
+
+
+def pca_frame(points, *, normal_hint=(0.0, 0.0, 1.0)):
+    """Least-squares plane of 3D points by principal component analysis: ``(centroid, axes, lam)``.
+
+    The plane through the centroid spanned by the eigenvectors ``e1, e2`` of the two largest
+    eigenvalues of the covariance ``C = (1/m) sum (p - p_bar)(p - p_bar)^t`` minimises the
+    squared distances (section 5.3 of Graiff Zurita, Kajiwara & Suzuki, eq. (5.1)); computed
+    by an SVD of the centred points (``lambda = s^2 / m``). Signs: ``e3`` points to the side
+    of `normal_hint` (if orthogonal to it, its largest component is positive), ``e1`` from
+    the first point towards the last, ``e2 = e3 x e1``: a proper rotation, so the in-plane
+    curve is never mirrored.
+
+    Parameters
+    ----------
+    points : (N, 3) array_like
+        N >= 3 points, not all on one line.
+    normal_hint : (3,) array_like, optional
+        Side from which the plane is viewed; default ``+z``.
+
+    Returns
+    -------
+    centroid : (3,) ndarray
+    axes : (3, 3) ndarray
+        Rows ``e1, e2, e3`` (``e3`` the unit normal).
+    eigenvalues : (3,) ndarray
+        ``lambda1 >= lambda2 >= lambda3``; ``sqrt(lambda3)`` is the rms distance from the plane.
+
+    Raises
+    ------
+    CurveError
+        Non-finite or fewer than 3 points, collinear points, a zero `normal_hint`.
+
+    Examples
+    --------
+    >>> c, axes, lam = pca_frame([[0, 0, 1], [1, 0, 1], [2, 1, 1], [3, 3, 1]])
+    >>> axes[2].round(12).tolist(), float(lam[2]) < 1e-24
+    ([0.0, 0.0, 1.0], True)
+    """
+    p = as_points(points, dim=3, min_points=3)
+    hint = as_points([normal_hint], name="normal_hint", dim=3, min_points=1)[0]
+    if not np.any(hint):
+        raise CurveError(f"normal_hint must be a nonzero vector, got {hint.tolist()}")
+    centroid = p.mean(axis=0)
+    q = p - centroid
+    _, s, vt = np.linalg.svd(q, full_matrices=False)
+    lam = s**2 / p.shape[0]
+    if s[0] <= 0.0 or s[1] <= 1e-12 * s[0]:
+        raise CurveError(
+            "points must span a plane, got points that are all on one line "
+            f"(principal extents {np.sqrt(lam).tolist()} around centroid {centroid.tolist()})"
+        )
+    e3 = vt[2]
+    d = float(e3 @ (hint / np.linalg.norm(hint)))
+    if abs(d) > 1e-9:
+        e3 = e3 if d > 0 else -e3
+    else:
+        j = int(np.argmax(np.abs(e3)))
+        e3 = e3 if e3[j] > 0 else -e3
+    e1 = vt[0] if float(vt[0] @ (p[-1] - p[0])) >= 0.0 else -vt[0]
+    e2 = np.cross(e3, e1)
+    return centroid, np.vstack([e1, e2, e3]), lam

@@ -63,7 +63,7 @@ import numpy as np
 from ._validate import as_float, as_int, as_points
 from .errors import CurveError
 from .geometry import _resample_equilateral as _resample
-from .geometry import resample_equilateral
+from .geometry import pca_frame, resample_equilateral
 
 if TYPE_CHECKING:
     from .elastica import FitResult
@@ -147,15 +147,6 @@ class PlaneFit:
         return self.centroid + q @ self.axes[:2]
 
 
-def _orient_to(v: np.ndarray, hint: np.ndarray) -> np.ndarray:
-    """Flip `v` so that ``<v, hint> > 0``; if orthogonal, make its largest component positive."""
-    d = float(v @ hint)
-    if abs(d) > 1e-9:
-        return v if d > 0 else -v
-    j = int(np.argmax(np.abs(v)))
-    return v if v[j] > 0 else -v
-
-
 def fit_plane(points, *, normal_hint=(0.0, 0.0, 1.0)) -> PlaneFit:
     """Fit a plane to 3D points by principal component analysis and project on it.
 
@@ -201,23 +192,8 @@ def fit_plane(points, *, normal_hint=(0.0, 0.0, 1.0)) -> PlaneFit:
     True
     """
     p = as_points(points, dim=3, min_points=3)
-    hint = np.asarray(as_points([normal_hint], name="normal_hint", dim=3, min_points=1)[0])
-    if not np.any(hint):
-        raise CurveError(f"normal_hint must be a nonzero vector, got {hint.tolist()}")
-    centroid = p.mean(axis=0)
-    q = p - centroid
-    _, s, vt = np.linalg.svd(q, full_matrices=False)
-    lam = s**2 / p.shape[0]
-    if s[0] <= 0.0 or s[1] <= 1e-12 * s[0]:
-        raise CurveError(
-            "points must span a plane, got points that are all on one line "
-            f"(principal extents {np.sqrt(lam).tolist()} around centroid {centroid.tolist()})"
-        )
-    e3 = _orient_to(vt[2], hint / np.linalg.norm(hint))
-    e1 = vt[0] if float(vt[0] @ (p[-1] - p[0])) >= 0.0 else -vt[0]
-    e2 = np.cross(e3, e1)
-    axes = np.vstack([e1, e2, e3])
-    coords = q @ axes.T
+    centroid, axes, lam = pca_frame(p, normal_hint=normal_hint)
+    coords = (p - centroid) @ axes.T
     return PlaneFit(centroid=centroid, axes=axes, eigenvalues=lam, coords=coords)
 
 

@@ -14,7 +14,17 @@ import numpy as np
 from . import geometry
 from ._validate import as_points
 
-__all__ = ["before_after", "convergence", "curvature_comb", "draw_curve", "new_axes"]
+__all__ = [
+    "before_after",
+    "bezier_comb",
+    "comb_before_after",
+    "convergence",
+    "curvature_along",
+    "curvature_comb",
+    "deviation_along",
+    "draw_curve",
+    "new_axes",
+]
 
 
 def new_axes(ncols: int = 1, *, width: float = 5.5, height: float = 4.5):
@@ -214,9 +224,6 @@ def convergence(
     return ax
 
 
-__all__ += ["bezier_comb", "comb_before_after"]
-
-
 def _bezier_curvature(segments: np.ndarray, per_segment: int):
     """Points, unit left normals and exact curvature along Bézier segments."""
     from math import comb
@@ -355,3 +362,99 @@ def comb_before_after(points, fit, *, closed: bool, title: str | None = None):
         fig.suptitle(title)
     fig.tight_layout()
     return fig
+
+
+def _arc_positions(p: np.ndarray) -> np.ndarray:
+    return np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(p[:, :2], axis=0).T))])
+
+
+def deviation_along(ax, points, deviation, *, tolerance: float | None = None, label=None, **kw):
+    """Plot the deviation of each point from a fitted curve against arc length, in data units.
+
+    Unlike an overlay at equal scale, where a 1 mm error on a 1.5 m curve is invisible,
+    the y axis is the deviation itself.
+
+    Parameters
+    ----------
+    ax : matplotlib Axes
+    points : (N, 2) or (N, 3) array_like
+        The data points, in order along the curve (arc length from them).
+    deviation : (N,) array_like
+        Their distances to the fitted curve (e.g. ``FitResult.deviation``).
+    tolerance : float, optional
+        Drawn as a dashed horizontal line.
+    label : str, optional
+    **kw
+        Passed to ``ax.plot``.
+
+    Returns
+    -------
+    Axes
+
+    Examples
+    --------
+    >>> import matplotlib
+    >>> matplotlib.use("Agg")
+    >>> import matplotlib.pyplot as plt
+    >>> fig, ax = plt.subplots()
+    >>> t = np.linspace(0, 1, 50)
+    >>> ax = deviation_along(ax, np.column_stack([t, t**2]), 0.01 * np.sin(9 * t), tolerance=0.01)
+    >>> ax.get_ylabel()
+    'deviation from the fit'
+    >>> plt.close(fig)
+    """
+    p = as_points(points, dim=(2, 3), min_points=2)
+    dev = np.asarray(deviation, dtype=float)
+    ax.plot(_arc_positions(p), dev, lw=0.9, label=label or "deviation", **kw)
+    if tolerance is not None:
+        ax.axhline(tolerance, color="tab:red", ls="--", lw=0.8, label=f"tolerance {tolerance:g}")
+    ax.set_xlabel("arc length (data units)")
+    ax.set_ylabel("deviation from the fit")
+    ax.grid(True, lw=0.3)
+    return ax
+
+
+def curvature_along(ax, data, fitted, *, data_label="data", fit_label="fit"):
+    """Plot the discrete curvature of data and of a fitted curve against arc length.
+
+    Curvature is the Menger curvature (inverse circumradius of three consecutive
+    vertices, signed) of each polyline, so unevenly spaced data can be compared with an
+    equilateral fit.
+
+    Parameters
+    ----------
+    ax : matplotlib Axes
+    data, fitted : (N, 2) and (M, 2) array_like
+        The two curves, in the same order along the curve.
+    data_label, fit_label : str, optional
+
+    Returns
+    -------
+    Axes
+
+    Examples
+    --------
+    >>> import matplotlib
+    >>> matplotlib.use("Agg")
+    >>> import matplotlib.pyplot as plt
+    >>> fig, ax = plt.subplots()
+    >>> t = np.linspace(0, 1, 40)
+    >>> c = np.column_stack([np.cos(t), np.sin(t)])
+    >>> ax = curvature_along(ax, c, c)
+    >>> ax.get_ylabel()
+    'curvature (1 / data unit)'
+    >>> plt.close(fig)
+    """
+    d = as_points(data, min_points=3)
+    f = as_points(fitted, name="fitted", min_points=3)
+    for p, lab, style in (
+        (d, data_label, {"color": "0.4", "lw": 0.6}),
+        (f, fit_label, {"color": "tab:red", "lw": 1.2}),
+    ):
+        k = geometry.menger_curvature(p)
+        ax.plot(_arc_positions(p)[1:-1], k, label=lab, **style)
+    ax.set_xlabel("arc length (data units)")
+    ax.set_ylabel("curvature (1 / data unit)")
+    ax.grid(True, lw=0.3)
+    ax.legend(fontsize="small")
+    return ax

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 import click
 import numpy as np
@@ -12,65 +13,107 @@ from ._common import FORMAT_OPTION, read_curves, write_curves
 
 __all__ = ["fair_command"]
 
+#: A 3D curve whose rms distance from its PCA plane exceeds this fraction of its extent
+#: gets a warning: it is fitted in that plane all the same.
+PLANAR_TOL = 1e-3
 
-def _prepare(curve, index: int) -> np.ndarray:
-    if curve.closed:
-        raise CurveError(
-            f"curve {index} is closed; fair fits open curve segments (a discrete elastica "
-            "segment of section 4 is open)"
+
+def _read(source: str, fmt: str | None):
+    """Curves of IN: scan tables (.xyz/.txt/.dat) through ``io.scan``, other files as usual."""
+    from ..io import Curve
+    from ..io.scan import PLAIN_SUFFIXES, read_scan
+
+    if source != "-" and fmt is None and Path(source).suffix.lower() in PLAIN_SUFFIXES:
+        return [
+            Curve(pts, closed=False, properties={"id": name} if i else {})
+            for i, (name, pts) in enumerate(read_scan(source))
+        ]
+    return read_curves(source, fmt)
+
+
+def _plane_2d(points: np.ndarray, index: int):
+    """The PCA plane of a 3D curve: ``(2D coordinates, plane dict, warning or None)``."""
+    from ..geometry import pca_frame
+
+    centroid, axes, _ = pca_frame(points)
+    coords = (points - centroid) @ axes.T
+    rms = float(np.sqrt(np.mean(coords[:, 2] ** 2)))
+    extent = float(np.ptp(coords[:, :2], axis=0).max())
+    plane = {
+        "origin": centroid.tolist(),
+        "normal": axes[2].tolist(),
+        "axes": [axes[0].tolist(), axes[1].tolist()],
+        "rms": rms,
+        "max_distance": float(np.abs(coords[:, 2]).max()),
+    }
+    warning = None
+    if rms > PLANAR_TOL * extent:
+        warning = (
+            f"curve {index} is not planar: rms distance {rms:.3g} from its best plane "
+            f"({rms / extent:.2g} of its extent); fitted in that plane"
         )
-    if curve.points.shape[1] != 2:
-        raise CurveError(
-            f"curve {index} has {curve.points.shape[1]} coordinates; fair needs planar "
-            "(x, y) curves (use `curvesmith keyline` for 3D scans)"
-        )
-    return curve.points
+    return np.ascontiguousarray(coords[:, :2]), (centroid, axes), plane, warning
 
 
-def _report_row(index: int, res, resampled: bool) -> dict:
-    return {
+def _report_row(index: int, res, resampled: bool, plane) -> dict:
+    row = {
         "index": index,
         "points": int(res.data.shape[0]),
+        "input_points": int(res.deviation.shape[0]),
         "resampled": resampled,
         "params": res.params._asdict(),
         "start": res.start._asdict(),
         "case": res.case,
         "rms": res.rms,
+        "max_deviation": res.max_deviation,
+        "rms_deviation": res.rms_deviation,
         "max_distance": res.max_distance,
+        "noise": res.noise,
+        "tolerance": res.tolerance,
+        "within_tolerance": res.within_tolerance,
         "iterations": res.iterations,
+        "total_iterations": res.total_iterations,
+        "starts": res.starts,
         "stages": res.stages,
         "success": res.success,
         "message": res.message,
     }
+    if plane is not None:
+        row["plane"] = plane
+    return row
 
 
-def _plot(path: str, fits: list[tuple[int, object]]) -> None:
+def _plot(path: str, fits: list[tuple[int, object, np.ndarray]]) -> None:
     import matplotlib
 
     matplotlib.use("Agg", force=False)
     import matplotlib.pyplot as plt
 
     from ..elastica import sample
+    from ..plot import curvature_along, deviation_along
 
     n = len(fits)
-    cols = min(n, 3)
-    rows = -(-n // cols)
-    fig, axes = plt.subplots(rows, cols, figsize=(5.0 * cols, 4.2 * rows), squeeze=False)
-    for ax, (index, res) in zip(axes.ravel(), fits, strict=False):
+    fig, axes = plt.subplots(n, 3, figsize=(16.0, 4.2 * n), squeeze=False)
+    for row, (index, res, raw) in zip(axes, fits, strict=True):
+        ax = row[0]
         guess = sample(res.start, res.data.shape[0])
-        ax.plot(*res.data.T, "s", color="black", ms=3, mfc="none", label="input")
-        ax.plot(*guess.T, "^", color="tab:green", ms=3, label="initial guess")
-        ax.plot(*res.points.T, "o-", color="tab:red", ms=2.5, lw=0.8, label="discrete elastica")
+        ax.plot(*raw.T, ".", color="black", ms=2, label="input")
+        ax.plot(*guess.T, "-", color="tab:green", lw=0.8, label="start of the final solve")
+        ax.plot(*res.points.T, "-", color="tab:red", lw=1.0, label="discrete elastica")
         status = "" if res.success else " (failed)"
-        ax.set_title(f"curve {index}: case ({res.case}), rms {res.rms:.3g}{status}")
-        ax.set_xlabel("x")
-        ax.set_ylabel("y")
+        ax.set_title(f"curve {index}: case ({res.case}){status}", fontsize="medium")
         ax.set_aspect("equal", adjustable="datalim")
         ax.legend(fontsize="small")
-    for ax in axes.ravel()[n:]:
-        ax.set_visible(False)
+        deviation_along(row[1], raw, res.deviation, tolerance=res.tolerance)
+        row[1].set_title(
+            f"max deviation {res.max_deviation:.3g}, rms {res.rms_deviation:.3g} "
+            f"(noise {res.noise:.2g})",
+            fontsize="medium",
+        )
+        curvature_along(row[2], res.data, res.points, data_label="data (resampled)")
+        row[2].set_title("curvature along the curve", fontsize="medium")
     fig.tight_layout()
-    fig.savefig(path, dpi=120)
+    fig.savefig(path, dpi=110)
     plt.close(fig)
 
 
@@ -78,7 +121,12 @@ def _plot(path: str, fits: list[tuple[int, object]]) -> None:
 @click.argument("source", metavar="IN")
 @click.option("-o", "--output", "dest", required=True, help="Output file (- for stdout).")
 @click.option("--report", "report", default=None, help="Write a JSON report of every fit.")
-@click.option("--plot", "plot", default=None, help="Write a PNG: input, initial guess and fit.")
+@click.option(
+    "--plot",
+    "plot",
+    default=None,
+    help="Write a PNG: input and fit, deviation and curvature along each curve.",
+)
 @click.option(
     "--resample/--no-resample",
     default=None,
@@ -88,15 +136,22 @@ def _plot(path: str, fits: list[tuple[int, object]]) -> None:
     "--step",
     type=float,
     default=None,
-    help="Chord length for resampling (implies --resample; default: mean edge length).",
+    help="Chord length for resampling (implies --resample; default: the mean edge length "
+    "or 20 noise levels, adjusted to end on the last point).",
 )
 @click.option(
-    "--basin-factor",
+    "--tolerance",
     type=float,
-    default=20.0,
-    show_default=True,
-    help="A fit fails if its rms exceeds this many times the data's local noise level; "
-    "raise it for curves that are only roughly elasticae.",
+    default=None,
+    help="Largest allowed distance of an input point from the fitted curve; exit 1 if a fit "
+    "misses it.",
+)
+@click.option(
+    "--max-iter",
+    "max_iter",
+    type=click.IntRange(min=1),
+    default=None,
+    help="Function evaluations per solve (default 5000).",
 )
 @FORMAT_OPTION
 def fair_command(
@@ -106,53 +161,87 @@ def fair_command(
     plot: str | None,
     resample: bool | None,
     step: float | None,
-    basin_factor: float,
+    tolerance: float | None,
+    max_iter: int | None,
     fmt: str | None,
 ) -> None:
     """Replace every open curve of IN by its closest discrete elastica.
 
     Fits the integrable discrete elastica of Graiff Zurita, Kajiwara & Suzuki
-    (section 4) to each curve, vertex by vertex, and writes the fitted
-    vertices to OUT in the same format. Curves with grossly uneven spacing are
-    first resampled to equal chords (or always with --resample, never with
-    --no-resample). Exits with status 1 if any fit fails; the report and plot
-    are still written.
+    (section 4) to each curve, vertex by vertex, with a global multi-start
+    search, and writes the fitted vertices to OUT in the same format. IN may be
+    a 2D or 3D curve file or a scan table (.xyz/.txt/.dat, x y z per line); a
+    3D curve is fitted in its least-squares (PCA) plane and written back in the
+    input's coordinates (the report gives the plane). Curves with grossly
+    uneven spacing are first resampled to equal chords (or always with
+    --resample, never with --no-resample). Exits with status 1, writing no OUT,
+    if a fit does not converge or misses --tolerance; the report and plot are
+    still written.
     """
     from ..elastica import SPACING_TOL, fit, spacing_spread
 
     if step is not None and not (np.isfinite(step) and step > 0):
         raise click.BadParameter(f"must be > 0, got {step}", param_hint="--step")
-    if not (np.isfinite(basin_factor) and basin_factor > 0):
-        raise click.BadParameter(f"must be > 0, got {basin_factor}", param_hint="--basin-factor")
+    if tolerance is not None and not (np.isfinite(tolerance) and tolerance > 0):
+        raise click.BadParameter(f"must be > 0, got {tolerance}", param_hint="--tolerance")
     if step is not None and resample is False:
         raise click.UsageError("--step needs resampling; drop --no-resample")
-    curves = read_curves(source, fmt)
+    curves = _read(source, fmt)
     out, rows, fits = [], [], []
     for index, curve in enumerate(curves):
-        pts = _prepare(curve, index)
-        do_resample = bool(resample) or step is not None
-        if resample is None and step is None:
-            do_resample = spacing_spread(pts) > SPACING_TOL
-        option = (step if step is not None else True) if do_resample else False
+        if curve.closed:
+            raise CurveError(
+                f"curve {index} is closed; fair fits open curves (a discrete elastica of "
+                "section 4 is an open segment); open the ring at a vertex to fit it"
+            )
+        pts = np.asarray(curve.points, dtype=float)
+        frame = plane = None
         try:
-            res = fit(pts, resample=option, basin_factor=basin_factor)
+            if pts.shape[1] == 3:
+                pts, frame, plane, warning = _plane_2d(pts, index)
+                if warning:
+                    click.echo(f"Warning: {warning}", err=True)
+            do_resample = bool(resample) or step is not None
+            if resample is None and step is None:
+                distinct = pts[np.r_[True, np.any(pts[1:] != pts[:-1], axis=1)]]
+                do_resample = distinct.shape[0] != pts.shape[0] or (
+                    distinct.shape[0] >= 2 and spacing_spread(distinct) > SPACING_TOL
+                )
+            option = (step if step is not None else True) if do_resample else False
+            res = fit(pts, resample=option, tolerance=tolerance, max_iter=max_iter)
         except CurveError as exc:
             raise CurveError(f"curve {index}: {exc}") from None
-        out.append(curve.replace(points=res.points))
-        rows.append(_report_row(index, res, do_resample))
-        fits.append((index, res))
-    write_curves(out, dest, fmt)
+        faired = res.points
+        if frame is not None:
+            centroid, axes = frame
+            faired = centroid + faired @ axes[:2]
+        out.append(curve.replace(points=faired))
+        rows.append(_report_row(index, res, do_resample, plane))
+        fits.append((index, res, pts))
+    failed = [r for r in rows if not r["success"]]
+    missed = [r for r in rows if r["within_tolerance"] is False]
+    if not failed and not missed:
+        write_curves(out, dest, fmt)
     if report is not None:
         with open(report, "w", encoding="utf-8") as fh:
             json.dump({"source": source, "curves": rows}, fh, indent=2)
     if plot is not None:
         _plot(plot, fits)
-    failed = [r for r in rows if not r["success"]]
     if failed:
         first = failed[0]
         raise CurveError(
-            f"{len(failed)} of {len(rows)} fits failed; curve {first['index']}: {first['message']}"
+            f"{len(failed)} of {len(rows)} fits failed (no output written); "
+            f"curve {first['index']}: {first['message']}"
+        )
+    if missed:
+        first = missed[0]
+        raise CurveError(
+            f"{len(missed)} of {len(rows)} fits miss the tolerance {tolerance:g} (no output "
+            f"written); curve {first['index']}: max deviation {first['max_deviation']:.6g}"
         )
     if dest != "-":
-        worst = max(r["rms"] for r in rows)
-        click.echo(f"fitted {len(rows)} curve(s) to discrete elasticae; largest rms {worst:.6g}")
+        worst = max(rows, key=lambda r: r["max_deviation"])
+        click.echo(
+            f"fitted {len(rows)} curve(s) to discrete elasticae; largest max deviation "
+            f"{worst['max_deviation']:.6g} (curve {worst['index']}: {worst['message']})"
+        )

@@ -130,19 +130,61 @@ def _data_curvature(p: np.ndarray) -> tuple[float, np.ndarray]:
 
 
 def _initial_guess(p: np.ndarray) -> ElasticaParams:
+    return _guess_variants(p, variants=False)[0]
+
+
+#: Moduli tried by :func:`_guess_variants` besides the estimate: near the separatrix.
+_NEAR_SEPARATRIX = (0.97, 1.03)
+
+
+def _guess_variants(p: np.ndarray, *, variants: bool = True) -> list[ElasticaParams]:
+    """The guess of section 4.3 and, with `variants`, its alternatives for a multi-start search.
+
+    The pseudo code makes three discrete choices that noise or model error can get wrong:
+    the case (``k`` below or above 1, decided by the sign of ``Delta^2 - 4 mu``), the
+    parity of the number ``m`` of monotone segments (from the end directions of ``u``) and,
+    near ``k = 1``, the size of ``k``. The variants are: the estimate with the other parity
+    of ``m``; the reciprocal modulus ``1/k`` (the other case, same ``Delta / 2 sqrt(mu)``
+    distance from 1 on a log scale); and ``k`` = 0.97 and 1.03 (near the separatrix), each
+    with both parities. The first entry is the guess of :func:`initial_guess`.
+    """
     n_pts = p.shape[0]
     h, kappa = _data_curvature(p)
     mirrored = float(np.sum(kappa)) < 0.0
     q_pts = p * np.array([1.0, -1.0]) if mirrored else p
-    est = _pseudo_code(q_pts, h, -kappa if mirrored else kappa)
-    if mirrored:
-        est = est._replace(phi=-est.phi, z=-est.z, q=-est.q)
-    gamma_hat = _positions(est._replace(x0=0.0, y0=0.0), n_pts)
-    x0, y0 = (p - gamma_hat).mean(axis=0)  # eq. (4.55)
-    return est._replace(x0=float(x0), y0=float(y0))
+    kap = -kappa if mirrored else kappa
+    base = _pseudo_code(q_pts, h, kap)
+    ests = [base]
+    if variants:
+        ests.append(_pseudo_code(q_pts, h, kap, other_parity=True))
+        for k in (1.0 / base.k, *_NEAR_SEPARATRIX):
+            for other in (False, True):
+                try:
+                    ests.append(_pseudo_code(q_pts, h, kap, k=k, other_parity=other))
+                except CurveError:
+                    continue
+    out = []
+    for est in ests:
+        if mirrored:
+            est = est._replace(phi=-est.phi, z=-est.z, q=-est.q)
+        gamma_hat = _positions(est._replace(x0=0.0, y0=0.0), n_pts)
+        if not np.all(np.isfinite(gamma_hat)):
+            continue
+        x0, y0 = (p - gamma_hat).mean(axis=0)  # eq. (4.55)
+        out.append(est._replace(x0=float(x0), y0=float(y0)))
+    if not out:
+        raise CurveError("points give no finite initial guess (section 4.3)")
+    return out
 
 
-def _pseudo_code(p: np.ndarray, h: float, kappa: np.ndarray) -> ElasticaParams:
+def _pseudo_code(
+    p: np.ndarray,
+    h: float,
+    kappa: np.ndarray,
+    *,
+    k: float | None = None,
+    other_parity: bool = False,
+) -> ElasticaParams:
     n_pts = p.shape[0]
     x, y = p[:, 0], p[:, 1]
     # (4.34): kappa_n = mu2 x_n - mu1 y_n + A, n = 1 .. N-2.
@@ -173,9 +215,10 @@ def _pseudo_code(p: np.ndarray, h: float, kappa: np.ndarray) -> ElasticaParams:
     # (4.35) with the exact discrete law (4.21), averaged over n = 0 .. N-2.
     pair_sum = 2.0 * float(u.sum()) - float(u[0]) - float(u[-1])  # sum of u_{n+1} + u_n
     B = (float(sin_psi.sum()) - 0.5 * mu * float(u[1:] @ u[:-1]) - 0.5 * A * pair_sum) / (n_pts - 1)
-    delta2 = A * A - 2.0 * mu * (B - 1.0)
-    delta = math.sqrt(max(delta2, 1e-300))
-    k = delta / (2.0 * math.sqrt(mu))  # (4.36)/(4.37) as one continued modulus
+    if k is None:
+        delta2 = A * A - 2.0 * mu * (B - 1.0)
+        delta = math.sqrt(max(delta2, 1e-300))
+        k = delta / (2.0 * math.sqrt(mu))  # (4.36)/(4.37) as one continued modulus
     k = min(max(k, 1e-6), 1e6)
     if abs(k - 1.0) < 1e-6:
         k = 1.0 - 1e-6 if k < 1.0 else 1.0 + 1e-6
@@ -191,7 +234,7 @@ def _pseudo_code(p: np.ndarray, h: float, kappa: np.ndarray) -> ElasticaParams:
         seg_len = kq * ellipk(kq * kq)
     start_dir, end_dir = _end_directions(u)
     dec_start = start_dir < 0
-    same = start_dir == end_dir
+    same = (start_dir == end_dir) != other_parity
     span = (n_pts - 1) * h * math.sqrt(mu)  # z ~ sqrt(mu) h, eq. (4.38)
     m_hat = int(np.floor(span / seg_len)) + 1
     pieces = _argument_pieces(float(U[0]), float(U[1]), kq, case_ii)

@@ -118,7 +118,7 @@ Examples
 
 from __future__ import annotations
 
-from . import csv, geojson, svg
+from . import csv, geojson, scan, svg
 from ._core import (
     KINDS,
     Curve,
@@ -153,6 +153,7 @@ __all__ = [
     "read_geojson",
     "read_svg",
     "register",
+    "scan",
     "svg",
     "write_csv",
     "write_curves",
