@@ -394,6 +394,13 @@ def _scenarios(data):
         ),
         _scenario("z", "smooth", p["z"], {"ITERATIONS": 1, "OUTPUT": str(d / "z_out.gpkg")}),
         _scenario(
+            "task",
+            "smoothcoverage",
+            counties,
+            {"ITERATIONS": 1, "OUTPUT": str(d / "task.gpkg")},
+            as_task=True,
+        ),
+        _scenario(
             "nulls", "smooth", p["nulls"], {"ITERATIONS": 1, "OUTPUT": str(d / "nulls_out.gpkg")}
         ),
         _scenario(
@@ -651,6 +658,17 @@ def test_lines_to_temporary_layer(qgis, data):
         assert len(q) > len(p) or len(p) == 2
         scale = shapely.length(a) ** 2
         assert abs(_chord_area(q) - _chord_area(p)) <= 1e-12 * scale
+
+
+@pytest.mark.slow  # a headless QGIS session
+def test_runs_as_a_background_task(qgis, data):
+    """As the dialog runs it: a QgsProcessingAlgRunnerTask in a worker thread of the task manager."""
+    res = _ran(qgis, "task")
+    assert res["worker"]  # feedback came from another thread than the main one
+    src, out = data["counties"], _read(res["output"])
+    _check_attributes_crs(out, src, res, ["GEOID", "NAME"])
+    _check_areas(out, src)
+    assert shapely.coverage_is_valid(out.geometry.values)
 
 
 @pytest.mark.slow  # a headless QGIS session
