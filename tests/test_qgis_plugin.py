@@ -398,6 +398,13 @@ def _scenarios(data):
         ),
         _scenario("z", "smooth", p["z"], {"ITERATIONS": 1, "OUTPUT": str(d / "z_out.gpkg")}),
         _scenario(
+            "task",
+            "smoothcoverage",
+            counties,
+            {"ITERATIONS": 1, "OUTPUT": str(d / "task.gpkg")},
+            as_task=True,
+        ),
+        _scenario(
             "nulls", "smooth", p["nulls"], {"ITERATIONS": 1, "OUTPUT": str(d / "nulls_out.gpkg")}
         ),
         _scenario(
@@ -658,6 +665,17 @@ def test_lines_to_temporary_layer(qgis, data):
 
 
 @pytest.mark.slow  # a headless QGIS session
+def test_runs_as_a_background_task(qgis, data):
+    """As the dialog runs it: a QgsProcessingAlgRunnerTask in a worker thread of the task manager."""
+    res = _ran(qgis, "task")
+    assert res["worker"]  # feedback came from another thread than the main one
+    src, out = data["counties"], _read(res["output"])
+    _check_attributes_crs(out, src, res, ["GEOID", "NAME"])
+    _check_areas(out, src)
+    assert shapely.coverage_is_valid(out.geometry.values)
+
+
+@pytest.mark.slow  # a headless QGIS session
 def test_features_without_geometry_pass_through(qgis, data):
     res = _ran(qgis, "nulls")
     src, out = data["nulls"], _read(res["output"])
@@ -678,6 +696,7 @@ def test_curved_geometries_made_linear(qgis):
     out = _read(res["output"])
     assert out["name"].tolist() == ["disc", "half"]
     assert shapely.is_valid(out.geometry.values).all()
+    assert ["console", "2 features smoothed"] in res["log"]  # curvesmith's summary line
     exact = np.array([np.pi, np.pi / 2]) * 1000.0**2
     # QGIS's segmentization (its default tolerance) loses < 0.1 % of a disc; cca keeps the rest
     assert (np.abs(shapely.area(out.geometry.values) / exact - 1) < 1e-3).all()

@@ -21,6 +21,7 @@ from qgis.core import (
     QgsCoordinateTransformContext,
     QgsFeature,
     QgsGeometry,
+    QgsProcessingAlgRunnerTask,
     QgsProcessingContext,
     QgsProcessingFeatureSourceDefinition,
     QgsProcessingFeedback,
@@ -29,6 +30,7 @@ from qgis.core import (
     QgsVectorLayer,
     QgsWkbTypes,
 )
+from qgis.PyQt.QtCore import QCoreApplication
 
 
 class RecordingFeedback(QgsProcessingFeedback):
@@ -45,6 +47,7 @@ class RecordingFeedback(QgsProcessingFeedback):
 
     def pushCommandInfo(self, text):
         self.log.append(["command", text])
+        self.command_thread = threading.get_ident()  # the algorithm's thread
         self.command_given.set()
 
     def pushConsoleInfo(self, text):
@@ -116,6 +119,25 @@ def describe(layer):
     }
 
 
+def run_as_task(registry, algorithm, params, fb, res):
+    """Run as the algorithm dialog does: a task on QGIS's task manager, in a worker thread."""
+    alg = registry.createAlgorithmById(algorithm)
+    context = QgsProcessingContext()
+    context.setProject(QgsProject.instance())
+    task = QgsProcessingAlgRunnerTask(alg, params, context, fb)
+    done = {}
+    task.executed.connect(lambda ok, results: done.update(ok=ok, results=results))
+    QgsApplication.taskManager().addTask(task)
+    deadline = time.monotonic() + 300
+    while "ok" not in done and time.monotonic() < deadline:
+        QCoreApplication.processEvents()
+        time.sleep(0.01)
+    if not done.get("ok"):
+        raise RuntimeError(f"the task failed: {fb.errors}")
+    res["worker"] = fb.command_thread != threading.get_ident()
+    return done["results"]
+
+
 def run_scenario(sc, processing, registry):
     """Run one scenario; return what happened."""
     from processing.core.ProcessingConfig import ProcessingConfig
@@ -146,13 +168,15 @@ def run_scenario(sc, processing, registry):
         params["INPUT"] = layer.id()
     fb = RecordingFeedback()
     res = {"ok": False, "error": None}
-    canceller = None
+    canceller, finished = None, threading.Event()
     if "cancel_after" in sc:
         # cancel `cancel_after` seconds after curvesmith was started, as a user would
 
         def cancel():
             if fb.command_given.wait(120):
                 time.sleep(sc["cancel_after"])
+                if finished.is_set():
+                    return
                 res["descendants"] = descendants(os.getpid())
                 res["cancelled_at"] = time.monotonic() - start
                 fb.cancel()
@@ -170,7 +194,10 @@ def run_scenario(sc, processing, registry):
             results, ok = alg.run(params, context, fb)
             res["ok"] = bool(ok)
         else:
-            results = processing.run(sc["algorithm"], params, feedback=fb)
+            if sc.get("as_task"):
+                results = run_as_task(registry, sc["algorithm"], params, fb, res)
+            else:
+                results = processing.run(sc["algorithm"], params, feedback=fb)
             res["ok"] = True
             out = results["OUTPUT"]
             if isinstance(out, str):
@@ -189,6 +216,7 @@ def run_scenario(sc, processing, registry):
     finally:
         res["elapsed"] = time.monotonic() - start
         if canceller is not None:
+            finished.set()
             fb.command_given.set()  # a run that failed before curvesmith: let the thread end
             canceller.join()
         os.environ["PATH"] = old_path
