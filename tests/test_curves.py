@@ -267,6 +267,7 @@ def test_cli_smooth_curves_svg_and_geojson(tmp_path):
     assert r.exit_code == 0, r.output
     props = json.loads(gj.read_text())["features"][0]["properties"]
     assert props["degree"] == 3 and props["deviation"] <= 0.5 and props["segments"] == seg.shape[0]
+    assert props["g2_defect"] < 1e-8  # every smooth joint G2 (corners: ends of straight runs)
     r = runner.invoke(
         main, ["smooth", str(src), "-o", str(out), "--curves", "quadratic", "--tolerance", "-1"]
     )
