@@ -107,6 +107,7 @@ def test_cubic_output_is_the_same_curve():
     assert c.g2_defect < 1e-9
 
 
+@pytest.mark.slow
 def test_closed_curve_with_inflections_and_cca_input_keeps_area():
     th = np.linspace(0, 2 * np.pi, 1000, endpoint=False)
     r = 1 + 0.35 * np.cos(2 * th)

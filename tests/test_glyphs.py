@@ -125,6 +125,7 @@ def _cff_font(path, names):
     fb.save(path)
 
 
+@pytest.mark.slow
 def test_cff_input_becomes_truetype(tmp_path):
     cff = tmp_path / "test.otf"
     _cff_font(cff, ["o", "S"])
@@ -201,6 +202,7 @@ def test_cli_glyphs_report_and_errors(tmp_path):
     assert not (tmp_path / "y.ttf").exists()
 
 
+@pytest.mark.slow
 def test_ufo_output_is_exactly_g2(tmp_path):
     out = tmp_path / "out.ufo"
     reports = glyphs.refit_font(SANS, out, glyphs="S,o", tolerance=2.0)
