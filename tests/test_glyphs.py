@@ -125,6 +125,7 @@ def _cff_font(path, names):
     fb.save(path)
 
 
+@pytest.mark.slow
 def test_cff_input_becomes_truetype(tmp_path):
     cff = tmp_path / "test.otf"
     _cff_font(cff, ["o", "S"])
@@ -193,9 +194,26 @@ def test_cli_glyphs_report_and_errors(tmp_path):
     r = runner.invoke(main, ["glyphs", SANS, "-o", str(out), "--glyphs", "nosuch"])
     assert r.exit_code == 1 and "nosuch" in r.output and "Traceback" not in r.output
     r = runner.invoke(main, ["glyphs", SANS, "-o", str(tmp_path / "x.otf"), "--glyphs", "o"])
-    assert r.exit_code == 1 and "OUT must be a .ttf" in r.output
+    assert r.exit_code == 1 and "OUT must be a .ttf file or a .ufo" in r.output
     not_font = tmp_path / "x.ttf"
     not_font.write_text("hello")
     r = runner.invoke(main, ["glyphs", str(not_font), "-o", str(tmp_path / "y.ttf")])
     assert r.exit_code == 1 and "not a TrueType/OpenType font" in r.output
     assert not (tmp_path / "y.ttf").exists()
+
+
+@pytest.mark.slow
+def test_ufo_output_is_exactly_g2(tmp_path):
+    out = tmp_path / "out.ufo"
+    reports = glyphs.refit_font(SANS, out, glyphs="S,o", tolerance=2.0)
+    ufo = fonts.open_font(out)
+    src = fonts.open_font(SANS)
+    assert ufo.getGlyphOrder() == src.getGlyphOrder()
+    assert ufo.advance("S") == src["hmtx"]["S"][0] and ufo.units_per_em == 2048
+    for r in reports:
+        assert glyphs.written_g2_defect(ufo, r.name) < 1e-8  # floats: no rounding
+        written = fonts.read_glyph(ufo, r.name)
+        for w, seg in zip(written.contours, r.segments, strict=True):
+            assert w.area() == pytest.approx(curves.bezier_area(seg), rel=1e-12)
+    with pytest.raises(CurveError, match="exists"):
+        glyphs.refit_font(SANS, out, glyphs="o", tolerance=2.0)

@@ -535,6 +535,10 @@ class _Piece:
             res = approximate(p, vertices=vertices)
             if not res.success:
                 raise CurveError(res.message)
+            gap = math.hypot(*(res.points[-1] - p[-1]))
+            if gap > 1e-6 * float(np.mean(np.hypot(*np.diff(res.points, axis=0).T))):
+                # x_n is replaced by the end point: the last area (and the G2 end) would be off
+                raise CurveError(f"the last vertex missed the end by {gap:.3g} ({res.message})")
             x = res.points.copy()
             x[0], x[-1] = self.points[0], self.points[-1]  # within 1e-10 edges already
             # a join vertex x_j carries the cross area A_j: joints j - 2 and j - 1 (clamped)

@@ -187,7 +187,8 @@ def refit_font(
     source : str or os.PathLike
         TrueType / OpenType-CFF font or UFO directory.
     dest : str or os.PathLike
-        Output ``.ttf``.
+        Output ``.ttf`` (integer coordinates: G2 up to their rounding) or ``.ufo``
+        (floats: exactly G2).
     glyphs : str, optional
         ``"a,g,S"``: characters or glyph names; all glyphs with contours when None.
     tolerance : float, optional
@@ -216,7 +217,12 @@ def refit_font(
         new[name] = list(rep.segments)
         if progress is not None:
             progress(rep)
-    write_truetype(font, new, dest)
+    if str(dest).lower().rstrip("/").endswith(".ufo"):
+        from .io.fonts import write_ufo
+
+        write_ufo(font, new, dest)
+    else:
+        write_truetype(font, new, dest)
     return reports
 
 

@@ -14,7 +14,7 @@ __all__ = ["glyphs_command"]
 
 @click.command("glyphs")
 @click.argument("font_path", metavar="FONT")
-@click.option("-o", "--output", "dest", required=True, metavar="OUT", help="Output .ttf.")
+@click.option("-o", "--output", "dest", required=True, metavar="OUT", help="Output .ttf or .ufo.")
 @click.option(
     "--glyphs", "spec", default=None, help="Characters or glyph names, e.g. a,g,S (default: all)."
 )
@@ -31,15 +31,15 @@ def glyphs_command(
     tolerance: float | None,
     as_json: bool,
 ) -> None:
-    """Refit the glyphs of FONT (TrueType, OpenType-CFF or UFO) and write a TrueType font.
+    """Refit the glyphs of FONT (TrueType, OpenType-CFF or UFO); write a TrueType font or UFO.
 
     Every contour becomes the fewest quadratic Béziers of a curvature continuous
     (G2) quadratic B-spline within --tolerance of the outline (of its cca
     smoothing with --iterations), enclosed areas kept; corners and lines stay.
     Glyph names, order, advance widths, cmap, names and layout tables are kept;
-    hinting is dropped. Coordinates are rounded to integers (TrueType), so the
-    written contours are G2 up to that rounding: the report gives the curvature
-    jump at the implied on-curve points as written ("G2 written").
+    hinting is dropped. TrueType coordinates are integers, so a .ttf is G2 up to
+    their rounding (the report gives the curvature jump at the implied on-curve
+    points as written, "G2 written"); a .ufo keeps floats and is exactly G2.
     """
     from .. import glyphs
     from ..io.fonts import open_font
@@ -48,8 +48,10 @@ def glyphs_command(
         raise CurveError(f"--iterations must be >= 0, got {iterations}")
     if not Path(font_path).exists():
         raise CurveError(f"{font_path}: no such file or directory")
-    if Path(dest).suffix.lower() != ".ttf":
-        raise CurveError(f"OUT must be a .ttf file, got {dest!r}")
+    if Path(dest).suffix.lower() not in (".ttf", ".ufo"):
+        raise CurveError(f"OUT must be a .ttf file or a .ufo directory, got {dest!r}")
+    if Path(dest).suffix.lower() == ".ufo" and Path(dest).exists():
+        raise CurveError(f"{dest} exists: remove it first (a UFO is a directory)")
     if tolerance is None:
         font = open_font(font_path)
         upm = font.units_per_em if hasattr(font, "units_per_em") else font["head"].unitsPerEm

@@ -485,6 +485,10 @@ def write_truetype(source, glyphs: dict, path, *, keep=None) -> None:
             tmp.unlink()
 
 
+def _pt(p) -> tuple[float, float]:
+    return (float(p[0]), float(p[1]))
+
+
 def _draw_quadratic_contour(pen, seg: np.ndarray) -> None:
     """Draw closed quadratic segments; joints at control midpoints become implied points.
 
@@ -507,20 +511,111 @@ def _draw_quadratic_contour(pen, seg: np.ndarray) -> None:
 
     explicit = [k for k in range(n) if not implied(k)]
     if not explicit:  # every on-curve point implied: an all-off-curve contour
-        pen.qCurveTo(*[tuple(s[1]) for s in seg], None)
+        pen.qCurveTo(*[_pt(s[1]) for s in seg], None)
         pen.closePath()
         return
     first = (explicit[0] + 1) % n  # start at an explicit on-curve point
-    pen.moveTo(tuple(seg[first][0]))
+    pen.moveTo(_pt(seg[first][0]))
     run: list = []
     for i in range(n):
         k = (first + i) % n
         s = seg[k]
         if straight(s):
-            pen.lineTo(tuple(s[2]))
+            pen.lineTo(_pt(s[2]))
             continue
-        run.append(tuple(s[1]))
+        run.append(_pt(s[1]))
         if not implied(k):
-            pen.qCurveTo(*run, tuple(s[2]))
+            pen.qCurveTo(*run, _pt(s[2]))
             run = []
     pen.closePath()
+
+
+def write_ufo(source, glyphs: dict, path) -> None:
+    """Write a UFO 3 source: the source's glyphs with some contours replaced, floats kept.
+
+    UFO coordinates are not rounded, so the refitted contours stay exactly G2 at
+    their implied on-curve points (TrueType output rounds them to integers).
+    Glyph order, names, advance widths, unicodes, units per em, family / style
+    names and vertical metrics are kept; components are decomposed; no hinting.
+
+    Parameters
+    ----------
+    source : TTFont or UFO reader
+        From :func:`open_font`.
+    glyphs : dict of str to list of (S, 3, 2) ndarray
+        New quadratic contours (closed) per glyph name.
+    path : str or os.PathLike
+        Output ``.ufo`` directory; must not exist (written to a temporary
+        directory and renamed).
+    """
+    import shutil
+
+    from fontTools.pens.pointPen import SegmentToPointPen
+    from fontTools.pens.recordingPen import DecomposingRecordingPen
+    from fontTools.ufoLib import UFOWriter
+
+    out = Path(path)
+    if out.exists():
+        raise CurveError(f"{out} exists: a UFO is a directory, remove it first")
+    tmp = out.with_name(out.name + ".part")
+    if tmp.exists():
+        shutil.rmtree(tmp)
+    is_ufo = isinstance(source, _UFO)
+    order = font_glyph_names(source)
+    unicodes: dict[str, list[int]] = {}
+    for u, n in sorted((source.getBestCmap() or {}).items()):
+        unicodes.setdefault(n, []).append(u)
+    try:
+        writer = UFOWriter(os.fspath(tmp))
+        gset = writer.getGlyphSet()
+
+        class _Glyph:
+            pass
+
+        for name in order:
+            g = _Glyph()
+            g.width = source.advance(name) if is_ufo else int(source["hmtx"][name][0])
+            g.unicodes = unicodes.get(name, [])
+
+            def draw(point_pen, name=name):
+                pen = SegmentToPointPen(point_pen)
+                if name in glyphs:
+                    for seg in glyphs[name]:
+                        _draw_quadratic_contour(pen, np.asarray(seg, float))
+                    return
+                if is_ufo:
+                    rec = DecomposingRecordingPen({})
+                    source.draw(name, rec)
+                    ops = _decompose_ufo(source, rec.value)
+                else:
+                    gs = source.getGlyphSet()
+                    rec = DecomposingRecordingPen(gs)
+                    gs[name].draw(rec)
+                    ops = rec.value
+                for op, args in ops:
+                    getattr(pen, op)(*args)
+
+            gset.writeGlyph(name, g, draw)
+        gset.writeContents()
+        writer.writeLayerContents()
+        info = _Glyph()
+        if is_ufo:
+            for attr in ("unitsPerEm", "familyName", "styleName", "ascender", "descender"):
+                if getattr(source.info, attr, None) is not None:
+                    setattr(info, attr, getattr(source.info, attr))
+        else:
+            names = source["name"]
+            info.unitsPerEm = int(source["head"].unitsPerEm)
+            info.familyName = names.getDebugName(1) or "curvesmith"
+            info.styleName = names.getDebugName(2) or "Regular"
+            info.ascender = int(source["hhea"].ascent)
+            info.descender = int(source["hhea"].descent)
+        writer.writeInfo(info)
+        writer.writeLib({"public.glyphOrder": order})
+        os.replace(tmp, out)
+    finally:
+        if tmp.exists():
+            shutil.rmtree(tmp)
+
+
+__all__ += ["write_ufo"]
