@@ -18,8 +18,12 @@ elastica
 keyline
     The scan-to-keyline pipeline of the elastica paper (plane fit, resampling,
     inflection estimate, two-sided fit).
+curves
+    Fewest G2 quadratic or cubic Bézier segments within a tolerance, areas exact.
+glyphs
+    Font glyph contours refitted as curvature continuous quadratic B-splines.
 io
-    CSV, GeoJSON and SVG readers and writers.
+    Curve files, one module per format (CSV, GeoJSON, SVG, scan tables, fonts).
 plot
     Matplotlib figures: overlays, curvature combs, convergence plots.
 geo, batch
@@ -51,7 +55,19 @@ except PackageNotFoundError:  # pragma: no cover - running from a source tree
 
 # Capability modules load on first use (``cs.cca``, ``from curvesmith import affine``):
 # ``import curvesmith`` and the CLI start fast, and geo/batch need optional extras.
-_LAZY = ("affine", "batch", "cca", "curves", "derham", "elastica", "geo", "io", "keyline", "plot")
+_LAZY = (
+    "affine",
+    "batch",
+    "cca",
+    "curves",
+    "derham",
+    "elastica",
+    "geo",
+    "glyphs",
+    "io",
+    "keyline",
+    "plot",
+)
 
 __all__ = [
     "CurveError",
@@ -66,6 +82,7 @@ __all__ = [
     "errors",
     "geo",
     "geometry",
+    "glyphs",
     "io",
     "keyline",
     "plot",
