@@ -135,3 +135,33 @@ def test_every_shipped_svg_reads_without_hanging():
         signal.signal(signal.SIGALRM, previous)
     assert results["matplotlib.svg"] == 22
     assert all(n >= 1 for n in results.values())
+
+
+def test_smoothed_svg_keeps_the_source_paint(tmp_path):
+    # matplotlib's logo: white and coloured fills, invisible (opacity 0, no paint) background
+    # squares. Before, every path came out as a black outline: the invisible squares became
+    # visible rounded shapes and the colours were lost.
+    from click.testing import CliRunner
+
+    from curvesmith.cli import main
+
+    logo = next(p for p in _shipped_svgs() if p.name == "matplotlib.svg")
+    out = tmp_path / "logo.svg"
+    res = CliRunner().invoke(main, ["smooth", str(logo), "-o", str(out)])
+    assert res.exit_code == 0, res.output
+    source = read_svg(logo)
+    smoothed = read_svg(out)
+    assert len(smoothed) == len(source)
+    by_feature = {c.feature: c.style for c in source}
+    again = {c.feature: c.style for c in smoothed}
+    for k, style in by_feature.items():  # the paint survives a second read (and smoothing)
+        for key in ("fill", "opacity", "fill-opacity"):
+            if style and key in style:
+                assert again[k][key] == style[key], (k, key)
+    text = out.read_text()
+    fills = {s.get("fill") for s in by_feature.values() if s}
+    assert {"#ffffff", "none"} <= fills and len(fills) >= 4  # white, none and the colours
+    for paint in fills:
+        assert f'fill="{paint}"' in text
+    invisible = sum(1 for s in by_feature.values() if s and s.get("opacity") == "0")
+    assert invisible >= 1 and text.count('opacity="0"') == invisible

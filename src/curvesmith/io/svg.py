@@ -350,6 +350,28 @@ def _default_tolerance(items) -> float:
     return _DEFAULT_RELATIVE_TOLERANCE * diagonal if diagonal > 0 else 1.0
 
 
+#: Presentation attributes kept from the source elements and written back by write_svg.
+STYLE_ATTRIBUTES = (
+    "fill",
+    "fill-opacity",
+    "fill-rule",
+    "stroke",
+    "stroke-opacity",
+    "stroke-width",
+    "stroke-linejoin",
+    "stroke-linecap",
+    "stroke-dasharray",
+    "opacity",
+)
+
+
+def _style_of(element) -> dict[str, str] | None:
+    """The element's presentation attributes (CSS ``style`` resolved by svgelements)."""
+    values = element.values
+    style = {k: str(values[k]) for k in STYLE_ATTRIBUTES if values.get(k) not in (None, "")}
+    return style or None
+
+
 def _svg_curves(element, subpaths, feature: int, name: str) -> list[Curve]:
     props: dict[str, Any] = {"id": element.id} if element.id else {}
     index = None
@@ -386,6 +408,7 @@ def _svg_curves(element, subpaths, feature: int, name: str) -> list[Curve]:
             index = [
                 (k, 0, 0, "Polygon" if c else "LineString") for k, (_, c) in enumerate(subpaths)
             ]
+    style = _style_of(element)
     out = []
     for (member, part, ring, kind), (pts, closed) in zip(index, subpaths, strict=True):
         try:
@@ -400,6 +423,7 @@ def _svg_curves(element, subpaths, feature: int, name: str) -> list[Curve]:
                     kind=kind,
                     member=member,
                     feature_id=fid,
+                    style=style,
                 )
             )
         except CurveError as exc:
@@ -494,7 +518,9 @@ def write_svg(
         data's bounding box.
     fill : str, optional
         Fill paint for features whose curves are all closed (``fill-rule``
-        evenodd, so holes stay empty); default: no fill.
+        evenodd, so holes stay empty); default: the curve's own ``style`` fill (read
+        from an SVG), else no fill. A curve's ``style`` (fill, stroke, opacity, ...)
+        is written on its path and wins over `stroke`.
     flip_y : bool, optional
         Map data (y axis pointing up, north): draw them upright. The paths keep the
         curves' coordinates inside a ``<g transform="scale(1,-1)">`` and the viewBox is
@@ -574,8 +600,12 @@ def write_svg(
         ident = first.properties.get("id")
         if isinstance(ident, str | int) and not isinstance(ident, bool):
             attrs.append(f"id={quoteattr(str(ident))}")
+        style = dict(first.style or {})
         paint = fill if fill is not None and all(c.closed for c in group) else "none"
-        attrs.append(f"fill={quoteattr(paint)}")
+        if fill is not None or "fill" not in style:
+            style["fill"] = paint
+        # the source's paint, opacity and stroke (they override the group's defaults)
+        attrs.extend(f"{k}={quoteattr(v)}" for k, v in style.items() if k in STYLE_ATTRIBUTES)
         attrs.append(f"{_META}={quoteattr(meta_text)}")
         heads.append("<path " + " ".join(attrs) + ' d="')
     with open_destination(dest) as out:
