@@ -163,5 +163,7 @@ def test_smoothed_svg_keeps_the_source_paint(tmp_path):
     assert {"#ffffff", "none"} <= fills and len(fills) >= 4  # white, none and the colours
     for paint in fills:
         assert f'fill="{paint}"' in text
+    head = text.split("<svg", 1)[1].split(">", 1)[0]  # the page size and viewBox are kept
+    assert 'width="72pt"' in head and 'height="72pt"' in head and 'viewBox="0 0 72 72"' in head
     invisible = sum(1 for s in by_feature.values() if s and s.get("opacity") == "0")
     assert invisible >= 1 and text.count('opacity="0"') == invisible
