@@ -52,3 +52,28 @@ def test_batch_smooth_usage_errors(tmp_path):
         batch_group, ["smooth", "in.gpkg", "-o", "x.gpkg", "--method", "spline"]
     )
     assert result.exit_code == 2
+
+
+def test_batch_smooth_exits_1_when_features_failed_and_names_file_indices(tmp_path):
+    df = geo.us_counties(states=["44"]).to_crs("EPSG:5070")  # Rhode Island, 5 counties
+    bowtie = shapely.Polygon([(0, 0), (2e3, 2e3), (2e3, 0), (0, 2e3)])
+    df.loc[len(df) - 1, "geometry"] = bowtie  # the file's last feature is invalid
+    src = tmp_path / "ri.gpkg"
+    geo.write_file(df, src)
+    out = tmp_path / "o.gpkg"
+    from curvesmith.cli import main
+
+    result = CliRunner().invoke(
+        main,
+        ["batch", "smooth", str(src), "-o", str(out), "--workers", "1", "--partition-size", "2",
+         "--no-progress"],
+    )  # fmt: skip
+    assert result.exit_code == 1, result.output
+    last = len(df) - 1
+    assert f"1 of {len(df)} features of {src} failed" in result.output
+    assert f"first: feature {last}: CurveError: feature {last} is not valid" in result.output
+    errors = json.loads((tmp_path / "o.gpkg.errors.json").read_text())
+    assert [e["index"] for e in errors] == [last] and f"feature {last}" in errors[0]["reason"]
+    back = geo.read_file(out)  # written, failing feature unchanged
+    got = shapely.get_coordinates(back.geometry[last])
+    np.testing.assert_array_equal(got, shapely.get_coordinates(bowtie))

@@ -32,9 +32,9 @@ FORMAT_OPTION = click.option(
 )
 
 
-def _read(source, format: str):
-    """Read with the registry; GeoJSON keeps NULL/Point features and the crs aside."""
-    if format in ("geojson", "json"):
+def _read(source, format: str, keep_others: bool = False):
+    """Read with the registry; with `keep_others`, GeoJSON keeps NULL/Point features aside."""
+    if keep_others and format in ("geojson", "json"):
         from ..io.geojson import read_geojson
 
         curves = read_geojson(source, others="keep")
@@ -48,8 +48,12 @@ def _read(source, format: str):
     return _read_registry(source, format=format)
 
 
-def read_curves(source: str, fmt: str | None = None) -> list[Curve]:
-    """Read curves from a path, or from standard input when `source` is ``-``."""
+def read_curves(source: str, fmt: str | None = None, *, keep_others: bool = False) -> list[Curve]:
+    """Read curves from a path, or from standard input when `source` is ``-``.
+
+    `keep_others`: GeoJSON features without a curve (NULL, Point) and the ``crs`` member are
+    kept aside for the writer (commands that write the curves back, like ``smooth``).
+    """
     if source == "-":
         if fmt is None:
             raise CurveError("--format is required when reading from standard input (-)")
@@ -60,13 +64,13 @@ def read_curves(source: str, fmt: str | None = None) -> list[Curve]:
         stream.name = "<stdin>"
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always", UserWarning)
-            curves = _read(stream, format=fmt)
+            curves = _read(stream, format=fmt, keep_others=keep_others)
         for w in caught:
             click.echo(f"Warning: {w.message}", err=True)
     else:
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always", UserWarning)
-            curves = _read(Path(source), format=_format_of(source, fmt))
+            curves = _read(Path(source), format=_format_of(source, fmt), keep_others=keep_others)
         for w in caught:  # one line each, like the errors
             click.echo(f"Warning: {w.message}", err=True)
     if not curves:

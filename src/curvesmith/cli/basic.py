@@ -301,7 +301,7 @@ def smooth_command(
                 preserve_endpoints=preserve_endpoints,
             )
 
-    curves = read_curves(source, fmt)
+    curves = read_curves(source, fmt, keep_others=True)
     out = []
     for i, c in enumerate(curves):
         try:

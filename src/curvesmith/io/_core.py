@@ -78,6 +78,10 @@ class Curve:
         the feature's geometry is not a collection.
     feature_id : str or int or None, optional
         The GeoJSON Feature ``id`` member, None when absent.
+    style : Mapping[str, str] or None, optional
+        SVG presentation attributes of the source element (``fill``, ``stroke``,
+        ``opacity``, ...), as read by :func:`read_svg`; :func:`write_svg` writes them back
+        on the curve's path. Other formats ignore it.
 
     Notes
     -----
@@ -103,6 +107,7 @@ class Curve:
     kind: str = "LineString"
     member: int | None = None
     feature_id: str | int | None = None
+    style: Mapping[str, str] | None = None
 
     def __post_init__(self) -> None:
         if not isinstance(self.closed, bool | np.bool_):
@@ -115,6 +120,12 @@ class Curve:
         if not isinstance(self.properties, Mapping):
             raise CurveError(f"properties must be a mapping, got {type(self.properties).__name__}")
         object.__setattr__(self, "properties", dict(self.properties))
+        if self.style is not None:
+            if not isinstance(self.style, Mapping):
+                raise CurveError(
+                    f"style must be a mapping or None, got {type(self.style).__name__}"
+                )
+            object.__setattr__(self, "style", {str(k): str(v) for k, v in self.style.items()})
         for name in ("feature", "part", "ring"):
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < 0:

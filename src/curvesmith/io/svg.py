@@ -32,7 +32,14 @@ from ._core import (
     register,
 )
 
-__all__ = ["path_document", "quadratic_path_data", "read_quadratic_path", "read_svg", "write_svg"]
+__all__ = [
+    "SVGCurves",
+    "path_document",
+    "quadratic_path_data",
+    "read_quadratic_path",
+    "read_svg",
+    "write_svg",
+]
 
 _META = "data-curvesmith"
 # Each number text matches in exactly one way (``\d+\.?\d*`` could split "10" as "1" + "0",
@@ -193,6 +200,33 @@ def _stash_polylines(text: str) -> tuple[str, dict[str, list]]:
     return _D_ATTRIBUTE.sub(replace, text), stash
 
 
+class SVGCurves(list):
+    """The curves of an SVG document and its page (``width``, ``height``, ``viewBox``).
+
+    A ``list`` of :class:`Curve` returned by :func:`read_svg`; :func:`write_svg` given one
+    writes the same page size and viewBox instead of fitting them to the data.
+    """
+
+    def __init__(self, curves=(), page=None):
+        super().__init__(curves)
+        self.page: dict[str, str] = dict(page or {})
+
+    def with_curves(self, curves) -> SVGCurves:
+        """The same page with other curves (e.g. the smoothed ones)."""
+        return SVGCurves(curves, self.page)
+
+
+def _page_of(text: str) -> dict[str, str]:
+    """width, height and viewBox of the root element, as written."""
+    import xml.etree.ElementTree as ET
+
+    try:
+        root = ET.fromstring(text)
+    except ET.ParseError:
+        return {}
+    return {k: root.attrib[k] for k in ("width", "height", "viewBox") if root.attrib.get(k)}
+
+
 def _own_transform(element, viewport: str):
     """The element's transform without the root viewBox-to-viewport mapping."""
     import svgelements as se
@@ -226,9 +260,12 @@ def read_svg(source: Source, *, tolerance: float | None = None) -> list[Curve]:
 
     Returns
     -------
-    list of Curve
-        One curve per subpath, ``feature`` the index of the element (among
-        those that gave curves), ``part`` the subpath index; ``kind`` is
+    SVGCurves
+        A list of curves with the document's page (``width``, ``height``,
+        ``viewBox``, kept by :func:`write_svg`), and each curve's ``style``, the
+        presentation attributes of its element. One curve per subpath,
+        ``feature`` the index of the element (among those that gave curves),
+        ``part`` the subpath index; ``kind`` is
         LineString/Polygon for single subpaths, MultiLineString/MultiPolygon
         when all subpaths of an element are open/closed, and mixed elements
         get one ``member`` per subpath. Closed subpaths inside another one
@@ -317,7 +354,10 @@ def read_svg(source: Source, *, tolerance: float | None = None) -> list[Curve]:
         feature += 1
     if not curves:
         raise CurveFormatError(f"{name}: contains no drawable path, polyline or polygon")
-    return curves
+    page = _page_of(text) if "viewBox" in text else {}
+    if not (page.get("viewBox") and len(page.get("viewBox", "").replace(",", " ").split()) == 4):
+        page = {}  # without a viewBox the user coordinates are the page's: refit on writing
+    return SVGCurves(curves, page)
 
 
 def _default_tolerance(items) -> float:
@@ -348,6 +388,28 @@ def _default_tolerance(items) -> float:
     if not math.isfinite(diagonal):  # coordinates near the float range: the span overflows
         diagonal = float(np.finfo(np.float64).max)
     return _DEFAULT_RELATIVE_TOLERANCE * diagonal if diagonal > 0 else 1.0
+
+
+#: Presentation attributes kept from the source elements and written back by write_svg.
+STYLE_ATTRIBUTES = (
+    "fill",
+    "fill-opacity",
+    "fill-rule",
+    "stroke",
+    "stroke-opacity",
+    "stroke-width",
+    "stroke-linejoin",
+    "stroke-linecap",
+    "stroke-dasharray",
+    "opacity",
+)
+
+
+def _style_of(element) -> dict[str, str] | None:
+    """The element's presentation attributes (CSS ``style`` resolved by svgelements)."""
+    values = element.values
+    style = {k: str(values[k]) for k in STYLE_ATTRIBUTES if values.get(k) not in (None, "")}
+    return style or None
 
 
 def _svg_curves(element, subpaths, feature: int, name: str) -> list[Curve]:
@@ -386,6 +448,7 @@ def _svg_curves(element, subpaths, feature: int, name: str) -> list[Curve]:
             index = [
                 (k, 0, 0, "Polygon" if c else "LineString") for k, (_, c) in enumerate(subpaths)
             ]
+    style = _style_of(element)
     out = []
     for (member, part, ring, kind), (pts, closed) in zip(index, subpaths, strict=True):
         try:
@@ -400,6 +463,7 @@ def _svg_curves(element, subpaths, feature: int, name: str) -> list[Curve]:
                     kind=kind,
                     member=member,
                     feature_id=fid,
+                    style=style,
                 )
             )
         except CurveError as exc:
@@ -494,7 +558,9 @@ def write_svg(
         data's bounding box.
     fill : str, optional
         Fill paint for features whose curves are all closed (``fill-rule``
-        evenodd, so holes stay empty); default: no fill.
+        evenodd, so holes stay empty); default: the curve's own ``style`` fill (read
+        from an SVG), else no fill. A curve's ``style`` (fill, stroke, opacity, ...)
+        is written on its path and wins over `stroke`.
     flip_y : bool, optional
         Map data (y axis pointing up, north): draw them upright. The paths keep the
         curves' coordinates inside a ``<g transform="scale(1,-1)">`` and the viewBox is
@@ -514,6 +580,7 @@ def write_svg(
     >>> [c.points.tolist() for c in read_svg(io.StringIO(buf.getvalue()))]
     [[[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]]
     """
+    curves_in = curves
     curves = _check_curves(curves)
     for i, c in enumerate(curves):
         if c.dim != 2:
@@ -541,14 +608,20 @@ def write_svg(
         stroke_width = size / 400.0
     stroke_width = as_float(stroke_width, name="stroke_width", low=0.0)
     pixels = 800.0 / max(w, h)
+    size_attrs = f'width="{w * pixels:.6g}" height="{h * pixels:.6g}" '
+    view = f"{_num(x0)} {_num(y0)} {_num(w)} {_num(h)}"
+    page = getattr(curves_in, "page", None)
+    if page and not flip_y:  # the source document's page: same size, same viewBox
+        size_attrs = "".join(f"{k}={quoteattr(page[k])} " for k in ("width", "height") if k in page)
+        view = page["viewBox"]
     lines = [
         '<?xml version="1.0" encoding="UTF-8"?>',
         "<!-- written by curvesmith: map coordinates (y up), drawn flipped by the group's "
         "transform -->"
         if flip_y
         else "<!-- written by curvesmith: SVG user coordinates, y axis pointing down -->",
-        f'<svg xmlns="http://www.w3.org/2000/svg" version="1.1" width="{w * pixels:.6g}" '
-        f'height="{h * pixels:.6g}" viewBox="{_num(x0)} {_num(y0)} {_num(w)} {_num(h)}">',
+        f'<svg xmlns="http://www.w3.org/2000/svg" version="1.1" {size_attrs}'
+        f"viewBox={quoteattr(view)}>",
         f'<g stroke={quoteattr(stroke)} stroke-width="{_num(stroke_width)}" '
         'stroke-linejoin="round" stroke-linecap="round" fill-rule="evenodd"'
         + (' transform="scale(1,-1)">' if flip_y else ">"),
@@ -574,8 +647,12 @@ def write_svg(
         ident = first.properties.get("id")
         if isinstance(ident, str | int) and not isinstance(ident, bool):
             attrs.append(f"id={quoteattr(str(ident))}")
+        style = dict(first.style or {})
         paint = fill if fill is not None and all(c.closed for c in group) else "none"
-        attrs.append(f"fill={quoteattr(paint)}")
+        if fill is not None or "fill" not in style:
+            style["fill"] = paint
+        # the source's paint, opacity and stroke (they override the group's defaults)
+        attrs.extend(f"{k}={quoteattr(v)}" for k, v in style.items() if k in STYLE_ATTRIBUTES)
         attrs.append(f"{_META}={quoteattr(meta_text)}")
         heads.append("<path " + " ".join(attrs) + ' d="')
     with open_destination(dest) as out:
