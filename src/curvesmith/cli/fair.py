@@ -110,7 +110,10 @@ def _plot(path: str, fits: list[tuple[int, object, np.ndarray]]) -> None:
             f"(noise {res.noise:.2g})",
             fontsize="medium",
         )
-        curvature_along(row[2], res.data, res.points, data_label="data (resampled)")
+        span = max(1, res.data.shape[0] // 60)
+        curvature_along(
+            row[2], res.data, res.points, data_label=f"data (circles over {span} chords)", span=span
+        )
         row[2].set_title("curvature along the curve", fontsize="medium")
     fig.tight_layout()
     fig.savefig(path, dpi=110)

@@ -238,7 +238,8 @@ def _section_scan(ctx) -> None:
     axes[0].legend(fontsize="small")
     _plot.deviation_along(axes[1], scan, res.deviation, tolerance=0.5)
     axes[1].set_title(f"deviation (mm): max {res.max_deviation:.3g}, rms {res.rms_deviation:.3g}")
-    _plot.curvature_along(axes[2], res.data, res.points, data_label="scan (resampled)")
+    span = max(1, res.data.shape[0] // 60)
+    _plot.curvature_along(axes[2], res.data, res.points, data_label="scan", span=span)
     axes[2].set_title("curvature along the section (1/mm)")
     ctx.figure(
         fig,
