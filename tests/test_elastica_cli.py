@@ -149,3 +149,19 @@ def test_fair_3d_scan_in_its_plane_and_back(tmp_path):
     result = CliRunner().invoke(cli(), ["fair", str(src), "-o", str(out)])
     assert result.exit_code == 0, result.output
     assert "Warning: curve 0 is not planar" in result.output
+
+
+def test_fair_writes_dxf_3d_polylines(tmp_path):
+    import ezdxf
+
+    src, out = tmp_path / "scan.xyz", tmp_path / "faired.dxf"
+    flat = sample((0.0, 0.0, 2.0, 0.1, 0.0015, 0.3, 3.0), 200)
+    c, s_ = np.cos(0.4), np.sin(0.4)  # tilted about the y axis, shifted
+    pts = np.column_stack([c * flat[:, 0], flat[:, 1], s_ * flat[:, 0] + 3.0])
+    np.savetxt(src, pts)
+    result = CliRunner().invoke(cli(), ["fair", str(src), "-o", str(out)])
+    assert result.exit_code == 0, result.output
+    (line,) = list(ezdxf.readfile(out).modelspace())
+    assert line.dxftype() == "POLYLINE" and line.is_3d_polyline
+    xyz = np.array([tuple(v.dxf.location) for v in line.vertices])
+    np.testing.assert_allclose(xyz, pts, atol=1e-6)  # an exact elastica: faired = input

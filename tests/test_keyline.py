@@ -723,3 +723,75 @@ def test_read_scan_skips_a_header_row(tmp_path):
     path.write_bytes(b"\xef\xbb\xbf//X //Y //Z\r\n1 2 3\r\n4 5 6\r\n")
     ((name, pts),) = read_scan(path)
     assert name == "scan" and pts.tolist() == [[1, 2, 3], [4, 5, 6]]
+
+
+# ------------------------------------------------------------------ issue 11: real scans
+
+
+def _c_section_scan(rng, noise=0.005):
+    """A tilted 3D C-shaped section (no inflection), 1.5 m in mm, uneven spacing."""
+    from curvesmith import elastica
+
+    flat = elastica.sample((0.0, 0.0, 2.0, 0.05, 0.0012, 0.25, 3.0), 751)
+    q = random_rotation3(rng)
+    pts = np.column_stack([flat, np.zeros(len(flat))]) @ q.T + [300.0, -120.0, 45.0]
+    keep = np.sort(rng.choice(len(pts), 600, replace=False))
+    keep[0], keep[-1] = 0, len(pts) - 1
+    return pts[keep] + noise * rng.standard_normal((600, 3)), q
+
+
+def test_cli_keyline_fits_a_scan_without_inflection_in_scan_coordinates(tmp_path):
+    import json
+
+    from click.testing import CliRunner
+
+    from curvesmith.cli.keyline import keyline_command
+    from curvesmith.io import read_curves
+
+    rng = np.random.default_rng(21)
+    scan, q = _c_section_scan(rng)
+    np.savetxt(tmp_path / "c.xyz", scan)
+    out = tmp_path / "o"
+    result = CliRunner().invoke(
+        keyline_command,
+        [str(tmp_path / "c.xyz"), "-o", str(out), "--step", "2", "--max-iter", "900"],
+    )
+    assert result.exit_code == 0, result.output
+    rows = json.loads((out / "keyline_table.json").read_text())["rows"]
+    assert [r["side"] for r in rows] == ["whole"] and rows[0]["success"] is True
+    assert rows[0]["k"] == pytest.approx(3.0, rel=0.05)
+    curves = read_curves(out / "c_fit.csv")
+    assert [c.properties["id"] for c in curves] == ["keyline", "whole"]
+    fitted = curves[1].points
+    assert fitted.shape[1] == 3
+    # in scan coordinates: every fitted vertex within 0.05 mm of the scan polyline
+    assert dist_to_polyline(fitted, scan).max() < 0.05
+    tr = json.loads((out / "c_fit_transform.json").read_text())
+    assert abs(abs(np.dot(tr["plane"]["normal"], q[:, 2])) - 1) < 1e-6
+    # the transform maps the 2D resampled keyline to the 3D one written
+    res = keyline.fit(scan, step=2.0, single_if_convex=True)
+    back = np.asarray(tr["origin"]) + res.points @ np.asarray(tr["axes"])
+    np.testing.assert_allclose(back, curves[0].points, atol=1e-9)
+
+
+def test_self_intersecting_curve_is_walked_not_short_cut():
+    """A loop: the paper's rule jumps across the crossing and loses the loop; the pipeline
+    then resamples by the walk and keeps every part of the curve."""
+    t = np.linspace(-2.2, 2.2, 3000)
+    loop = np.column_stack([t**2, t**3 - 3 * t])  # a node at t = +-sqrt(3)
+    curve = np.column_stack([loop, 0.01 * t])
+    with pytest.raises(CurveError):  # no inflection on the loop: refused, not truncated
+        keyline.fit(curve, step=0.05)
+    res = keyline.fit(curve, step=0.05, single_if_convex=True)
+    assert res.resampling == "walk"
+    length = float(np.hypot(*np.diff(loop, axis=0).T).sum())
+    assert res.points.shape[0] >= int(length / 0.05) - 2  # nothing dropped
+    paper = keyline.resample_equilateral(loop, 0.05)
+    assert paper.shape[0] < 0.5 * res.points.shape[0]  # the paper's rule short-cuts
+
+
+def test_closed_curve_gets_a_true_message():
+    t = np.linspace(0, 2 * math.pi, 400)
+    ring = np.column_stack([np.cos(t), 0.6 * np.sin(t), 0.1 * np.cos(t)])
+    with pytest.raises(CurveError, match="closed curve .* split the closed curve"):
+        keyline.fit(ring, step=0.02)

@@ -535,18 +535,52 @@ class KeylineFit:
     plane: PlaneFit | None
     frame: PrincipalFrame
     inflection: InflectionEstimate
-    left: FitResult
-    right: FitResult
+    left: FitResult | None
+    right: FitResult | None
+    whole: FitResult | None = None
+    resampling: str = "paper"
+
+    @property
+    def sides(self) -> tuple[tuple[str, FitResult], ...]:
+        """tuple: the fitted pieces, ``(("left", fit), ("right", fit))``.
+
+        ``(("whole", fit),)`` for a keyline without inflection (``single_if_convex``).
+        """
+        if self.whole is not None:
+            return (("whole", self.whole),)
+        return (("left", self.left), ("right", self.right))
 
     @property
     def success(self) -> bool:
-        """bool: both side fits converged."""
-        return bool(self.left.success and self.right.success)
+        """bool: every side fit converged."""
+        return all(res.success for _, res in self.sides)
 
     @property
     def message(self) -> str:
-        """str: the two fits' messages."""
-        return f"left: {self.left.message}; right: {self.right.message}"
+        """str: the fits' messages."""
+        return "; ".join(f"{side}: {res.message}" for side, res in self.sides)
+
+    def transform(self) -> dict:
+        """The map from the x''y'' frame of `points` and the fits to the input's coordinates.
+
+        Returns
+        -------
+        dict
+            ``origin`` (d,) and ``axes`` (2, d) with ``x_in = origin + x'' axes[0] + y'' axes[1]``
+            (d = 3 for a scan, 2 for planar input), and the plane (``centroid``, ``normal``,
+            ``rms``) for 3D input.
+        """
+        origin = self.to_input_frame(np.zeros((1, 2)))[0]
+        ex = self.to_input_frame(np.array([[1.0, 0.0]]))[0] - origin
+        ey = self.to_input_frame(np.array([[0.0, 1.0]]))[0] - origin
+        out = {"origin": origin.tolist(), "axes": [ex.tolist(), ey.tolist()]}
+        if self.plane is not None:
+            out["plane"] = {
+                "centroid": self.plane.centroid.tolist(),
+                "normal": self.plane.normal.tolist(),
+                "rms": self.plane.rms_distance,
+            }
+        return out
 
     def table(self) -> list[dict]:
         """Parameters ``(h, phi, z, q, k)`` of each side, like Table 1 of the paper.
@@ -560,7 +594,7 @@ class KeylineFit:
             degrees (the paper's "grad" column), ``rms`` the fit residual.
         """
         rows = []
-        for side, res in (("left", self.left), ("right", self.right)):
+        for side, res in self.sides:
             _, _, h, phi, z, q, k = canonical_params(res.params)
             rows.append(
                 {
@@ -603,6 +637,7 @@ def fit(
     inflection: int | None = None,
     min_side_points: int = 5,
     fit_options: dict | None = None,
+    single_if_convex: bool = False,
 ) -> KeylineFit:
     """Run the keyline pipeline of section 5 and fit a discrete elastica to each side.
 
@@ -642,10 +677,27 @@ def fit(
         Minimum number of vertices on each side of the inflection (>= 5).
     fit_options : dict, optional
         Extra keyword arguments for ``curvesmith.elastica.fit``.
+    single_if_convex : bool, optional
+        A keyline without inflection (a convex arc, e.g. a C-shaped section) is an
+        error by default (section 5 needs the inflection); with True it gets one
+        elastica fitted to the whole polygon (``result.whole``; ``left`` and ``right``
+        are None), and so does a keyline whose estimated inflection lies within
+        `min_side_points` of an end (noise at the end of a convex scan).
 
     Returns
     -------
     KeylineFit
+
+    Notes
+    -----
+    The resampling rule of section 5.3 takes the candidate closest to the right end, so
+    a curve that comes back within ``r`` of itself (a loop, a self-intersection) is
+    short-cut there and the rest of the loop is lost. When the paper's polygon skips
+    more than two chords of arc length anywhere, or stops more than two chords before
+    the end, the keyline is resampled by the plain walk instead (first point ahead at
+    distance ``r``, ``geometry.resample_equilateral(..., rule="walk")``), which never
+    short-cuts; ``result.resampling`` says which (``"paper"`` or ``"walk"``). A closed
+    curve (ends within two chords of each other) is refused with that reason.
 
     Raises
     ------
@@ -673,7 +725,21 @@ def fit(
             raise CurveError("points must extend along a line, got all points at one place")
     else:
         r = as_float(step, name="step", low=0.0)
-    poly, _ = _resample(np.ascontiguousarray(q), r)
+    q = np.ascontiguousarray(q)
+    total = float(np.hypot(*np.diff(q[:, :2], axis=0).T).sum())
+    extent = float(np.ptp(q, axis=0).max())
+    if total > 4 * r and float(np.linalg.norm(q[-1] - q[0])) < min(2 * r, 0.05 * extent):
+        raise CurveError(
+            f"points form a closed curve (the ends are {np.linalg.norm(q[-1] - q[0]):.3g} "
+            f"apart on a curve {total:.6g} long); the keyline pipeline fits an open keyline "
+            "with ends: split the closed curve into open pieces first"
+        )
+    poly, ts = _resample(q, r)
+    rule = "paper"
+    if (ts.size > 1 and float(np.diff(ts).max()) > 2.0 * r) or ts[-1] < total - 2.0 * r:
+        from .geometry import _resample_walk
+
+        poly, rule = _resample_walk(q, r), "walk"
     if poly.shape[0] < 2 * min_side - 1:
         raise CurveError(
             f"step must leave at least {2 * min_side - 1} vertices on the keyline, got "
@@ -682,24 +748,59 @@ def fit(
     frame = _principal_frame(poly)
     xy = frame.coords
     if inflection is None:
-        est = _estimate_inflection(xy)
+        try:
+            est = _estimate_inflection(xy)
+        except CurveError as exc:
+            if not (single_if_convex and "convex arc" in str(exc)):
+                raise
+            est = None
     else:
         j = as_int(inflection, name="inflection", minimum=0, maximum=xy.shape[0] - 1)
         est = InflectionEstimate(index=j, point=xy[j].copy(), labels=())
-    i = est.index
-    n_left, n_right = i + 1, xy.shape[0] - i
-    if min(n_left, n_right) < min_side:
-        raise CurveError(
-            f"points must have an inflection away from the ends, got the estimate at vertex {i} "
-            f"of {xy.shape[0]} ({n_left} vertices on the left side, {n_right} on the right; "
-            f"need {min_side} on each)"
+    if est is not None:
+        i = est.index
+        n_left, n_right = i + 1, xy.shape[0] - i
+        if min(n_left, n_right) < min_side:
+            if not (single_if_convex and inflection is None):
+                raise CurveError(
+                    "points must have an inflection away from the ends, got the estimate at "
+                    f"vertex {i} of {xy.shape[0]} ({n_left} vertices on the left side, "
+                    f"{n_right} on the right; need {min_side} on each)"
+                )
+            est = None  # an "inflection" within min_side vertices of an end: noise there
+    if est is None:
+        whole = _fit_whole(xy, dict(fit_options or {}))
+        return KeylineFit(
+            points=xy,
+            step=r,
+            plane=plane,
+            frame=frame,
+            inflection=InflectionEstimate(index=0, point=xy[0].copy(), labels=()),
+            left=None,
+            right=None,
+            whole=whole,
+            resampling=rule,
         )
     options = dict(fit_options or {})
     left = _fit_side(xy[i::-1], options)
     right = _fit_side(xy[i:], options)
     return KeylineFit(
-        points=xy, step=r, plane=plane, frame=frame, inflection=est, left=left, right=right
+        points=xy,
+        step=r,
+        plane=plane,
+        frame=frame,
+        inflection=est,
+        left=left,
+        right=right,
+        resampling=rule,
     )
+
+
+def _fit_whole(xy: np.ndarray, options: dict):
+    """One elastica through the whole equilateral polygon (no inflection): the global fit."""
+    from . import elastica
+
+    return elastica.fit(xy, **options)
 
 
 def _fit_side(side: np.ndarray, options: dict):

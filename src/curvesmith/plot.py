@@ -414,12 +414,13 @@ def deviation_along(ax, points, deviation, *, tolerance: float | None = None, la
     return ax
 
 
-def curvature_along(ax, data, fitted, *, data_label="data", fit_label="fit"):
+def curvature_along(ax, data, fitted, *, data_label="data", fit_label="fit", span: int = 1):
     """Plot the discrete curvature of data and of a fitted curve against arc length.
 
-    Curvature is the Menger curvature (inverse circumradius of three consecutive
-    vertices, signed) of each polyline, so unevenly spaced data can be compared with an
-    equilateral fit.
+    Curvature is the Menger curvature (inverse circumradius of three vertices, signed) of
+    each polyline, so unevenly spaced data can be compared with an equilateral fit. On
+    noisy data use ``span > 1``: the circle through ``p[i - span], p[i], p[i + span]``
+    (noise in the curvature falls like ``1 / span^2``).
 
     Parameters
     ----------
@@ -427,6 +428,8 @@ def curvature_along(ax, data, fitted, *, data_label="data", fit_label="fit"):
     data, fitted : (N, 2) and (M, 2) array_like
         The two curves, in the same order along the curve.
     data_label, fit_label : str, optional
+    span : int, optional
+        Vertex offset of the three points of the data's circles (the fit uses 1).
 
     Returns
     -------
@@ -447,12 +450,15 @@ def curvature_along(ax, data, fitted, *, data_label="data", fit_label="fit"):
     """
     d = as_points(data, min_points=3)
     f = as_points(fitted, name="fitted", min_points=3)
-    for p, lab, style in (
-        (d, data_label, {"color": "0.4", "lw": 0.6}),
-        (f, fit_label, {"color": "tab:red", "lw": 1.2}),
-    ):
-        k = geometry.menger_curvature(p)
-        ax.plot(_arc_positions(p)[1:-1], k, label=lab, **style)
+    w = max(1, min(int(span), (d.shape[0] - 1) // 2))
+    a, b, c = d[: -2 * w], d[w:-w], d[2 * w :]
+    u, v = b - a, c - b
+    cross = u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]
+    denom = np.hypot(*u.T) * np.hypot(*v.T) * np.hypot(*(c - a).T)
+    k_data = np.divide(2.0 * cross, denom, out=np.zeros_like(cross), where=denom > 0)
+    ax.plot(_arc_positions(d)[w:-w], k_data, color="0.4", lw=0.6, label=data_label)
+    k_fit = geometry.menger_curvature(f)
+    ax.plot(_arc_positions(f)[1:-1], k_fit, color="tab:red", lw=1.2, label=fit_label)
     ax.set_xlabel("arc length (data units)")
     ax.set_ylabel("curvature (1 / data unit)")
     ax.grid(True, lw=0.3)

@@ -110,7 +110,10 @@ def _plot(path: str, fits: list[tuple[int, object, np.ndarray]]) -> None:
             f"(noise {res.noise:.2g})",
             fontsize="medium",
         )
-        curvature_along(row[2], res.data, res.points, data_label="data (resampled)")
+        span = max(1, res.data.shape[0] // 60)
+        curvature_along(
+            row[2], res.data, res.points, data_label=f"data (circles over {span} chords)", span=span
+        )
         row[2].set_title("curvature along the curve", fontsize="medium")
     fig.tight_layout()
     fig.savefig(path, dpi=110)
@@ -119,7 +122,13 @@ def _plot(path: str, fits: list[tuple[int, object, np.ndarray]]) -> None:
 
 @click.command("fair")
 @click.argument("source", metavar="IN")
-@click.option("-o", "--output", "dest", required=True, help="Output file (- for stdout).")
+@click.option(
+    "-o",
+    "--output",
+    "dest",
+    required=True,
+    help="Output file (- for stdout); .dxf writes 3D polylines for CAD.",
+)
 @click.option("--report", "report", default=None, help="Write a JSON report of every fit.")
 @click.option(
     "--plot",
@@ -221,7 +230,12 @@ def fair_command(
     failed = [r for r in rows if not r["success"]]
     missed = [r for r in rows if r["within_tolerance"] is False]
     if not failed and not missed:
-        write_curves(out, dest, fmt)
+        if fmt is None and dest.lower().endswith(".dxf"):
+            from ..io.dxf import write_dxf
+
+            write_dxf(out, dest)  # 3D polylines for CAD (DXF is written, not read)
+        else:
+            write_curves(out, dest, fmt)
     if report is not None:
         with open(report, "w", encoding="utf-8") as fh:
             json.dump({"source": source, "curves": rows}, fh, indent=2)

@@ -26,6 +26,7 @@ TABLE_FIELDS = (
     "inflection_index",
     "plane_rms",
     "output",
+    "transform",
     "error",
 )
 
@@ -35,7 +36,7 @@ SUMMARY_PARAMS = ("h", "phi", "phi_deg", "z", "q", "k")
 
 def _rows_for(file: str, name: str, res, out_name: str) -> list[dict]:
     rows = []
-    side_message = {"left": res.left.message, "right": res.right.message}
+    side_message = {side: fit.message for side, fit in res.sides}
     for row in res.table():
         full = dict.fromkeys(TABLE_FIELDS, "")
         full.update(row)
@@ -46,6 +47,7 @@ def _rows_for(file: str, name: str, res, out_name: str) -> list[dict]:
             inflection_index=res.inflection.index,
             plane_rms=res.plane.rms_distance if res.plane is not None else 0.0,
             output=out_name,
+            transform=Path(out_name).stem + "_transform.json",
             error="" if row["success"] else f"{row['side']} fit: {side_message[row['side']]}",
         )
         rows.append(full)
@@ -58,23 +60,33 @@ def _error_row(file: str, name: str, message: str) -> dict:
     return row
 
 
-def _write_fit(res, dest: Path) -> None:
+def _write_fit(res, dest: Path) -> Path:
+    """The resampled keyline and the fits in the scan's coordinates, and the transform (JSON)."""
     from ..io import Curve
     from ._common import write_curves
 
-    curves = [
-        Curve(res.points, closed=False, properties={"id": "keyline"}),
-        Curve(res.left.points, closed=False, properties={"id": "left"}),
-        Curve(res.right.points, closed=False, properties={"id": "right"}),
-    ]
+    curves = [Curve(res.to_input_frame(res.points), closed=False, properties={"id": "keyline"})]
+    for side, fit in res.sides:
+        curves.append(Curve(res.to_input_frame(fit.points), closed=False, properties={"id": side}))
     write_curves(curves, str(dest))
+    transform = dest.with_name(dest.stem + "_transform.json")
+    info = {
+        "description": "x_scan = origin + x2d * axes[0] + y2d * axes[1] maps the 2D frame of "
+        "the fitted parameters (keyline_table) to the scan's coordinates",
+        **res.transform(),
+        "resampling": res.resampling,
+    }
+    transform.write_text(json.dumps(info, indent=2), encoding="utf-8")
+    return transform
 
 
 def _summary(rows: list[dict]) -> dict:
     """Mean and standard deviation per side over the converged fits, like Table 1."""
     out = {}
-    for side in ("left", "right"):
+    for side in ("left", "right", "whole"):
         good = [r for r in rows if r["side"] == side and r["success"] is True]
+        if side == "whole" and not any(r["side"] == "whole" for r in rows):
+            continue
         entry: dict = {"count": len(good)}
         if good:
             vals = np.array([[r[c] for c in SUMMARY_PARAMS] for r in good], dtype=float)
@@ -115,8 +127,15 @@ def _json_value(v):
     show_default=True,
     help="Viewing direction NX,NY,NZ: the side of the plane the 2D keyline is seen from.",
 )
+@click.option(
+    "--max-iter",
+    "max_iter",
+    type=click.IntRange(min=1),
+    default=None,
+    help="Function evaluations per elastica solve (default 5000).",
+)
 @click.pass_context
-def keyline_command(ctx, inputs, outdir, step, normal) -> None:
+def keyline_command(ctx, inputs, outdir, step, normal, max_iter) -> None:
     """Fit a discrete elastica to each side of the inflection of 3D keyline scans.
 
     Each IN is a scanned keyline: CSV with x,y,z columns (an id column for
@@ -126,8 +145,11 @@ def keyline_command(ctx, inputs, outdir, step, normal) -> None:
     frame, RDP inflection estimate, and a discrete elastica fitted to each
     side with its start pinned at the inflection.
 
-    Writes OUTDIR/<name>_fit.csv (the resampled keyline and the two fitted
-    elasticae in the keyline's 2D frame, ids keyline/left/right) and the
+    A keyline without inflection (a C-shaped section) gets one elastica fitted
+    to the whole keyline (side "whole"). Writes OUTDIR/<name>_fit.csv (the
+    resampled keyline and the fitted elasticae in the scan's coordinates, ids
+    keyline/left/right or keyline/whole), OUTDIR/<name>_fit_transform.json (the
+    map from the 2D frame of the parameters to the scan) and the
     parameter table (h, phi, z, q, k per side, like Table 1) as
     OUTDIR/keyline_table.csv and .json (with the mean and standard deviation
     per side over the converged fits). A file that cannot be read or
@@ -163,7 +185,14 @@ def keyline_command(ctx, inputs, outdir, step, normal) -> None:
                 continue
             for name, pts in scans:
                 try:
-                    res = keyline.fit(pts, step=step, normal_hint=hint)
+                    options = {} if max_iter is None else {"max_iter": max_iter}
+                    res = keyline.fit(
+                        pts,
+                        step=step,
+                        normal_hint=hint,
+                        single_if_convex=True,
+                        fit_options=options,
+                    )
                     dest = out / f"{name}_fit.csv"
                     _write_fit(res, dest)
                 except CurveError as exc:
