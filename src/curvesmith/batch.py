@@ -177,6 +177,7 @@ def smooth_partitioned(
     scheduler: str | None = None,
     client: Any = None,
     progress: bool = False,
+    fixed: Any = None,
 ) -> tuple[Any, tuple[FeatureError, ...], int, int]:
     """Smooth features (array, GeoSeries or GeoDataFrame) on Dask, partition by partition.
 
@@ -196,6 +197,9 @@ def smooth_partitioned(
         An existing client (then ``workers``/``scheduler`` are ignored).
     progress : bool
         Show a progress bar on the terminal.
+    fixed : bool mask or callable, optional
+        Vertices that stay put, as in :func:`curvesmith.geo.smooth` (a callable is sent to
+        every partition; a mask over the whole input is not supported here).
 
     Returns
     -------
@@ -216,6 +220,8 @@ def smooth_partitioned(
         workers = as_int(workers, name="workers", minimum=1)
     geoms, wrap = as_geometry_array(geometry)
     options = {"method": method, "iterations": iterations, "alpha": alpha, "make_valid": make_valid}
+    if fixed is not None:
+        options["fixed"] = fixed
     starts = list(range(0, len(geoms), partition_size))
     import shapely
 
@@ -300,7 +306,7 @@ def smooth_file(
     import warnings
 
     from . import geo
-    from .geo._io import GeographicCRSWarning
+    from .geo._io import GeographicCRSWarning, clamp_to_domain, domain_fixed
 
     partition_size = as_int(partition_size, name="partition_size", minimum=1)
     df = geo.read_file(in_path, layer=layer)
@@ -344,11 +350,16 @@ def smooth_file(
             scheduler=scheduler,
             client=client,
             progress=progress,
+            # lon/lat: the antimeridian and the poles stay put (as in geo's smooth_file)
+            fixed=domain_fixed(crs, work.crs) if crs is not None and crs.is_geographic else None,
         )
         valid = None
     seconds = time.perf_counter() - t0
     if equal_area:
         out = out.to_crs(crs)
+    if crs is not None and crs.is_geographic:
+        out = out.copy()
+        out.geometry = clamp_to_domain(out.geometry, str(in_path), df.geometry)
     out_layer = None if layer is None or isinstance(layer, int) else str(layer)
     geo.write_file(out, out_path, layer=out_layer)
     if errors_path is None:

@@ -212,12 +212,23 @@ def turning_angles(points, *, closed: bool = False) -> np.ndarray:
     [1.570796]
     """
     p = as_points(points, closed=closed, min_points=3, distinct=True)
-    e = _edges(p, closed)
+    e = _unit_scaled(_edges(p, closed))
     if closed:
         a, b = np.roll(e, 1, axis=0), e
     else:
         a, b = e[:-1], e[1:]
     return np.arctan2(det2(a, b), np.einsum("ij,ij->i", a, b))
+
+
+def _unit_scaled(e: np.ndarray) -> np.ndarray:
+    """Each row scaled by a power of two to a largest component in [0.5, 1) (exact).
+
+    The angle between two vectors does not change when each is scaled by a positive
+    factor, and a power of two scales exactly; without it, cross and dot products of
+    edges of 1e-160 underflow to zero (and of 1e160 overflow) and the angle is lost.
+    """
+    _, exp = np.frexp(np.max(np.abs(e), axis=1))
+    return np.ldexp(e, -exp[:, None])
 
 
 def interior_angles(points, *, closed: bool = False) -> np.ndarray:

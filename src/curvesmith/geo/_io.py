@@ -307,6 +307,119 @@ def domain_edge_mask(df: Any, *, atol: float = 1e-9) -> list[np.ndarray]:
     return out
 
 
+_DOMAIN_ATOL = 1e-7  # degrees (about 1 cm): round trips through an equal-area projection
+
+
+def _on_domain_edge(lon: np.ndarray, lat: np.ndarray, atol: float) -> np.ndarray:
+    return (np.abs(lon) >= 180.0 - atol) | (np.abs(lat) >= 90.0 - atol)
+
+
+def domain_fixed(geo_crs: Any, work_crs: Any = None):
+    """The ``fixed=`` callable that keeps vertices on the lon/lat domain's edges in place.
+
+    Parameters
+    ----------
+    geo_crs : pyproj.CRS
+        The data's geographic CRS (x = longitude, y = latitude in degrees).
+    work_crs : pyproj.CRS, optional
+        The CRS the smoothing runs in (an equal-area projection of the data); vertices are
+        taken back to longitude/latitude to be judged. Default: the data's own CRS.
+
+    Returns
+    -------
+    callable
+        ``fixed(xy) -> (N,) bool`` for :func:`curvesmith.geo.smooth` and
+        :func:`curvesmith.geo.smooth_coverage`: which rows lie on ±180° or ±90°
+        (within 1e-9° in degrees, 1e-7° after a projection's round trip).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> fixed = domain_fixed("EPSG:4326")
+    >>> fixed(np.array([[180.0, 10.0], [179.0, -90.0], [0.0, 0.0]])).tolist()
+    [True, True, False]
+    """
+    pyproj = require("pyproj", "geo", "keeping vertices on the antimeridian and the poles")
+    geo_crs = pyproj.CRS.from_user_input(geo_crs)
+    if work_crs is None or pyproj.CRS.from_user_input(work_crs) == geo_crs:
+
+        def fixed(xy: np.ndarray) -> np.ndarray:
+            return _on_domain_edge(xy[:, 0], xy[:, 1], 1e-9)
+
+        return fixed
+    to_geo = pyproj.Transformer.from_crs(work_crs, geo_crs, always_xy=True)
+
+    def fixed_projected(xy: np.ndarray) -> np.ndarray:
+        lon, lat = to_geo.transform(xy[:, 0], xy[:, 1])
+        return _on_domain_edge(np.asarray(lon), np.asarray(lat), _DOMAIN_ATOL)
+
+    return fixed_projected
+
+
+def clamp_to_domain(geoms: Any, where: str, originals: Any = None) -> Any:
+    """Snap coordinates that lie a rounding error beyond ±180° / ±90° onto the edge.
+
+    Natural Earth stores longitudes of 180.00000000000006, and a projection's round trip
+    adds 1e-12°; both are moved onto the edge (moving a vertex by under 1e-7°). A vertex
+    farther outside means the smoothing left the map, which is an error, not a write.
+    With `originals`, a smoothed vertex within 1e-7° of an input vertex on the domain's
+    edge (fixed during smoothing, then moved by up to 1e-8° by an equal-area projection's
+    round trip) gets that input vertex's coordinates back exactly.
+
+    Parameters
+    ----------
+    geoms : GeoSeries or array of geometries
+        Smoothed geometries in a geographic CRS.
+    where : str
+        The file name, for the message.
+    originals : GeoSeries or array of geometries, optional
+        The geometries before smoothing.
+
+    Returns
+    -------
+    The same kind of object, with every coordinate inside the domain.
+
+    Raises
+    ------
+    CurveError
+        If a vertex lies more than 1e-7° outside the domain, naming the feature.
+    """
+    shapely = require("shapely", "geo", "keeping coordinates inside the lon/lat domain")
+    values = np.asarray(getattr(geoms, "values", geoms), dtype=object)
+    xy, index = shapely.get_coordinates(values, return_index=True)
+    if not len(xy):
+        return geoms
+    over = np.maximum(np.abs(xy[:, 0]) - 180.0, np.abs(xy[:, 1]) - 90.0)
+    if np.any(over > _DOMAIN_ATOL):
+        k = int(np.argmax(over))
+        raise CurveError(
+            f"{where}: feature {int(index[k])}: smoothing moved a vertex to "
+            f"({xy[k, 0]!r}, {xy[k, 1]!r}), outside the longitude/latitude domain"
+        )
+    snap = None
+    if originals is not None:
+        orig = shapely.get_coordinates(np.asarray(getattr(originals, "values", originals)))
+        orig = orig[_on_domain_edge(orig[:, 0], orig[:, 1], 1e-9)]
+        if len(orig):
+            from scipy.spatial import cKDTree
+
+            d, k = cKDTree(orig).query(xy, distance_upper_bound=_DOMAIN_ATOL)
+            snap = (np.isfinite(d) & (d > 0), orig[np.minimum(k, len(orig) - 1)])
+    if not np.any(over > 0) and (snap is None or not snap[0].any()):
+        return geoms
+    new = xy.copy()
+    if snap is not None:
+        new[snap[0]] = snap[1][snap[0]]
+    new[:, 0] = np.clip(new[:, 0], -180.0, 180.0)
+    new[:, 1] = np.clip(new[:, 1], -90.0, 90.0)
+    clipped = shapely.set_coordinates(np.array(values, dtype=object, copy=True), new)
+    if hasattr(geoms, "values"):
+        out = geoms.copy()
+        out[:] = clipped
+        return out
+    return clipped
+
+
 def write_file(df: Any, path: str | Path, *, layer: str | None = None) -> None:
     """Write a GeoDataFrame; the format follows the suffix (see :data:`DRIVERS`).
 
@@ -546,10 +659,11 @@ def _smooth_equal_area(df: Any, *, make_valid: bool, **options):
     n_red, change = 0, 0.0
     planar: set[int] = set()  # pieces smoothed in the data's own CRS instead
 
-    def smooth_piece(geom_array, name_of) -> np.ndarray:
+    def smooth_piece(geom_array, name_of, work_crs=None) -> np.ndarray:
         nonlocal n_red, change
+        edges = {"fixed": domain_fixed(crs, work_crs)} if geographic else {}
         try:
-            res = smooth(geom_array, make_valid=make_valid, full_output=True, **options)
+            res = smooth(geom_array, make_valid=make_valid, full_output=True, **options, **edges)
         except CurveError as exc:
             raise CurveError(f"{name_of()}: {exc}") from None
         n_red += len(res.reductions)
@@ -566,7 +680,7 @@ def _smooth_equal_area(df: Any, *, make_valid: bool, **options):
         if keep.any():
             names = [owners[j][0] for j in idx[keep]]
             out = smooth_piece(
-                there[keep], lambda: f"in the equal-area projection, features {names}"
+                there[keep], lambda: f"in the equal-area projection, features {names}", laea
             )
             back = geopandas.GeoSeries(out, crs=laea).to_crs(crs).values
             back = np.array([_unwrap(g) for g in back], dtype=object) if geographic else back
@@ -674,8 +788,13 @@ def smooth_file(
             stacklevel=2,
         )
     planar: list[int] = []
+    # lon/lat data: vertices on the antimeridian and the poles stay put (Fiji, Chukotka and
+    # Antarctica keep meeting there) and the output stays inside the domain
+    edges = {"fixed": domain_fixed(crs)} if geographic and not equal_area else {}
     if coverage:
         work = df.to_crs(equal_area_crs(df)) if equal_area else df
+        if geographic and equal_area:
+            edges = {"fixed": domain_fixed(crs, work.crs)}
         res = smooth_coverage(
             work,
             method=method,
@@ -684,6 +803,7 @@ def smooth_file(
             snap=snap,
             make_valid=make_valid,
             full_output=True,
+            **edges,
         )
         n_red, invalid, valid = len(res.reductions), res.invalid_edges, res.coverage_valid
         out, change = res.geometry, float(res.max_area_change)
@@ -696,9 +816,12 @@ def smooth_file(
         if equal_area:
             out, n_red, change, planar = _smooth_equal_area(df, make_valid=make_valid, **options)
         else:
-            res = smooth(df, make_valid=make_valid, full_output=True, **options)
+            res = smooth(df, make_valid=make_valid, full_output=True, **options, **edges)
             out, n_red, change = res.geometry, len(res.reductions), float(res.max_area_change)
         invalid, valid = {}, None
+    if geographic:
+        out = out.copy()
+        out.geometry = clamp_to_domain(out.geometry, str(in_path), df.geometry)
     if out_layer is None and layer is not None and not isinstance(layer, int | np.integer):
         out_layer = str(layer)
     write_file(out, out_path, layer=out_layer)
