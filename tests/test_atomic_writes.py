@@ -467,3 +467,34 @@ def test_map_data_to_svg_is_drawn_upright_and_reads_back(tmp_path):
     # curves that come from SVG stay unflipped
     res = CliRunner().invoke(main, ["smooth", str(svg), "-o", str(tmp_path / "again.svg")])
     assert res.exit_code == 0 and "scale(1,-1)" not in (tmp_path / "again.svg").read_text()
+
+
+@pytest.mark.slow
+def test_sigterm_during_a_write_leaves_no_temporary_files(tmp_path):
+    # SIGTERM is what QGIS's Cancel and job schedulers send: the run must unwind like an
+    # error, so the temporary output beside OUT is removed and the old OUT stays as it was
+    import signal
+    import sys
+    import time
+
+    t = np.linspace(0, 2 * np.pi, 400_000, endpoint=False)
+    ring = np.c_[np.cos(t), np.sin(t)] * (1 + 0.05 * np.sin(40 * t))[:, None]
+    src = tmp_path / "ring.csv"
+    np.savetxt(src, ring, delimiter=",", header="x,y", comments="")
+    out = tmp_path / "out.csv"
+    out.write_text("x,y\n0,0\n1,0\n0,1\n", encoding="utf-8")
+    before = out.read_bytes()
+    cmd = [sys.executable, "-m", "curvesmith.cli", "smooth", str(src), "-o", str(out)]
+    proc = subprocess.Popen(
+        [*cmd, "--iterations", "3"], stdout=subprocess.PIPE, stderr=subprocess.PIPE
+    )
+    deadline = time.monotonic() + 240
+    while not list(tmp_path.glob(".out.csv.*.tmp")) and proc.poll() is None:
+        assert time.monotonic() < deadline, "the run never started writing"
+        time.sleep(0.05)
+    assert proc.poll() is None, proc.communicate()
+    proc.send_signal(signal.SIGTERM)
+    proc.communicate(timeout=120)
+    assert proc.returncode == 128 + signal.SIGTERM
+    assert not list(tmp_path.glob(".out.csv.*")), "temporary output left behind"
+    assert out.read_bytes() == before

@@ -195,6 +195,8 @@ def contours_command(
             crs=g.crs if g.crs is not None else crs,
             full_output=True,
         )
+    if g.crs is None and crs is None:
+        click.echo(f"Warning: {grid} has no CRS; the output has none either (give --crs)", err=True)
     _write(res.geometry, dest)
     what = "bands" if bands else "contour lines"
     red = len(res.smoothing.reductions)

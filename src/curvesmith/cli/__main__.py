@@ -1,0 +1,5 @@
+"""``python -m curvesmith.cli``: the ``curvesmith`` command."""
+
+from . import main
+
+main()
