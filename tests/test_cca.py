@@ -1118,3 +1118,17 @@ def test_blocks_with_zero_length_edges(monkeypatch):
     np.testing.assert_array_equal(out[oo[0] : oo[1] - 1], wants[0])
     np.testing.assert_array_equal(out[oo[2] : oo[3] - 1], wants[1])
     assert (out[oo[1:] - 1] == out[oo[:-1]]).all()
+
+
+def test_import_does_not_load_numba():
+    # the kernel is compiled (or loaded from numba's cache) on first use, not at import:
+    # `import curvesmith` and `curvesmith --help` stay fast
+    import subprocess
+    import sys
+
+    code = (
+        "import sys, curvesmith, curvesmith.cca, curvesmith.subdivision\n"
+        "import curvesmith.cli, curvesmith.geo\n"
+        "assert 'numba' not in sys.modules, 'numba imported'\n"
+    )
+    subprocess.run([sys.executable, "-c", code], check=True, timeout=120)

@@ -758,14 +758,15 @@ def _run_units(kernel, P, fixed, alpha_in, closed, params, close_out, prm, block
     whole curves.
     """
     if blocks is None:
-        rows, u_off, u_closed = None, offsets, closed
+        u_off, u_closed = offsets, closed
         core = np.zeros((offsets.size - 1, 2), dtype=np.int64)
         core[:, 1] = np.diff(offsets)
         UP, Ufixed, Ualpha = P, fixed, alpha_in
     else:
-        rows, u_off, u_closed, core, owner = blocks
-        UP, Ufixed = P[rows], fixed[rows]
-        Ualpha = alpha_in[rows] if alpha_in.size else alpha_in
+        ranges, u_off, u_closed, core, owner = blocks
+        UP = np.concatenate([P[a:b] for a, b in ranges])
+        Ufixed = np.concatenate([fixed[a:b] for a, b in ranges])
+        Ualpha = np.concatenate([alpha_in[a:b] for a, b in ranges]) if alpha_in.size else alpha_in
     chunks = _chunks(u_off, prm.workers)
 
     def step(a, b):
@@ -810,15 +811,18 @@ def _run_units(kernel, P, fixed, alpha_in, closed, params, close_out, prm, block
     shift = np.repeat(bases, [r[4].size for r in parts])
     sa, sb = span[:, 0] + shift, span[:, 1] + shift
     lens = sb - sa
-    gather = np.repeat(sa - np.concatenate([[0], np.cumsum(lens)[:-1]]), lens) + np.arange(
-        lens.sum()
-    )
-    m = owner[-1] + 1 if owner.size else 0
+    # the cores' rows, as few slices as possible (whole short curves are adjacent)
+    cut = np.flatnonzero(sa[1:] != sb[:-1]) + 1
+    first = np.concatenate([[0], cut])
+    last = np.concatenate([cut, [sa.size]]) - 1
+    pieces = list(zip(sa[first].tolist(), sb[last].tolist(), strict=True))
+    m = int(owner[-1]) + 1 if owner.size else 0
     n_out = np.bincount(owner, weights=lens, minlength=m).astype(np.int64)
     oo = np.zeros(m + 1, dtype=np.int64)
     np.cumsum(n_out, out=oo[1:])
     counts = tuple(np.bincount(owner, weights=c, minlength=m).astype(np.int64) for c in counts)
-    OUT, of = OUT[gather], of[gather]
+    OUT = np.concatenate([OUT[a:b] for a, b in pieces])
+    of = np.concatenate([of[a:b] for a, b in pieces])
     if close_out and closed.any():
         OUT, new_oo = _close(OUT, oo, closed)
         flags = np.zeros(OUT.shape[0], dtype=bool)
@@ -839,47 +843,71 @@ def _blocks(offsets: np.ndarray, closed: np.ndarray, halo: int):
     smoothed as a closed curve; its own wrap edge, not an edge of the curve, disturbs
     only the halo; the last block of an open curve stays open at the true end). The
     values are computed by the same arithmetic as for the whole curve, so the result
-    is the same to the last bit; the blocks keep the kernel's scratch arrays in the
-    processor's cache and let long curves use ``workers`` threads.
+    is the same to the last bit, and long curves can use ``workers`` threads.
 
-    Returns ``rows`` (the rows of every unit, one after the other), the units'
-    offsets, closed flags, cores ``(U, 2)`` and owner curves.
+    Returns the row ranges of the input that make up the units, one after the other
+    (adjacent ranges merged), the units' offsets, closed flags, cores ``(U, 2)`` and
+    owner curves.
     """
     lengths = np.diff(offsets)
-    rows, u_len, u_closed, core, owner = [], [], [], [], []
-    for k, n in enumerate(lengths):
-        s0 = int(offsets[k])
-        if n < 2 * _BLOCK:
-            rows.append(np.arange(s0, s0 + n))
-            u_len.append(n)
-            u_closed.append(bool(closed[k]))
-            core.append((0, n))
-            owner.append(k)
-            continue
+    long = np.flatnonzero(lengths >= 2 * _BLOCK)
+    ranges: list[tuple[int, int]] = []
+
+    def add(a: int, b: int) -> None:
+        if b <= a:
+            return
+        if ranges and ranges[-1][1] == a:
+            ranges[-1] = (ranges[-1][0], b)
+        else:
+            ranges.append((a, b))
+
+    u_len, u_closed, core, owner = [], [], [], []
+    prev = 0  # first curve not yet listed
+    for k in [*long.tolist(), lengths.size]:
+        if k > prev:  # the short curves before k: whole units
+            add(int(offsets[prev]), int(offsets[k]))
+            sl = lengths[prev:k]
+            u_len.append(sl)
+            u_closed.append(closed[prev:k])
+            core.append(np.stack([np.zeros_like(sl), sl], axis=1))
+            owner.append(np.arange(prev, k))
+        if k == lengths.size:
+            break
+        n, s0 = int(lengths[k]), int(offsets[k])
+        bl, bc, bcore = [], [], []
         for s in range(0, n, _BLOCK):
             e = min(n, s + _BLOCK)
             if closed[k]:
-                idx = np.arange(s - halo, e + halo) % n
+                lo, hi = s - halo, e + halo
                 c = (halo, halo + e - s)
                 piece_closed = True
+                if lo < 0:
+                    add(s0 + n + lo, s0 + n)
+                add(s0 + max(lo, 0), s0 + min(hi, n))
+                if hi > n:
+                    add(s0, s0 + hi - n)
             else:
                 lo, hi = max(0, s - halo), min(n, e + halo)
-                idx = np.arange(lo, hi)
                 c = (s - lo, e - lo)
                 piece_closed = hi < n  # the true end of an open curve stays open
-            rows.append(s0 + idx)
-            u_len.append(idx.size)
-            u_closed.append(piece_closed)
-            core.append(c)
-            owner.append(k)
-    u_off = np.zeros(len(u_len) + 1, dtype=np.int64)
-    np.cumsum(u_len, out=u_off[1:])
+                add(s0 + lo, s0 + hi)
+            bl.append(hi - lo)
+            bc.append(piece_closed)
+            bcore.append(c)
+        u_len.append(np.array(bl))
+        u_closed.append(np.array(bc, dtype=bool))
+        core.append(np.array(bcore, dtype=np.int64))
+        owner.append(np.full(len(bl), k))
+        prev = k + 1
+    lens = np.concatenate(u_len).astype(np.int64)
+    u_off = np.zeros(lens.size + 1, dtype=np.int64)
+    np.cumsum(lens, out=u_off[1:])
     return (
-        np.concatenate(rows) if rows else np.zeros(0, dtype=np.int64),
+        ranges,
         u_off,
-        np.array(u_closed, dtype=bool),
-        np.array(core, dtype=np.int64).reshape(-1, 2),
-        np.array(owner, dtype=np.int64),
+        np.concatenate(u_closed).astype(bool),
+        np.concatenate(core).astype(np.int64).reshape(-1, 2),
+        np.concatenate(owner).astype(np.int64),
     )
 
 
