@@ -587,7 +587,8 @@ def smooth_ragged_with_info(
         return RaggedCCAResult(out, off, 0, zeros, zeros.copy(), zeros.copy(), True, "0 CCA1 steps")
     check_growth(p.shape[0], iterations, lambda n: 3 * n, limit=_validate.MAX_VERTICES)
     fixed_in = fixed
-    q, origin = kernel.to_local(p, off)
+    q = np.empty_like(p)
+    origin = kernel.to_local(p, off, q)
     prm = _Params(alpha_fn, restrict, c, C, tilt, balance_tol, max_passes, min_factor, workers)
     out, fixed, off_out, steps = _iterate(
         q, fixed, off, cl, iterations, prm, "compiled", close_out=close_rings
@@ -777,9 +778,9 @@ def _run_units(kernel, P, fixed, alpha_in, closed, params, close_out, prm, block
         n, m_curves = e - s, b - a
         close = close_out and blocks is None
         cap = 3 * n + n // 16 + m_curves + 64  # 3 points per vertex, some Fig. 11 pairs
-        res = kernel.step_ragged(*args, cap, close, core[a:b])
+        res = kernel.step_ragged(*args, *_buffers(cap), close, core[a:b])
         if res[2] < 0:  # at most 4 points per vertex
-            res = kernel.step_ragged(*args, 4 * n + m_curves + 1, close, core[a:b])
+            res = kernel.step_ragged(*args, *_buffers(4 * n + m_curves + 1), close, core[a:b])
         return res
 
     if len(chunks) == 1:
@@ -790,39 +791,40 @@ def _run_units(kernel, P, fixed, alpha_in, closed, params, close_out, prm, block
     span = np.concatenate([r[7] for r in parts])
     if blocks is not None and np.any(span[:, 0] < 0):
         return None
-    bases = np.cumsum([0] + [r[2] for r in parts])[:-1]
-    OUT = (
-        np.concatenate([r[0][: r[2]] for r in parts])
-        if len(parts) > 1
-        else parts[0][0][: parts[0][2]]
-    )
-    of = (
-        np.concatenate([r[1][: r[2]] for r in parts])
-        if len(parts) > 1
-        else parts[0][1][: parts[0][2]]
-    )
     counts = [np.concatenate([r[k] for r in parts]) for k in (4, 5, 6)]
     if blocks is None:
+        if len(parts) == 1:
+            OUT, of = parts[0][0][: parts[0][2]], parts[0][1][: parts[0][2]]
+            return OUT, of, parts[0][3], tuple(counts)
+        bases = np.cumsum([0] + [r[2] for r in parts])[:-1]
+        OUT = np.concatenate([r[0][: r[2]] for r in parts])
+        of = np.concatenate([r[1][: r[2]] for r in parts])
         oo = [np.zeros(1, dtype=np.int64)]
         for r, base in zip(parts, bases, strict=True):
             oo.append(r[3][1:] + base)
         return OUT, of, np.concatenate(oo), tuple(counts)
-    # the cores' outputs in order, curve by curve
-    shift = np.repeat(bases, [r[4].size for r in parts])
-    sa, sb = span[:, 0] + shift, span[:, 1] + shift
-    lens = sb - sa
-    # the cores' rows, as few slices as possible (whole short curves are adjacent)
-    cut = np.flatnonzero(sa[1:] != sb[:-1]) + 1
-    first = np.concatenate([[0], cut])
-    last = np.concatenate([cut, [sa.size]]) - 1
-    pieces = list(zip(sa[first].tolist(), sb[last].tolist(), strict=True))
+    # the cores' outputs one after the other, in unit order, moved by the kernel (in place
+    # with one part: the buffer is not copied, so no fresh pages are touched)
+    lens = span[:, 1] - span[:, 0]
+    dest = np.zeros(lens.size + 1, dtype=np.int64)
+    np.cumsum(lens, out=dest[1:])
+    total = int(dest[-1])
+    if len(parts) == 1:
+        OUT, of = parts[0][0], parts[0][1]
+        kernel.move_rows(OUT, of, OUT, of, span, dest[:-1])
+        OUT, of = OUT[:total], of[:total]
+    else:
+        OUT, of = np.empty((total, 2)), np.empty(total, dtype=bool)
+        u = 0
+        for r in parts:
+            nu = r[7].shape[0]
+            kernel.move_rows(r[0], r[1], OUT, of, r[7], dest[u : u + nu])
+            u += nu
     m = int(owner[-1]) + 1 if owner.size else 0
     n_out = np.bincount(owner, weights=lens, minlength=m).astype(np.int64)
     oo = np.zeros(m + 1, dtype=np.int64)
     np.cumsum(n_out, out=oo[1:])
     counts = tuple(np.bincount(owner, weights=c, minlength=m).astype(np.int64) for c in counts)
-    OUT = np.concatenate([OUT[a:b] for a, b in pieces])
-    of = np.concatenate([of[a:b] for a, b in pieces])
     if close_out and closed.any():
         OUT, new_oo = _close(OUT, oo, closed)
         flags = np.zeros(OUT.shape[0], dtype=bool)
@@ -830,6 +832,11 @@ def _run_units(kernel, P, fixed, alpha_in, closed, params, close_out, prm, block
         flags[np.arange(of.size) + np.repeat(np.cumsum(add) - add, np.diff(oo))] = of
         of, oo = flags, new_oo
     return OUT, of, oo, counts
+
+
+def _buffers(cap: int):
+    """Output buffers of the kernel (numpy's allocator: huge pages for large ones)."""
+    return np.empty((cap, 2)), np.empty(cap, dtype=bool)
 
 
 def _blocks(offsets: np.ndarray, closed: np.ndarray, halo: int):

@@ -204,7 +204,8 @@ def step_ragged(
     balance_tol,
     max_passes,
     min_factor,
-    cap,
+    OUT,
+    of,
     close_out,
     core,
 ):
@@ -215,8 +216,11 @@ def step_ragged(
     :func:`curvesmith.cca._api._blocks`). ``span`` (returned) holds, per curve, the
     output rows of the core; a block that meets a zero-length edge gets ``-1, -1``.
 
-    ``cap``: rows of the output buffer (at most 4 per input vertex and 1 per ring are
-    needed; when ``cap`` is too small the step stops and returns ``m = -1``). ``close_out``: repeat
+    ``OUT, of``: the output buffers, ``(cap, 2)`` float64 and ``(cap,)`` bool, allocated
+    by the caller (numpy's allocator asks for huge pages: first touching fresh 4 KiB
+    pages costs more than the step's arithmetic). At most 4 rows per input vertex and 1
+    per ring are needed; when ``cap`` is too small the step stops and returns ``m = -1``.
+    ``close_out``: repeat
     the first output vertex of every closed curve at its end (shapely's ring layout).
 
     Returns ``OUT, ofixed, m, ooffsets, nred, nfig, nunsat``: the new points in
@@ -230,8 +234,7 @@ def step_ragged(
     nmax = 1
     for k in range(ncurves):
         nmax = max(nmax, offsets[k + 1] - offsets[k])
-    OUT = np.empty((cap, 2))
-    of = np.empty(cap, dtype=np.bool_)
+    cap = OUT.shape[0]
     oo = np.empty(ncurves + 1, dtype=np.int64)
     nred = np.zeros(ncurves, dtype=np.int64)
     nfig = np.zeros(ncurves, dtype=np.int64)
@@ -557,10 +560,24 @@ def restrict_curve(alpha, half, cr, scross, dot, short, length, fixed, closed, c
 
 
 @njit(cache=True, nogil=True)
-def to_local(P, offsets):
-    """Every curve relative to its first vertex: ``(Q, origins)`` (``Q = P - origin``)."""
+def move_rows(src, src_f, dst, dst_f, span, dest):
+    """Rows ``span[u, 0] .. span[u, 1] - 1`` of ``src, src_f`` to ``dest[u] ..`` of ``dst, dst_f``.
+
+    ``dst`` may be ``src`` when every ``dest[u] <= span[u, 0]`` (rows move forward).
+    """
+    for u in range(span.shape[0]):
+        d = dest[u]
+        for i in range(span[u, 0], span[u, 1]):
+            dst[d, 0] = src[i, 0]
+            dst[d, 1] = src[i, 1]
+            dst_f[d] = src_f[i]
+            d += 1
+
+
+@njit(cache=True, nogil=True)
+def to_local(P, offsets, Q):
+    """Every curve relative to its first vertex: ``Q = P - origin``; returns the origins."""
     m = offsets.shape[0] - 1
-    Q = np.empty_like(P)
     origin = np.zeros((m, 2))
     for k in range(m):
         s, e = offsets[k], offsets[k + 1]
@@ -570,7 +587,7 @@ def to_local(P, offsets):
             for i in range(s, e):
                 Q[i, 0] = P[i, 0] - ox
                 Q[i, 1] = P[i, 1] - oy
-    return Q, origin
+    return origin
 
 
 @njit(cache=True, nogil=True)

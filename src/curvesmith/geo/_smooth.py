@@ -526,7 +526,9 @@ def _smooth_polygonal(g, feat_index, smoother, levels, batch):
 
     res = build(new_xy, new_off, poly_off, geom_off, was_polygon)
     rings_per_geom = np.bincount(ring_geom, minlength=len(g))
-    hard = (rings_per_geom > 1) | ~shapely.is_valid(res)
+    hard = rings_per_geom > 1  # holes or parts: checked for conflicts anyway
+    one = np.flatnonzero(~hard)
+    hard[one] = ~shapely.is_valid(res[one])
     reductions: list[GeometryReduction] = []
     rings = _RaggedView(coords, ring_off, drop_last=True)
     if hard.any():
