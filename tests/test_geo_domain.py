@@ -96,3 +96,10 @@ def test_clamp_to_domain():
     moved = np.array([shapely.Polygon([(170, -90), (180 - 1e-9, -90), (180, -80)])], dtype=object)
     back = clamp_to_domain(moved, "f.gpkg", orig)
     assert shapely.get_coordinates(back).tolist() == shapely.get_coordinates(orig).tolist()
+
+
+def test_readme_recipe_keeps_a_geodataframe_on_the_map(countries):
+    out = geo.smooth(countries, iterations=2, fixed=geo.domain_fixed(countries.crs))
+    out = geo.clamp_to_domain(out, "countries", countries)
+    assert list(out.columns) == list(countries.columns)
+    assert _outside(shapely.get_coordinates(out.geometry.values)).max() <= 0.0

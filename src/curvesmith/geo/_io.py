@@ -368,7 +368,7 @@ def clamp_to_domain(geoms: Any, where: str, originals: Any = None) -> Any:
 
     Parameters
     ----------
-    geoms : GeoSeries or array of geometries
+    geoms : GeoDataFrame, GeoSeries or array of geometries
         Smoothed geometries in a geographic CRS.
     where : str
         The file name, for the message.
@@ -385,6 +385,11 @@ def clamp_to_domain(geoms: Any, where: str, originals: Any = None) -> Any:
         If a vertex lies more than 1e-7° outside the domain, naming the feature.
     """
     shapely = require("shapely", "geo", "keeping coordinates inside the lon/lat domain")
+    if hasattr(geoms, "geometry") and hasattr(geoms, "columns"):  # a GeoDataFrame
+        frame = geoms.copy()
+        orig = getattr(originals, "geometry", originals)
+        frame.geometry = clamp_to_domain(geoms.geometry, where, orig)
+        return frame
     values = np.asarray(getattr(geoms, "values", geoms), dtype=object)
     xy, index = shapely.get_coordinates(values, return_index=True)
     if not len(xy):
