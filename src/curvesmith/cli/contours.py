@@ -195,9 +195,13 @@ def contours_command(
             crs=g.crs if g.crs is not None else crs,
             full_output=True,
         )
-    if g.crs is None and crs is None:
-        click.echo(f"Warning: {grid} has no CRS; the output has none either (give --crs)", err=True)
-    _write(res.geometry, dest)
+    with warnings.catch_warnings():
+        if g.crs is None and crs is None:  # said in one line here, not as pyogrio's warning
+            click.echo(
+                f"Warning: {grid} has no CRS; the output has none either (give --crs)", err=True
+            )
+            warnings.filterwarnings("ignore", message="'crs' was not provided")
+        _write(res.geometry, dest)
     what = "bands" if bands else "contour lines"
     red = len(res.smoothing.reductions)
     click.echo(

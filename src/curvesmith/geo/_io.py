@@ -460,10 +460,7 @@ def write_file(df: Any, path: str | Path, *, layer: str | None = None) -> None:
         if driver == "GPKG" and layer is not None and path.is_file():
             shutil.copy2(path, tmp)  # a named layer replaces that layer only: keep the others
         try:
-            with warnings.catch_warnings():
-                # a layer without CRS is written without one; the callers say so in one line
-                warnings.filterwarnings("ignore", message="'crs' was not provided")
-                pyogrio.write_dataframe(df, tmp, layer=layer, driver=driver, **kwargs)
+            pyogrio.write_dataframe(df, tmp, layer=layer, driver=driver, **kwargs)
         except Exception as exc:
             raise CurveFormatError(f"cannot write {str(path)!r}: {exc}") from exc
         _verify_written(tmp, path, len(df), n_null, layer if driver == "GPKG" else None)
