@@ -639,8 +639,19 @@ def _distinct_best(cands: list[dict], count: int) -> list[dict]:
     return keep
 
 
+#: A converged candidate wins over a lower-rms one that stopped at the iteration cap only
+#: when its rms is within this relative margin: a closed-form circle (always "converged")
+#: must not beat an elastica 35x closer to the data that merely needed more iterations.
+_CONVERGED_SLACK = 1e-3
+
+
 def _best(cands: list[dict]) -> dict:
-    return min(cands, key=lambda c: (not c["ok"], c["rms"]))
+    """The lowest rms; among candidates as good as that (within the slack), a converged one."""
+    finite = [c for c in cands if math.isfinite(c["rms"])] or list(cands)
+    low = min(finite, key=lambda c: c["rms"])
+    bar = low["rms"] * (1 + _CONVERGED_SLACK)
+    good = [c for c in finite if c["ok"] and c["rms"] <= bar]
+    return min(good, key=lambda c: c["rms"]) if good else low
 
 
 def _global_search(data, pinned, search: _Search, early: float):
@@ -709,7 +720,15 @@ def _global_search(data, pinned, search: _Search, early: float):
     if not finals:
         _initial_guess(data)  # raises the guess's reason (collinear data, ...)
         raise CurveError("no start of the global search gave a finite fit")
-    return _best(finals), levels
+    best = _best(finals)
+    if not best["ok"] and math.isfinite(best["rms"]):
+        # the best basin stopped at the cap: one more full solve from where it stopped
+        more = search.solve(data, best["params"], pinned)
+        if more["rms"] <= best["rms"] * (1 + _CONVERGED_SLACK):
+            more["iters"] += best["iters"]
+            more["start"], more["stages"] = best["start"], best.get("stages", 1)
+            best = more
+    return best, levels
 
 
 def _prepare(points, *, resample, spacing_tol, reverse_ok):
@@ -901,7 +920,8 @@ def fit(
             except CurveError:
                 first = best["params"]
             cont = _continuation(data, first, pinned, search, _segment_index_length(first))
-            if cont["rms"] < best["rms"] or (cont["ok"] and not best["ok"]):
+            as_good = cont["rms"] <= best["rms"] * (1 + _CONVERGED_SLACK)
+            if cont["rms"] < best["rms"] or (cont["ok"] and not best["ok"] and as_good):
                 best = cont
                 how += f"; growing-prefix continuation over {cont['stages']} stages"
     params, ok, msg = best["params"], best["ok"], best["msg"]
