@@ -24,27 +24,6 @@ from scipy.ndimage import gaussian_filter
 from curvesmith import geo
 
 
-def changed_contacts(before, after) -> int:
-    def pairs(g):
-        i, j = shapely.STRtree(g).query(g, predicate="intersects")
-        keep = i < j
-        return {(int(a), int(b)) for a, b in zip(i[keep], j[keep], strict=True)}
-
-    p0, p1 = pairs(before), pairs(after)
-    moved = 0
-    for a, b in p0 & p1:
-        x0 = shapely.intersection(before[a], before[b])
-        if shapely.get_dimensions(x0) == 0:
-            x1 = shapely.intersection(after[a], after[b])
-            moved += bool(shapely.hausdorff_distance(x0, x1) > 1e-6)
-    return len(p0 ^ p1) + moved
-
-
-def level_contacts(g, lv) -> int:
-    i, j = shapely.STRtree(g).query(g, predicate="intersects")
-    return int(((i < j) & (lv[i] != lv[j])).sum())
-
-
 def max_area_error(before, after) -> float:
     """Largest area between an open line and its output / length²; relative for rings."""
     worst = 0.0
@@ -89,9 +68,9 @@ def run(name, df, iterations, tol, levels=None):
         secs = time.perf_counter() - t0
         base = secs if base is None else base
         after = out.geometry.values
-        row = f"{label:<32} {changed_contacts(before, after):>16}"
+        row = f"{label:<32} {geo.changed_contacts(before, after):>16}"
         if levels is not None:
-            row += f" {level_contacts(after, levels):>15}"
+            row += f" {geo.level_contacts(after, levels):>15}"
         row += f" {max_area_error(before, after):>15.2e} {secs:>9.3f} {secs / base:>9.2f}x"
         print(row)
 

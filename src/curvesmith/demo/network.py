@@ -10,33 +10,6 @@ import numpy as np
 TITLE = "Line networks and contours: junctions fixed, no new contacts (curvesmith.geo)"
 
 
-def _changed_contacts(before, after) -> int:
-    """Pairs of lines whose contact changed: new, lost, or moved by more than 1 mm."""
-    import shapely
-
-    def pairs(g):
-        i, j = shapely.STRtree(g).query(g, predicate="intersects")
-        keep = i < j
-        return {(int(a), int(b)) for a, b in zip(i[keep], j[keep], strict=True)}
-
-    p0, p1 = pairs(before), pairs(after)
-    moved = 0
-    for a, b in p0 & p1:
-        x0 = shapely.intersection(before[a], before[b])
-        x1 = shapely.intersection(after[a], after[b])
-        if shapely.get_dimensions(x0) == 0 and shapely.hausdorff_distance(x0, x1) > 1e-3:
-            moved += 1
-    return len(p0 ^ p1) + moved
-
-
-def _level_contacts(df) -> int:
-    import shapely
-
-    g, lv = df.geometry.values, df["level"].to_numpy()
-    i, j = shapely.STRtree(g).query(g, predicate="intersects")
-    return int(((i < j) & (lv[i] != lv[j])).sum())
-
-
 def run(ctx) -> None:
     """Smooth the OSM road network of pyogrio's fixture and contours of the Jacksboro DEM."""
     from ..errors import require
@@ -65,9 +38,9 @@ def run(ctx) -> None:
     rows = [
         "| method | line pairs whose contact changed (new, lost or moved > 1 mm) |",
         "|---|---|",
-        f"| cca network (smooth_network) | {_changed_contacts(before, after)} |",
-        f"| cca line by line | {_changed_contacts(before, per_cca)} |",
-        f"| Chaikin line by line | {_changed_contacts(before, per_chaikin)} |",
+        f"| cca network (smooth_network) | {geo.changed_contacts(before, after, tol=1e-3)} |",
+        f"| cca line by line | {geo.changed_contacts(before, per_cca, tol=1e-3)} |",
+        f"| Chaikin line by line | {geo.changed_contacts(before, per_chaikin, tol=1e-3)} |",
     ]
     ctx.number("network_roads", len(roads), "OSM ways in pyogrio's sample.osm.pbf")
     ctx.number("network_arcs", net.n_arcs, "arcs between fixed nodes")
@@ -145,9 +118,16 @@ def run(ctx) -> None:
     per_chaikin = geo.smooth(raw, method="chaikin", iterations=2)
     per_cca = geo.smooth(raw, iterations=2)
     ctx.number("contours_lines", len(res.geometry), "contour lines, 50 m interval")
-    ctx.number("contours_level_contacts_network", _level_contacts(res.geometry), "")
-    ctx.number("contours_level_contacts_cca_per_line", _level_contacts(per_cca), "")
-    ctx.number("contours_level_contacts_chaikin_per_line", _level_contacts(per_chaikin), "")
+    crossings = {
+        name: geo.level_contacts(df.geometry.values, df["level"].to_numpy())
+        for name, df in (
+            ("network", res.geometry),
+            ("cca_per_line", per_cca),
+            ("chaikin_per_line", per_chaikin),
+        )
+    }
+    for name, count in crossings.items():
+        ctx.number(f"contours_level_contacts_{name}", count, "")
     ctx.number("contours_reductions", len(res.smoothing.reductions), "pieces smoothed less")
     ctx.number(
         "contours_max_area_change",
@@ -158,8 +138,8 @@ def run(ctx) -> None:
     ctx.text(
         "Contours every 50 m of matplotlib's Jacksboro fault DEM (344 x 403 cells of about "
         "90 m), smoothed as one network: pairs of lines of different levels that touch or "
-        f"cross — network: {_level_contacts(res.geometry)}, cca line by line: "
-        f"{_level_contacts(per_cca)}, Chaikin line by line: {_level_contacts(per_chaikin)}. "
+        f"cross — network: {crossings['network']}, cca line by line: "
+        f"{crossings['cca_per_line']}, Chaikin line by line: {crossings['chaikin_per_line']}. "
         "On this gentle DEM line-by-line smoothing happens to keep the levels apart too; on "
         "steep rough terrain it does not (below), while the network never lets two levels "
         "meet."

@@ -44,6 +44,8 @@ __all__ = [
     "NetworkReduction",
     "NetworkResult",
     "NetworkTopology",
+    "changed_contacts",
+    "level_contacts",
     "network_topology",
     "smooth_network",
 ]
@@ -668,3 +670,82 @@ def _points_array(points: Any) -> np.ndarray:
     if fp.ndim != 2 or fp.shape[1] != 2:
         raise CurveError(f"fixed_points must have shape (K, 2), got {fp.shape}")
     return fp + 0.0
+
+
+def changed_contacts(before, after, *, tol: float = 1e-6) -> int:
+    """How many pairs of lines changed how they meet: a new contact, a lost one, or a moved point.
+
+    The measure of what smoothing did to a network (0 for :func:`smooth_network`): a pair of
+    lines that touch in one output but not the other counts once, and so does a pair that
+    meets at a point in both whose contact moved by more than `tol`.
+
+    Parameters
+    ----------
+    before, after : array of shapely geometries
+        The lines before and after, in the same order.
+    tol : float, optional
+        Distance (in the data's units) a point contact may move and still count as kept.
+
+    Returns
+    -------
+    int
+
+    Examples
+    --------
+    >>> import numpy as np, shapely
+    >>> a = np.array([shapely.LineString([(0, 0), (2, 0)]), shapely.LineString([(1, -1), (1, 1)])])
+    >>> b = np.array([a[0], shapely.LineString([(1, 0.5), (1, 1)])])
+    >>> changed_contacts(a, a), changed_contacts(a, b)
+    (0, 1)
+    """
+    shapely = _shapely()
+    before = np.asarray(before, dtype=object)
+    after = np.asarray(after, dtype=object)
+    if before.shape != after.shape:
+        raise CurveError(
+            f"before and after must hold the same lines, got {before.shape} and {after.shape}"
+        )
+
+    def pairs(g):
+        i, j = shapely.STRtree(g).query(g, predicate="intersects")
+        keep = i < j
+        return {(int(a), int(b)) for a, b in zip(i[keep], j[keep], strict=True)}
+
+    p0, p1 = pairs(before), pairs(after)
+    moved = 0
+    for a, b in p0 & p1:
+        x0 = shapely.intersection(before[a], before[b])
+        if shapely.get_dimensions(x0) == 0:
+            x1 = shapely.intersection(after[a], after[b])
+            moved += bool(shapely.hausdorff_distance(x0, x1) > tol)
+    return len(p0 ^ p1) + moved
+
+
+def level_contacts(geoms, levels) -> int:
+    """Pairs of contour lines of different levels that touch or cross (0 for a sound map).
+
+    Parameters
+    ----------
+    geoms : array of shapely geometries
+        The lines.
+    levels : (N,) array_like
+        The level of each line.
+
+    Returns
+    -------
+    int
+
+    Examples
+    --------
+    >>> import numpy as np, shapely
+    >>> g = np.array([shapely.LineString([(0, 0), (2, 0)]), shapely.LineString([(1, -1), (1, 1)])])
+    >>> level_contacts(g, [10, 20]), level_contacts(g, [10, 10])
+    (1, 0)
+    """
+    shapely = _shapely()
+    g = np.asarray(geoms, dtype=object)
+    lv = np.asarray(levels)
+    if lv.shape != g.shape:
+        raise CurveError(f"levels must have one value per line ({g.shape[0]}), got {lv.shape}")
+    i, j = shapely.STRtree(g).query(g, predicate="intersects")
+    return int(((i < j) & (lv[i] != lv[j])).sum())
