@@ -344,15 +344,6 @@ def prepare(geoms: np.ndarray, *, make_valid: bool, what: str = "geometry") -> n
 # the smoothing itself
 
 
-def _signed_areas(rings: list[np.ndarray]) -> np.ndarray:
-    """Signed areas of many rings (listed without the closing vertex), vectorized."""
-    if not rings:
-        return np.zeros(0)
-    lens = np.array([len(r) for r in rings])
-    off = np.concatenate([[0], np.cumsum(lens)])
-    return signed_areas_ragged(np.concatenate(rings), off)
-
-
 def _ring_areas(xy: np.ndarray, off: np.ndarray) -> np.ndarray:
     """Signed areas of ragged rings (closing vertex repeated or not), compiled, no temporaries."""
     from ..cca import _kernel

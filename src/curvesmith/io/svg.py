@@ -34,8 +34,10 @@ from ._core import (
 
 __all__ = [
     "SVGCurves",
+    "bezier_path_data",
     "path_document",
     "quadratic_path_data",
+    "read_bezier_paths",
     "read_quadratic_path",
     "read_svg",
     "write_svg",
@@ -834,9 +836,6 @@ def path_document(paths: list[str], bounds) -> str:
         '<?xml version="1.0" encoding="UTF-8"?>\n'
         f'<svg xmlns="http://www.w3.org/2000/svg" viewBox="{view}">\n{body}\n</svg>\n'
     )
-
-
-__all__ += ["bezier_path_data", "read_bezier_paths"]
 
 
 def _point_xy(p) -> list[float]:
