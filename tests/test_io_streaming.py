@@ -14,6 +14,7 @@ import tracemalloc
 import numpy as np
 import pytest
 
+from curvesmith import CurveError
 from curvesmith import io as cio
 from curvesmith.io import _core
 
@@ -100,3 +101,26 @@ def test_streamed_svg_round_trips_bit_exactly(monkeypatch):
     cio.write_svg(curves, buf)
     back = cio.read_svg(io.StringIO(buf.getvalue()))
     assert all(np.array_equal(a.points, b.points) for a, b in zip(curves, back, strict=True))
+
+
+@pytest.mark.parametrize("row", ["%r,%r\n", ", [%r, %r]", " %r,%r", '%r,%r,"a,%%r"\n', "%r"])
+def test_format_rows_is_repr_for_doubles_of_every_exponent(row):
+    # the compiled formatter (orjson) gives repr's digits; its other style for exponents
+    # -5 .. -9 must never reach the file: the text is exactly "%r" formatting's
+    rng = np.random.default_rng(11)
+    with np.errstate(over="ignore"):
+        v = rng.standard_normal(60_000) * 10.0 ** rng.integers(-325, 309, 60_000)
+    powers = 10.0 ** np.arange(-323, 309)
+    edge = [5e-324, 0.0, -0.0, 1e-5, 1.5e-5, -1e-5, 9.999999999999999e-5, 1e-4, 9e-11, 1e-10]
+    v = np.concatenate([v[np.isfinite(v)], powers, -powers, edge, np.nextafter(powers, 0)])
+    cols = row.count("%r") - row.count("%%r")
+    v = v[: len(v) // cols * cols].reshape(-1, cols)
+    got = "".join(_core.format_rows(v, row, chunk=997))
+    assert got == (row * len(v)) % tuple(v.ravel().tolist())
+
+
+def test_format_rows_refuses_non_finite_and_wrong_templates():
+    with pytest.raises(CurveError, match="non-finite"):
+        list(_core.format_rows(np.array([[0.0, np.nan]]), "%r,%r\n"))
+    with pytest.raises(CurveError, match="3 fields"):
+        list(_core.format_rows(np.zeros((2, 2)), "%r %r %r"))
