@@ -56,7 +56,7 @@ def test_affine_command_open_flag_and_errors(inputs, tmp_path):
     assert result.exit_code == 0, result.output
     assert not any(c.closed for c in read_curves(out))
     result = CliRunner().invoke(main, ["affine", str(inputs), "-o", str(out), "--vertices", "3"])
-    assert result.exit_code == 1
-    assert "vertices must be an integer >= 4, got 3" in result.output
+    assert result.exit_code == 2  # a bad option value is a usage error
+    assert "Invalid value for '--vertices': 3 is not in the range x>=4" in result.output
     result = CliRunner().invoke(main, ["affine", str(inputs), "-o", str(out)])
     assert result.exit_code == 2  # --vertices is required

@@ -112,22 +112,7 @@ def test_smooth_default_is_cca_and_keeps_area(runner, tmp_path):
     [
         (["measure", "{missing}"], None, "missing.csv"),
         (["measure", "{empty}"], None, "empty.csv"),
-        (
-            ["smooth", "{sq}", "-o", "{out}", "--method", "derham", "--gamma", "0.5"],
-            None,
-            "gamma must be > 1",
-        ),
-        (
-            ["smooth", "{sq}", "-o", "{out}", "--method", "chaikin", "--iterations", "-1"],
-            None,
-            "iterations",
-        ),
         (["smooth", "-", "-o", "{out}"], "x,y\n0,0\n", "--format is required"),
-        (
-            ["smooth", "{sq}", "-o", "{out}", "--alpha", "big"],
-            None,
-            "--alpha must be 'regular' or a number",
-        ),
     ],
 )
 def test_data_errors_are_one_line_exit_1(runner, tmp_path, args, stdin, message):
@@ -145,6 +130,37 @@ def test_data_errors_are_one_line_exit_1(runner, tmp_path, args, stdin, message)
     assert len(lines) == 1 and lines[0].startswith("Error: ")
     assert message in lines[0]
     assert "Traceback" not in res.output
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["--method", "derham", "--gamma", "0.5"], "'--gamma': 0.5 is not in the range x>1.0"),
+        (
+            ["--method", "chaikin", "--iterations", "-1"],
+            "'--iterations': -1 is not in the range x>=0",
+        ),
+        (["--alpha", "big"], "'--alpha': 'big' is neither 'regular' nor a number"),
+        (["--alpha", "0.5"], "'--alpha': '0.5' is not in the open interval (0, 1/3)"),
+        (["--alpha", "nan"], "'--alpha': 'nan' is not in the open interval (0, 1/3)"),
+        (
+            ["--curves", "cubic", "--tolerance", "inf"],
+            "'--tolerance': 'inf' is not a finite number",
+        ),
+        (["--anchors", "1,b"], "--anchors must be comma-separated integers, got '1,b'"),
+    ],
+)
+def test_bad_option_values_are_one_line_usage_errors_exit_2(runner, tmp_path, args, message):
+    out = tmp_path / "o.csv"
+    res = runner.invoke(
+        main, ["smooth", str(write(tmp_path, "sq.csv", SQUARE)), "-o", str(out), *args]
+    )
+    assert res.exit_code == 2, res.output
+    err = res.stderr if hasattr(res, "stderr") else res.output
+    lines = [ln for ln in err.splitlines() if ln.strip()]
+    assert len(lines) == 1 and lines[0].startswith("Error: ")
+    assert message in lines[0] and lines[0].endswith("(see 'main smooth --help')")
+    assert not out.exists()
 
 
 def test_usage_error_exit_2(runner):

@@ -272,7 +272,8 @@ def test_cli_smooth_curves_svg_and_geojson(tmp_path):
     r = runner.invoke(
         main, ["smooth", str(src), "-o", str(out), "--curves", "quadratic", "--tolerance", "-1"]
     )
-    assert r.exit_code == 1 and "--tolerance must be > 0" in r.output
+    assert r.exit_code == 2  # a bad option value is a usage error
+    assert "Invalid value for '--tolerance': -1.0 is not in the range x>0" in r.output
 
 
 @pytest.mark.slow

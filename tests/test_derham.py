@@ -570,19 +570,22 @@ def test_cli_stdout_and_paper_method():
 
 
 @pytest.mark.parametrize(
-    ("extra", "message"),
+    ("extra", "message", "status"),
     [
-        (["--length", "5"], "length must lie in the open interval"),
-        (["--gamma", "1"], "gamma must be > 1"),
-        (["--end-tangent", "1,x"], "--end-tangent must be 2 comma-separated numbers"),
+        (["--length", "5"], "length must lie in the open interval", 1),
+        (["--gamma", "1"], "Invalid value for '--gamma': 1.0 is not in the range x>1.0", 2),
+        (["--end-tangent", "1,x"], "--end-tangent must be 2 comma-separated numbers", 2),
+        (["--end-tangent", "1,inf"], "--end-tangent must be 2 comma-separated numbers", 2),
+        (["--tol", "0"], "Invalid value for '--tol': 0.0 is not in the range x>0", 2),
     ],
 )
-def test_cli_errors_exit_1(extra, message, tmp_path):
+def test_cli_errors_exit_1_for_data_2_for_option_values(extra, message, status, tmp_path):
     from click.testing import CliRunner
 
     res = CliRunner().invoke(_cli(), ["derham", *CLI_ARGS, *extra, "-o", str(tmp_path / "o.csv")])
-    assert res.exit_code == 1
-    assert message in res.stderr
+    assert res.exit_code == status
+    assert message in res.stderr and len(res.stderr.strip().splitlines()) == 1
+    assert not (tmp_path / "o.csv").exists()
 
 
 def test_cli_non_convergence_exit_1(tmp_path):

@@ -130,6 +130,11 @@ def test_error_message_is_the_cli_line():
     text = runner.error_message(runner.CliResult(2, [], usage), "/x/curvesmith")
     assert text.startswith("the installed curvesmith (/x/curvesmith) has no option --network:")
     assert runner.error_message(runner.CliResult(-9, [], [])) == "exited with status -9"
+    one = ["Error: Invalid value for '--alpha': 'x'. (see 'curvesmith smooth --help')"]
+    assert runner.error_message(runner.CliResult(2, [], one)) == "Invalid value for '--alpha': 'x'."
+    one = ["Error: No such option: --network (see 'curvesmith smooth --help')"]
+    text = runner.error_message(runner.CliResult(2, [], one), "/x/curvesmith")
+    assert text.startswith("the installed curvesmith (/x/curvesmith) has no option --network:")
 
 
 def test_find_curvesmith(tmp_path, monkeypatch):
@@ -793,8 +798,14 @@ def test_cancel_stops_curvesmith(qgis, data, name):
 @pytest.mark.parametrize(
     ("name", "message"),
     [
-        ("bad_alpha", "curvesmith: --alpha must be 'regular' or a number, got 'abc'"),
-        ("bad_alpha_range", "curvesmith: alpha must be in (0, 1/3), got 0.5"),
+        (
+            "bad_alpha",
+            "curvesmith: Invalid value for '--alpha': 'abc' is neither 'regular' nor a number.",
+        ),
+        (
+            "bad_alpha_range",
+            "curvesmith: Invalid value for '--alpha': '0.5' is not in the open interval (0, 1/3).",
+        ),
     ],
 )
 @pytest.mark.slow  # a headless QGIS session
@@ -872,7 +883,8 @@ def test_qgis_process_with_the_built_zip(qgis_process, data, tmp_path):
     proc = run("run", "curvesmith:smooth", "--", *args[:2], "ALPHA=abc")
     assert proc.returncode == 1
     assert (
-        "curvesmith: --alpha must be 'regular' or a number, got 'abc'" in proc.stdout + proc.stderr
+        "curvesmith: Invalid value for '--alpha': 'abc' is neither 'regular' nor a number."
+        in proc.stdout + proc.stderr
     )
     assert "Traceback" not in proc.stdout + proc.stderr
 

@@ -124,16 +124,20 @@ class CliResult:
     stderr: list[str] = field(default_factory=list)
 
 
+_HELP_HINT = re.compile(r"\s*\(see '[^']*--help'\)$")
+
+
 def error_message(result: CliResult, executable: str = "curvesmith") -> str:
     """The one readable line that says why `result` failed.
 
-    The CLI prints its errors as ``Error: ...`` on stderr (usage errors after a usage
-    block); an option that the installed version lacks is said so.
+    The CLI prints its errors as one ``Error: ...`` line on stderr (usage errors end with
+    ``(see 'curvesmith CMD --help')``, which is dropped here; older versions printed a usage
+    block first); an option that the installed version lacks is said so.
     """
     lines = [s.strip() for s in result.stderr if s.strip()]
     errors = [s for s in lines if s.startswith("Error:")]
     text = (errors or lines or [f"exited with status {result.returncode}"])[-1]
-    text = text.removeprefix("Error:").strip()
+    text = _HELP_HINT.sub("", text.removeprefix("Error:")).strip()
     missing = _NO_OPTION.search(text)
     if missing:
         return (

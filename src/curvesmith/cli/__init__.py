@@ -19,12 +19,22 @@ __all__ = ["main"]
 
 
 class _Group(click.Group):
-    """A click group that turns curvesmith errors into one line and exit status 1."""
+    """A click group that turns every error into one line: exit 1 for data, 2 for usage.
+
+    A usage error (a missing argument, an unknown option, a bad option value) is click's
+    message plus where to find help, on one line, exit status 2; a curvesmith or OS error
+    is its message, exit status 1.
+    """
 
     def invoke(self, ctx):
         _exit_cleanly_on_sigterm()
         try:
             return super().invoke(ctx)
+        except click.UsageError as exc:
+            where = exc.ctx.command_path if exc.ctx is not None else ctx.command_path
+            message = exc.format_message().replace("\n", " ")
+            click.echo(f"Error: {message} (see '{where} --help')", err=True)
+            sys.exit(exc.exit_code)
         except CurveError as exc:
             click.echo(f"Error: {exc}", err=True)
             sys.exit(1)

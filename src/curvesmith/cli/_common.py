@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import io as _stdio
+import math
 import sys
 import warnings
 from pathlib import Path
@@ -15,13 +16,61 @@ from ..io import read_curves as _read_registry
 from ..io import write_curves as _write
 
 __all__ = [
+    "ALPHA",
+    "COUNT",
     "FORMAT_OPTION",
+    "GAMMA",
+    "POSITIVE",
+    "POSITIVE_INT",
     "check_output",
     "parse_floats",
     "parse_indices",
     "read_curves",
     "write_curves",
 ]
+
+
+class _Number(click.FloatRange):
+    """A finite float in a range (click's FloatRange lets ``nan`` and ``inf`` through)."""
+
+    def convert(self, value, param, ctx):
+        number = super().convert(value, param, ctx)
+        if not math.isfinite(number):
+            self.fail(f"{value!r} is not a finite number.", param, ctx)
+        return number
+
+
+class _Alpha(click.ParamType):
+    """cca's cut parameter: ``regular`` (the angle-dependent profile) or a number in (0, 1/3)."""
+
+    name = "regular|number"
+    _range = _Number(min=0.0, max=1.0 / 3.0, min_open=True, max_open=True)
+
+    def convert(self, value, param, ctx):
+        if value == "regular":
+            return value
+        try:
+            number = float(value)
+        except (TypeError, ValueError):
+            self.fail(f"{value!r} is neither 'regular' nor a number.", param, ctx)
+        if not (0.0 < number < 1.0 / 3.0):
+            self.fail(f"{value!r} is not in the open interval (0, 1/3).", param, ctx)
+        return number
+
+
+# Option value types of every command: a bad value is a usage error (click's one message,
+# naming the option; exit status 2), found before any file is read.
+#: iterations, passes: an integer >= 0
+COUNT = click.IntRange(min=0)
+#: sizes, caps: an integer >= 1
+POSITIVE_INT = click.IntRange(min=1)
+#: tolerances, steps, intervals: a finite number > 0
+POSITIVE = _Number(min=0.0, min_open=True)
+#: de Rham's ratio 1:gamma:1: a finite number > 1
+GAMMA = _Number(min=1.0, min_open=True)
+#: cca's cut parameter
+ALPHA = _Alpha()
+
 
 FORMAT_OPTION = click.option(
     "--format",
@@ -145,20 +194,24 @@ def _format_of(path: str, fmt: str | None) -> str:
 
 
 def parse_floats(text: str, *, name: str, count: int) -> tuple[float, ...]:
-    """Parse ``"x,y"`` style option values into `count` floats, with a clear error."""
+    """Parse ``"x,y"`` style option values into `count` finite floats.
+
+    A bad value is a usage error (:class:`click.UsageError`, exit status 2) naming the
+    option and the value.
+    """
     parts = [p.strip() for p in text.split(",")]
     try:
         values = tuple(float(p) for p in parts)
     except ValueError:
-        raise CurveError(f"{name} must be {count} comma-separated numbers, got {text!r}") from None
-    if len(values) != count:
-        raise CurveError(f"{name} must be {count} comma-separated numbers, got {text!r}")
+        values = ()
+    if len(values) != count or not all(math.isfinite(v) for v in values):
+        raise click.UsageError(f"{name} must be {count} comma-separated numbers, got {text!r}")
     return values
 
 
 def parse_indices(text: str, *, name: str) -> list[int]:
-    """Parse ``"0,5,17"`` into a list of vertex indices, with a clear error."""
+    """Parse ``"0,5,17"`` into a list of vertex indices (a usage error when it is not)."""
     try:
         return [int(p) for p in text.split(",") if p.strip()]
     except ValueError:
-        raise CurveError(f"{name} must be comma-separated integers, got {text!r}") from None
+        raise click.UsageError(f"{name} must be comma-separated integers, got {text!r}") from None

@@ -40,7 +40,7 @@ def _with_results(pairs: list) -> list:
 @click.option("-o", "--output", "dest", required=True, help="Output file for the control polygons.")
 @click.option(
     "--vertices",
-    type=int,
+    type=click.IntRange(min=4),
     required=True,
     help="Vertices of each control polygon (>= 4; about 1/20 of the samples is a good ratio).",
 )

@@ -11,7 +11,17 @@ import numpy as np
 
 from .. import geometry
 from ..errors import CurveError
-from ._common import FORMAT_OPTION, check_output, parse_indices, read_curves, write_curves
+from ._common import (
+    ALPHA,
+    COUNT,
+    FORMAT_OPTION,
+    GAMMA,
+    POSITIVE,
+    check_output,
+    parse_indices,
+    read_curves,
+    write_curves,
+)
 
 __all__ = ["demo_command", "measure_command", "smooth_command"]
 
@@ -116,15 +126,6 @@ def _where(row: dict) -> str:
     return text
 
 
-def _alpha_value(text: str):
-    if text == "regular":
-        return "regular"
-    try:
-        return float(text)
-    except ValueError:
-        raise CurveError(f"--alpha must be 'regular' or a number, got {text!r}") from None
-
-
 @click.command("smooth")
 @click.argument("source", metavar="IN")
 @click.option("-o", "--output", "dest", required=True, metavar="OUT", help="Output file, or -.")
@@ -138,20 +139,21 @@ def _alpha_value(text: str):
 )
 @click.option(
     "--iterations",
-    type=int,
+    type=COUNT,
     default=1,
     show_default=True,
     help="Refinement steps (each multiplies the vertices by up to 3 with cca, 2 with chaikin).",
 )
 @click.option(
     "--alpha",
+    type=ALPHA,
     default="regular",
     show_default=True,
     help="cca: cut parameter, 'regular' (angle-dependent profile) or a number in (0, 1/3).",
 )
 @click.option("--anchors", default=None, help="cca: vertex indices that stay fixed, e.g. 0,12,40.")
 @click.option(
-    "--gamma", type=float, default=2.0, show_default=True, help="derham: ratio 1:gamma:1, > 1."
+    "--gamma", type=GAMMA, default=2.0, show_default=True, help="derham: ratio 1:gamma:1, > 1."
 )
 @click.option(
     "--preserve-endpoints/--free-endpoints",
@@ -190,14 +192,14 @@ def _alpha_value(text: str):
     default=None,
     help="Write G2 Bezier paths (fewest segments within --tolerance) instead of polylines.",
 )
-@click.option("--tolerance", type=float, default=None, help="--curves: max deviation.")
+@click.option("--tolerance", type=POSITIVE, default=None, help="--curves: max deviation.")
 def smooth_command(
     source: str,
     dest: str,
     fmt: str | None,
     method: str,
     iterations: int,
-    alpha: str,
+    alpha: str | float,
     anchors: str | None,
     gamma: float,
     preserve_endpoints: bool,
@@ -270,7 +272,7 @@ def smooth_command(
     if method == "cca":
         from .. import cca
 
-        alpha_value = _alpha_value(alpha)
+        alpha_value = alpha
         anchor_idx = parse_indices(anchors, name="--anchors") if anchors else None
 
         def run(c):
@@ -346,7 +348,7 @@ def _keep_valid(before, after, method, iterations, alpha, *, fixable: bool):
             after,
             method=method,
             iterations=iterations,
-            alpha=_alpha_value(alpha) if method == "cca" else "regular",
+            alpha=alpha if method == "cca" else "regular",
             fixable=fixable,
         )
     except (ImportError, MissingDependencyError):

@@ -14,6 +14,7 @@ from typing import Any
 import click
 
 from ..errors import CurveError
+from ._common import COUNT, POSITIVE, POSITIVE_INT
 
 __all__ = ["contours_command", "smooth_network_geofile"]
 
@@ -137,10 +138,10 @@ def _levels(text: str | None) -> list[float] | None:
 @click.command("contours")
 @click.argument("grid", metavar="GRID")
 @click.option("-o", "--output", "dest", required=True, metavar="OUT", help="Output GIS file.")
-@click.option("--interval", type=float, default=None, help="A level at every multiple of D.")
+@click.option("--interval", type=POSITIVE, default=None, help="A level at every multiple of D.")
 @click.option("--levels", default=None, help="Explicit levels, e.g. 100,250,500.")
 @click.option("--bands", is_flag=True, help="Isobands (polygons between levels), not lines.")
-@click.option("--iterations", type=int, default=2, show_default=True, help="Smoothing passes.")
+@click.option("--iterations", type=COUNT, default=2, show_default=True, help="Smoothing passes.")
 @click.option(
     "--method",
     type=click.Choice(["cca", "chaikin"]),
@@ -154,7 +155,9 @@ def _levels(text: str | None) -> list[float] | None:
     show_default=True,
     help="cca: 'regular' (angle-dependent profile) or a number in (0, 1/3).",
 )
-@click.option("--band", "raster_band", type=int, default=1, show_default=True, help="GeoTIFF band.")
+@click.option(
+    "--band", "raster_band", type=POSITIVE_INT, default=1, show_default=True, help="GeoTIFF band."
+)
 @click.option("--crs", default=None, help="CRS of the output when the grid has none.")
 def contours_command(
     grid: str,

@@ -68,8 +68,6 @@ def write_fitted(
     hi = np.max([p.max(axis=0) for p in pts], axis=0)
     if tolerance is None:
         tolerance = 1e-3 * float(np.hypot(*(hi - lo)))
-    elif not tolerance > 0:
-        raise CurveError(f"--tolerance must be > 0, got {tolerance}")
     idx = parse_indices(anchors, name="--anchors") if anchors else []
     fits = []
     for i, (orig, c) in enumerate(zip(originals, smoothed, strict=True)):

@@ -7,7 +7,7 @@ import click
 from .. import derham
 from ..errors import CurveError
 from ..io import Curve
-from ._common import FORMAT_OPTION, parse_floats, write_curves
+from ._common import COUNT, FORMAT_OPTION, GAMMA, POSITIVE, parse_floats, write_curves
 
 __all__ = ["derham_command"]
 
@@ -21,11 +21,11 @@ __all__ = ["derham_command"]
     "--length",
     "target",
     required=True,
-    type=float,
+    type=POSITIVE,
     help="Prescribed length, strictly between the chord AC and the polygon length AB + BC.",
 )
 @click.option(
-    "--gamma", type=float, default=2.0, show_default=True, help="De Rham ratio 1:gamma:1, > 1."
+    "--gamma", type=GAMMA, default=2.0, show_default=True, help="De Rham ratio 1:gamma:1, > 1."
 )
 @click.option(
     "--method",
@@ -35,11 +35,11 @@ __all__ = ["derham_command"]
     help="accelerated: certified Halley iteration; regula_falsi / secant: Merrien's Lemmas 4 / 5.",
 )
 @click.option(
-    "--tol", type=float, default=1e-9, show_default=True, help="Accuracy on the length, > 0."
+    "--tol", type=POSITIVE, default=1e-9, show_default=True, help="Accuracy on the length, > 0."
 )
 @click.option(
     "--level",
-    type=int,
+    type=COUNT,
     default=6,
     show_default=True,
     help="Subdivision level of the written curve (2^(level+1) + 1 points).",

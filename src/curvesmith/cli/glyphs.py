@@ -8,6 +8,7 @@ from pathlib import Path
 import click
 
 from ..errors import CurveError
+from ._common import COUNT, POSITIVE
 
 __all__ = ["glyphs_command"]
 
@@ -18,9 +19,12 @@ __all__ = ["glyphs_command"]
 @click.option(
     "--glyphs", "spec", default=None, help="Characters or glyph names, e.g. a,g,S (default: all)."
 )
-@click.option("--iterations", type=int, default=0, show_default=True, help="cca steps first.")
+@click.option("--iterations", type=COUNT, default=0, show_default=True, help="cca steps first.")
 @click.option(
-    "--tolerance", type=float, default=None, help="Max deviation, font units (default 1/1000 em)."
+    "--tolerance",
+    type=POSITIVE,
+    default=None,
+    help="Max deviation, font units (default 1/1000 em).",
 )
 @click.option("--json", "as_json", is_flag=True, help="Print the report as JSON.")
 def glyphs_command(
@@ -56,8 +60,6 @@ def glyphs_command(
         font = open_font(font_path)
         upm = font.units_per_em if hasattr(font, "units_per_em") else font["head"].unitsPerEm
         tolerance = upm / 1000.0
-    elif not tolerance > 0:
-        raise CurveError(f"--tolerance must be > 0, got {tolerance}")
     reports = glyphs.refit_font(
         font_path, dest, glyphs=spec, tolerance=tolerance, iterations=iterations
     )
