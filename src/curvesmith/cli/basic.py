@@ -243,7 +243,9 @@ def smooth_command(
             equal_area=equal_area,
         )
         return
-    if source != "-" and is_geofile(source, coverage=coverage):
+    geojson_in = Path(source).suffix.lower() in (".geojson", ".json")
+    gis_out = dest != "-" and is_geofile(dest)
+    if source != "-" and (is_geofile(source, coverage=coverage) or (geojson_in and gis_out)):
         if anchors or curve_kind:
             raise CurveError("--anchors and --curves are not available for GIS files")
         check_geo_output(dest, fmt)
@@ -266,6 +268,12 @@ def smooth_command(
         raise CurveError(
             "--coverage, --layer, --equal-area, --make-valid, --snap and --allow-null apply to "
             "GIS files (.gpkg, .shp, .fgb, or GeoJSON with --coverage)"
+        )
+    if gis_out:
+        raise CurveError(
+            f"{dest}: GIS files (.gpkg, .shp, .fgb) are written from GIS or GeoJSON input; "
+            f"{'standard input' if source == '-' else source} is not one: write .geojson, "
+            ".csv or .svg"
         )
     check_output(dest, fmt)
 

@@ -141,7 +141,7 @@ def _levels(text: str | None) -> list[float] | None:
 @click.option("--interval", type=POSITIVE, default=None, help="A level at every multiple of D.")
 @click.option("--levels", default=None, help="Explicit levels, e.g. 100,250,500.")
 @click.option("--bands", is_flag=True, help="Isobands (polygons between levels), not lines.")
-@click.option("--iterations", type=COUNT, default=2, show_default=True, help="Smoothing passes.")
+@click.option("--iterations", type=COUNT, default=1, show_default=True, help="Smoothing passes.")
 @click.option(
     "--method",
     type=click.Choice(["cca", "chaikin"]),

@@ -160,6 +160,8 @@ def _summary(report) -> None:
             f"{report.n_null} without geometry (NULL) and {report.n_empty} empty, written "
             f"through unchanged"
         )
+    if report.n_points:
+        parts.append(f"{report.n_points} Point/MultiPoint feature(s) written through unchanged")
     if report.n_reductions:
         parts.append(f"{report.n_reductions} piece(s) smoothed less to stay valid")
     if report.not_equal_area:

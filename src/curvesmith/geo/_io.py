@@ -71,6 +71,9 @@ class FileSmoothReport:
         ``allow_null=True``; otherwise they are an error).
     n_empty : int
         Features with an empty geometry, written through unchanged.
+    n_points : int
+        Features whose geometry is a Point or MultiPoint (nothing to smooth, as in a
+        mixed GeoJSON layer), written through unchanged.
     not_equal_area : tuple of int
         With ``equal_area``: features smoothed in the data's own CRS instead, because the
         projection folded them (valid in degrees, self-intersecting projected) or they
@@ -89,6 +92,7 @@ class FileSmoothReport:
     n_null: int = 0
     n_empty: int = 0
     not_equal_area: tuple[int, ...] = ()
+    n_points: int = 0
 
 
 def _driver_for(path: Path) -> str:
@@ -224,12 +228,15 @@ def geometry_counts(df: Any) -> tuple[int, int]:
 
 
 def check_null_geometries(df: Any, source: Any, *, allow_null: bool = False) -> tuple[int, int]:
-    """Count NULL and empty geometries; refuse NULLs unless `allow_null`.
+    """Count NULL and empty geometries; refuse NULLs unless `allow_null` or GeoJSON.
 
     A damaged file (a truncated Shapefile, a GeoPackage with unreadable blobs) reads as NULL
     geometries without any error from GDAL, so NULLs are refused by default: the caller
-    would otherwise report success for a file of which a part was lost. Empty geometries
-    are data (they pass through smoothing unchanged) and are only counted.
+    would otherwise report success for a file of which a part was lost. A GeoJSON file
+    (``.geojson``/``.json``) is the exception: RFC 7946 allows ``"geometry": null``, and a
+    truncated GeoJSON file does not parse at all, so its NULLs are data, as in
+    :func:`curvesmith.io.read_geojson` (one policy for GeoJSON, whichever path reads it).
+    Empty geometries are data (they pass through smoothing unchanged) and are only counted.
 
     Returns
     -------
@@ -241,7 +248,8 @@ def check_null_geometries(df: Any, source: Any, *, allow_null: bool = False) -> 
         If there are NULL geometries and `allow_null` is false.
     """
     n_null, n_empty = geometry_counts(df)
-    if n_null and not allow_null:
+    geojson = Path(str(source)).suffix.lower() in (".geojson", ".json")
+    if n_null and not allow_null and not geojson:
         geoms = np.asarray(df.geometry.values, dtype=object)
         first = int(np.flatnonzero([g is None for g in geoms])[0])
         raise CurveError(
@@ -787,11 +795,18 @@ def smooth_file(
     if geographic and not equal_area:
         warnings.warn(
             f"{str(in_path)!r} is in a geographic CRS ({crs.name}): smoothing keeps planar "
-            f"areas in degrees, not ground areas; use equal_area=True (--equal-area) to "
-            f"smooth in an equal-area projection",
+            f"areas in degrees, not ground areas; smooth_file(..., equal_area=True) "
+            f"(--equal-area) smooths in an equal-area projection",
             GeographicCRSWarning,
             stacklevel=2,
         )
+    # points have nothing to smooth: set aside like NULLs, written back unchanged
+    shapely = require("shapely", "geo", "smoothing a GIS file")
+    kept = np.asarray(df.geometry.values, dtype=object)
+    points = np.isin(shapely.get_type_id(kept), (0, 4))  # Point, MultiPoint
+    if points.any():
+        df = df.copy()
+        df.geometry = np.where(points, None, kept)
     planar: list[int] = []
     # lon/lat data: vertices on the antimeridian and the poles stay put (Fiji, Chukotka and
     # Antarctica keep meeting there) and the output stays inside the domain
@@ -827,6 +842,9 @@ def smooth_file(
     if geographic:
         out = out.copy()
         out.geometry = clamp_to_domain(out.geometry, str(in_path), df.geometry)
+    if points.any():
+        out = out.copy()
+        out.geometry = np.where(points, kept, np.asarray(out.geometry.values, dtype=object))
     if out_layer is None and layer is not None and not isinstance(layer, int | np.integer):
         out_layer = str(layer)
     write_file(out, out_path, layer=out_layer)
@@ -843,6 +861,7 @@ def smooth_file(
         n_null=n_null,
         n_empty=n_empty,
         not_equal_area=tuple(planar),
+        n_points=int(points.sum()),
     )
 
 

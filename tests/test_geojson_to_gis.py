@@ -1,0 +1,101 @@
+"""GeoJSON in, GIS files out, and one policy for NULL and Point features (issue 13).
+
+A plain GeoJSON file written to ``.gpkg``/``.shp``/``.fgb`` goes through curvesmith.geo
+(attributes and CRS kept, output valid); its ``"geometry": null`` features are data
+(RFC 7946), whichever path reads them, while NULLs in a GeoPackage or Shapefile stay an
+error unless ``--allow-null`` (a damaged file reads as NULLs). Points and MultiPoints
+have nothing to smooth: both paths write them through unchanged.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import geopandas as gpd
+import numpy as np
+import pyogrio
+import pytest
+import shapely
+from click.testing import CliRunner
+
+from curvesmith.cli import main
+
+NATURAL_EARTH = (
+    Path(pyogrio.__file__).parent / "tests" / "fixtures" / "naturalearth_lowres"
+) / "naturalearth_lowres.shp"
+
+
+def _mixed_layer(tmp_path: Path, point: bool = True) -> Path:
+    """Ten countries of Natural Earth as GeoJSON, plus a NULL and a Point feature."""
+    world = gpd.read_file(NATURAL_EARTH).iloc[[4, 8, 20, 30, 43, 55, 61, 97, 120, 150]]
+    fc = json.loads(world.to_json())
+    fc["features"].insert(3, {"type": "Feature", "properties": {"name": "nul"}, "geometry": None})
+    fc["features"] += [
+        {
+            "type": "Feature",
+            "properties": {"name": "capital"},
+            "geometry": {"type": "Point", "coordinates": [2.35, 48.86]},
+        }
+    ][: int(point)]
+    src = tmp_path / "mixed.geojson"
+    src.write_text(json.dumps(fc))
+    return src
+
+
+@pytest.mark.parametrize("suffix", [".gpkg", ".shp", ".fgb"])
+def test_plain_geojson_to_a_gis_file_keeps_everything(tmp_path, suffix):
+    src = _mixed_layer(tmp_path, point=suffix != ".shp")  # a Shapefile has one geometry type
+    out = tmp_path / f"out{suffix}"
+    res = CliRunner().invoke(main, ["smooth", str(src), "-o", str(out), "--iterations", "2"])
+    assert res.exit_code == 0, res.output
+    assert "1 without geometry (NULL)" in res.stderr
+    assert ("1 Point/MultiPoint feature(s) written through" in res.stderr) == (suffix != ".shp")
+    before, after = gpd.read_file(src), gpd.read_file(out)
+    assert after.crs.equals(before.crs)
+    assert after["name"].tolist() == before["name"].tolist()
+    assert after["pop_est"].fillna(-1).tolist() == before["pop_est"].fillna(-1).tolist()
+    assert after.geometry.iloc[3] is None
+    if suffix != ".shp":  # the Point
+        assert after.geometry.iloc[-1].equals(before.geometry.iloc[-1])
+    poly = before.geom_type.isin(["Polygon", "MultiPolygon"]).to_numpy()
+    a0 = shapely.area(before.geometry.values[poly])
+    a1 = shapely.area(after.geometry.values[poly])
+    assert np.max(np.abs(a1 / a0 - 1)) < 1e-9  # cca: areas exact (in degrees, no --equal-area)
+    assert shapely.is_valid(after.geometry.values[poly]).all()
+    assert (
+        shapely.get_num_coordinates(after.geometry.values[poly])
+        > 2 * shapely.get_num_coordinates(before.geometry.values[poly])
+    ).all()
+
+
+def test_geojson_nulls_are_data_in_both_paths_but_gis_nulls_need_allow_null(tmp_path):
+    src = _mixed_layer(tmp_path)
+    runner = CliRunner()
+    plain = runner.invoke(main, ["smooth", str(src), "-o", str(tmp_path / "o.geojson")])
+    coverage = runner.invoke(
+        main, ["smooth", str(src), "-o", str(tmp_path / "c.gpkg"), "--coverage"]
+    )
+    assert plain.exit_code == 0 and coverage.exit_code == 0, plain.output + coverage.output
+    assert json.loads((tmp_path / "o.geojson").read_text())["features"][3]["geometry"] is None
+    assert gpd.read_file(tmp_path / "c.gpkg").geometry.iloc[3] is None
+    # the same NULL in a GeoPackage: maybe a damaged file, an error without --allow-null
+    gpkg = tmp_path / "mixed.gpkg"
+    gpd.read_file(src).to_file(gpkg)
+    res = runner.invoke(main, ["smooth", str(gpkg), "-o", str(tmp_path / "g.gpkg")])
+    assert res.exit_code == 1 and "1 of 12 features have no geometry" in res.stderr
+    assert not (tmp_path / "g.gpkg").exists()
+    res = runner.invoke(main, ["smooth", str(gpkg), "-o", str(tmp_path / "g.gpkg"), "--allow-null"])
+    assert res.exit_code == 0, res.output
+
+
+def test_curves_from_csv_to_a_gis_file_get_a_true_message(tmp_path):
+    src = tmp_path / "sq.csv"
+    src.write_text("x,y\n0,0\n4,0\n4,3\n0,3\n")
+    res = CliRunner().invoke(main, ["smooth", str(src), "-o", str(tmp_path / "sq.gpkg")])
+    assert res.exit_code == 1
+    assert res.stderr.strip() == (
+        f"Error: {tmp_path / 'sq.gpkg'}: GIS files (.gpkg, .shp, .fgb) are written from GIS "
+        f"or GeoJSON input; {src} is not one: write .geojson, .csv or .svg"
+    )
+    assert not (tmp_path / "sq.gpkg").exists()
