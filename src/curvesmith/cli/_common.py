@@ -14,6 +14,7 @@ from ..errors import CurveError, CurveFormatError
 from ..io import Curve, check_destination, detect_format, formats
 from ..io import read_curves as _read_registry
 from ..io import write_curves as _write
+from ..io.svg import SVGKeptWarning
 
 __all__ = [
     "ALPHA",
@@ -159,7 +160,14 @@ def write_curves(curves: list[Curve], dest: str, fmt: str | None = None) -> None
     else:
         try:
             fmt = _format_of(dest, fmt)
-            _write(curves, Path(dest), format=fmt, **_map_options(curves, fmt))
+            with warnings.catch_warnings(record=True) as caught:
+                warnings.simplefilter("always", SVGKeptWarning)
+                _write(curves, Path(dest), format=fmt, **_map_options(curves, fmt))
+            for w in caught:
+                if issubclass(w.category, SVGKeptWarning):
+                    click.echo(f"Warning: {dest}: {w.message}", err=True)
+                else:
+                    warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
         except CurveError as exc:
             text = str(exc)
             if not text.startswith(dest):  # the writers name the file only for OS errors

@@ -34,6 +34,7 @@ from ._core import (
 
 __all__ = [
     "SVGCurves",
+    "SVGKeptWarning",
     "bezier_path_data",
     "path_document",
     "quadratic_path_data",
@@ -203,19 +204,69 @@ def _stash_polylines(text: str) -> tuple[str, dict[str, list]]:
 
 
 class SVGCurves(list):
-    """The curves of an SVG document and its page (``width``, ``height``, ``viewBox``).
+    """The curves of an SVG document, its page and the document itself.
 
-    A ``list`` of :class:`Curve` returned by :func:`read_svg`; :func:`write_svg` given one
-    writes the same page size and viewBox instead of fitting them to the data.
+    A ``list`` of :class:`Curve` returned by :func:`read_svg`. :func:`write_svg` given one
+    writes the source document back with each element that gave curves replaced by a
+    ``<path>`` of its (smoothed) curves, in the element's own coordinates and with all its
+    other attributes; everything else (text, images, ``defs``, clip paths, gradients,
+    groups, metadata) is written as it was. ``page`` holds ``width``, ``height`` and
+    ``viewBox`` of the root.
     """
 
-    def __init__(self, curves=(), page=None):
+    def __init__(self, curves=(), page=None, document=None):
         super().__init__(curves)
         self.page: dict[str, str] = dict(page or {})
+        #: (root element with node marks, {feature: (node, 2x2 linear part, offset)}, nodes
+        #: that cannot be rewritten: drawn through <use> or inside defs/symbol/clipPath ...)
+        self.document = document
 
     def with_curves(self, curves) -> SVGCurves:
-        """The same page with other curves (e.g. the smoothed ones)."""
-        return SVGCurves(curves, self.page)
+        """The same page and document with other curves (e.g. the smoothed ones)."""
+        return SVGCurves(curves, self.page, self.document)
+
+
+class SVGKeptWarning(UserWarning):
+    """Shapes of an SVG document written back as they were, not with their new curves."""
+
+
+_SVG_NS = "http://www.w3.org/2000/svg"
+_NODE = "data-curvesmith-node"
+_SHAPES = frozenset({"path", "rect", "circle", "ellipse", "line", "polyline", "polygon"})
+# shapes under these are drawn elsewhere (by reference) or not at all: never rewritten
+_NOT_DRAWN = frozenset({"defs", "symbol", "clipPath", "mask", "marker", "pattern"})
+_GEOMETRY = frozenset(
+    {"d", "x", "y", "width", "height", "rx", "ry", "cx", "cy", "r", "points", "x1", "y1",
+     "x2", "y2", "pathLength"}
+)  # fmt: skip
+
+
+def _local(tag) -> str:
+    return tag.rsplit("}", 1)[-1] if isinstance(tag, str) else ""
+
+
+def _marked_document(text: str, name: str):
+    """The parsed document with every shape element marked by its node number.
+
+    Returns the root and the marked text (what svgelements then parses), or
+    ``(None, text)`` when ElementTree cannot serialise it back unchanged in meaning.
+    """
+    import xml.etree.ElementTree as ET
+
+    try:
+        for _, (prefix, uri) in ET.iterparse(_stdio.StringIO(text), events=("start-ns",)):
+            if prefix and not prefix.startswith("ns"):
+                ET.register_namespace(prefix, uri)
+        ET.register_namespace("", _SVG_NS)
+        root = ET.fromstring(text)
+    except ET.ParseError:
+        return None, text  # svgelements' parse reports it with line and column
+    k = 0
+    for element in root.iter():
+        if _local(element.tag) in _SHAPES:
+            element.set(_NODE, str(k))
+            k += 1
+    return root, ET.tostring(root, encoding="unicode")
 
 
 def _page_of(text: str) -> dict[str, str]:
@@ -300,6 +351,7 @@ def read_svg(source: Source, *, tolerance: float | None = None) -> list[Curve]:
     text, name = _read_text(source)
     if tolerance is not None:
         tolerance = as_float(tolerance, name="tolerance", low=0.0)
+    root, text = _marked_document(text, name)
     text, stash = _stash_polylines(text)
     try:
         doc = se.SVG.parse(_stdio.StringIO(text), reify=False)
@@ -339,6 +391,7 @@ def read_svg(source: Source, *, tolerance: float | None = None) -> list[Curve]:
         tolerance = _default_tolerance(items)
     curves: list[Curve] = []
     feature = 0
+    nodes: dict[int, tuple] = {}
     for element, segments, matrix, linear in items:
         scale = float(np.linalg.norm(linear, 2))
         if not segments or scale == 0.0 or not math.isfinite(scale):
@@ -353,13 +406,29 @@ def read_svg(source: Source, *, tolerance: float | None = None) -> list[Curve]:
             offset = np.array([matrix.e, matrix.f], dtype=np.float64)
             subpaths = [(pts @ linear.T + offset, closed) for pts, closed in subpaths]
         curves.extend(_svg_curves(element, subpaths, feature, name))
+        offset = np.array([matrix.e, matrix.f], dtype=np.float64)
+        nodes[feature] = (element.values.get(_NODE), linear, offset)
         feature += 1
     if not curves:
         raise CurveFormatError(f"{name}: contains no drawable path, polyline or polygon")
     page = _page_of(text) if "viewBox" in text else {}
     if not (page.get("viewBox") and len(page.get("viewBox", "").replace(",", " ").split()) == 4):
         page = {}  # without a viewBox the user coordinates are the page's: refit on writing
-    return SVGCurves(curves, page)
+    document = None
+    if root is not None:
+        drawn = [entry[0] for entry in nodes.values()]
+        fixed = {n for n in drawn if n is None or drawn.count(n) > 1}  # used more than once
+        parents = {child: parent for parent in root.iter() for child in parent}
+        for element in root.iter():
+            if _local(element.tag) in _SHAPES:
+                up = parents.get(element)
+                while up is not None:
+                    if _local(up.tag) in _NOT_DRAWN:
+                        fixed.add(element.get(_NODE))
+                        break
+                    up = parents.get(up)
+        document = (root, nodes, frozenset(fixed))
+    return SVGCurves(curves, page, document)
 
 
 def _default_tolerance(items) -> float:
@@ -550,7 +619,12 @@ def write_svg(
     Parameters
     ----------
     curves : iterable of Curve
-        2D curves, in SVG user coordinates (y axis down, nothing is flipped).
+        2D curves, in SVG user coordinates (y axis down, nothing is flipped). An
+        :class:`SVGCurves` (what :func:`read_svg` returns, or its ``with_curves``) is
+        written as its source document, each element that gave curves replaced by a
+        ``<path>`` of them and everything else as it was (see :class:`SVGCurves`;
+        :class:`SVGKeptWarning` lists shapes drawn by reference, written unchanged),
+        unless `flip_y`, `stroke`, `stroke_width` or `fill` ask for a new drawing.
     dest : str or path-like or text file object
         The file.
     stroke : str, optional
@@ -599,6 +673,11 @@ def write_svg(
             f"{hi.max():.3g}): the extent overflows, so no SVG viewBox can hold them; scale "
             "them down"
         )
+    document = getattr(curves_in, "document", None)
+    styled = stroke != "black" or stroke_width is not None or fill is not None
+    if document is not None and not flip_y and not styled:
+        _write_document(curves, document, dest)
+        return
     if size == 0.0:
         size = max(1.0, float(np.abs(lo).max()))
     pad = 0.02 * size
@@ -678,6 +757,77 @@ FORMAT = register(Format("svg", "SVG", (".svg",), read_svg, write_svg))
 
 # ----------------------------------------------------------------------------------------------
 # quadratic B-spline paths (affine control polygons)
+
+
+def _write_document(curves: list[Curve], document, dest: Source) -> None:
+    """Write the source document with each element's curves in place (see SVGCurves)."""
+    import copy
+    import warnings
+    import xml.etree.ElementTree as ET
+
+    root, nodes, fixed = document
+    root = copy.deepcopy(root)
+    by_node = {el.get(_NODE): el for el in root.iter() if el.get(_NODE) is not None}
+    groups: dict[int, list[Curve]] = {}
+    for c in curves:
+        groups.setdefault(c.feature, []).append(c)
+    kept = []
+    for feature, group in groups.items():
+        node, linear, offset = nodes.get(feature, (None, None, None))
+        element = by_node.get(node)
+        if element is None or node in fixed:
+            kept.append(feature)
+            continue
+        if np.array_equal(linear, np.eye(2)) and not offset.any():
+            inverse = None
+        else:
+            inverse = np.linalg.inv(linear)
+        data = []
+        for c in group:
+            pts = c.points if inverse is None else (c.points - offset) @ inverse.T
+            if not np.isfinite(pts).all():
+                raise CurveFormatError(
+                    f"element {feature}: its transform cannot be inverted for the new curve"
+                )
+            data.append(("M " if not data else " M ") + "".join(format_rows(pts[:1], "%r,%r")))
+            if len(pts) > 1:
+                data.append(" L")
+                data.extend(format_rows(pts[1:], " %r,%r"))
+            if c.closed:
+                data.append(" Z")
+        for key in [k for k in element.attrib if k in _GEOMETRY]:
+            del element.attrib[key]
+        element.tag = f"{{{_SVG_NS}}}path" if element.tag.startswith("{") else "path"
+        # the resolved paint as presentation attributes: the same drawing (the properties
+        # are inherited ones, so the value an element inherits is the value it gets; a CSS
+        # style attribute wins over them). Opacity only where the element sets it: it is
+        # not inherited, and a group's opacity on its children too would compound.
+        own_css = {
+            part.split(":", 1)[0].strip()
+            for part in element.get("style", "").split(";")
+            if ":" in part
+        }
+        for key, value in (group[0].style or {}).items():
+            if key == "opacity" and key not in own_css:
+                continue
+            if key in STYLE_ATTRIBUTES and key not in element.attrib:
+                element.set(key, value)
+        element.set("d", "".join(data))
+    for el in root.iter():
+        el.attrib.pop(_NODE, None)
+    if kept:
+        warnings.warn(
+            f"{len(kept)} SVG element(s) drawn through <use> or inside defs, symbol, clipPath, "
+            f"mask, marker or pattern written back as they were (element "
+            f"{', '.join(map(str, kept[:5]))}{', ...' if len(kept) > 5 else ''})",
+            SVGKeptWarning,
+            stacklevel=3,
+        )
+    text = ET.tostring(root, encoding="unicode")
+    with open_destination(dest) as out:
+        out.write('<?xml version="1.0" encoding="UTF-8"?>\n')
+        out.write(text)
+        out.write("\n")
 
 
 def _fmt(x: float) -> str:
