@@ -407,6 +407,8 @@ def read_svg(source: Source, *, tolerance: float | None = None) -> list[Curve]:
             subpaths = [(pts @ linear.T + offset, closed) for pts, closed in subpaths]
         curves.extend(_svg_curves(element, subpaths, feature, name))
         offset = np.array([matrix.e, matrix.f], dtype=np.float64)
+        if _flipped(element):  # the curves are y-up map coordinates: one more flip
+            linear, offset = linear * [[1.0], [-1.0]], offset * [1.0, -1.0]
         nodes[feature] = (element.values.get(_NODE), linear, offset)
         feature += 1
     if not curves:
@@ -481,6 +483,14 @@ def _style_of(element) -> dict[str, str] | None:
     values = element.values
     style = {k: str(values[k]) for k in STYLE_ATTRIBUTES if values.get(k) not in (None, "")}
     return style or None
+
+
+def _flipped(element) -> bool:
+    """Whether write_svg(flip_y=True) wrote the element (its curves are read back y-up)."""
+    try:
+        return json.loads(element.values.get(_META) or "{}").get("flip_y") is True
+    except (ValueError, AttributeError):
+        return False
 
 
 def _svg_curves(element, subpaths, feature: int, name: str) -> list[Curve]:
