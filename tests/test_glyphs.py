@@ -68,6 +68,30 @@ def test_refit_glyph_is_g2_within_tolerance_and_keeps_area(sans, char):
             assert np.min(np.hypot(on[:, 0] - cx, on[:, 1] - cy)) < 1e-9
 
 
+@pytest.mark.parametrize("char", ["N", "x", "W", "k", "E"])
+def test_glyphs_of_straight_lines_only_are_their_polygons(sans, char):
+    # Regression: a contour of lines only (N, x, W ...) had no curved piece to take the
+    # rounding of the area sums, and the affine construction divided by A = 0
+    name = sans.getBestCmap()[ord(char)]
+    rep = glyphs.refit_glyph(sans, name, tolerance=2.0)
+    outline = fonts.read_glyph(sans, name)
+    assert rep.segments_after == rep.segments_before  # one straight segment per line
+    assert rep.max_deviation < 1e-9 and abs(rep.area_change) < 1e-12
+    for seg, contour in zip(rep.segments, outline.contours, strict=True):
+        on = seg[:, 0]  # on-curve points: the outline's corners, in order
+        pts, corners = contour.sample(2.0)
+        assert len(on) == len(corners)
+        assert np.min(np.hypot(*(on[:, None] - pts[corners][None]).T), axis=0).max() < 1e-9
+
+
+def test_a_straight_run_has_no_affine_arc_length_polygon():
+    from curvesmith import affine
+
+    line = np.c_[np.linspace(0, 10, 50), np.linspace(0, 5, 50)]
+    with pytest.raises(CurveError, match="no affine arc length"):
+        affine.approximate(line, vertices=8)
+
+
 @pytest.mark.slow
 def test_written_font_keeps_names_metrics_and_renders(tmp_path):
     out = tmp_path / "out.ttf"

@@ -835,6 +835,11 @@ def fit(
     if any(straight) and len(pieces) > 1:
         deficit = sum(pc.area for pc, st in zip(pieces, straight, strict=True) if st)
         curved = [pc for pc, st in zip(pieces, straight, strict=True) if not st]
+        # all straight, and the lines already enclose the area (a polygon, like a glyph N,
+        # up to the rounding of the area sums): the polygon of corners is the fit
+        rounding = 1e-12 * sum(abs(pc.area) for pc in pieces) + 1e-12 * abs(area or 0.0)
+        if not curved and abs(deficit) <= rounding:
+            deficit = 0.0
         if not curved and deficit != 0.0:
             big = max(
                 (i for i, pc in enumerate(pieces) if pc.kind == "open"),

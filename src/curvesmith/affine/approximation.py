@@ -813,6 +813,12 @@ def _approximate_open(
         piece.extrapolate = last
         length = abs(cv.s_of_t(t_end) - cv.s_of_t(t0))
         area = sign * (length / m) ** 3
+        if not area:
+            raise CurveError(
+                f"the samples from t = {t0:.6g} to {t_end:.6g} have no affine arc length "
+                "(a straight run: every arc of the replacement curve is a chord), so no "
+                "affine arc length polyline follows them; fit straight runs as lines"
+            )
         if last:
             tol_steps, refits = (_END_TOL, 60) if match_end else (math.inf, 0)
         else:
