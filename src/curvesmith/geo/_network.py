@@ -37,6 +37,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import CurveError
+from . import _zm
 from ._engine import Level, levels_for, resolve_arcs
 from ._smooth import _shapely, as_geometry_array, check_method, make_smoother
 
@@ -546,7 +547,7 @@ def smooth_network(
     Raises
     ------
     CurveError
-        For other geometry types, Z coordinates, lines of fewer than two distinct points,
+        For other geometry types, lines of fewer than two distinct points,
         an unknown method or a bad ``iterations``/``alpha``.
 
     Examples
@@ -567,7 +568,9 @@ def smooth_network(
     shapely = _shapely()
     iterations = check_method(method, iterations, alpha)
     geoms, wrap = as_geometry_array(geometry)
-    geoms = np.asarray(geoms, dtype=object).copy()
+    geoms, zm = _zm.split_zm(np.asarray(geoms, dtype=object).copy())  # Z/M: geo._zm
+    if zm is not None:
+        wrap = _zm.restoring(wrap, zm)
     idx, types, line_feat, lines, closed = _line_parts(geoms)
     empty = NetworkResult(wrap(geoms), 0, 0, 0, 0, (), 0.0, 0.0)
     if not lines:
