@@ -139,3 +139,34 @@ def test_partitioned_linear_rings_and_none(cluster):
         (a is None and b is None) or shapely.equals_exact(a, b, 0.0)
         for a, b in zip(out, ref, strict=True)
     )
+
+
+def test_z_kept_and_equal_to_the_single_process_run(cluster, counties_file, tmp_path):
+    """Z (issue 14.3): batch gives the Z of geo.smooth_file, per feature and in coverage mode."""
+    _, df = counties_file
+    xy = shapely.get_coordinates(df.geometry.values)
+    z = 300.0 + 1e-3 * (xy[:, 0] - xy[:, 0].min()) + 40.0 * np.sin(xy[:, 1] / 9e3)
+    zdf = df.assign(
+        geometry=shapely.set_coordinates(
+            shapely.force_3d(df.geometry.values), np.column_stack([xy, z])
+        )
+    )
+    src = tmp_path / "z.gpkg"
+    geo.write_file(zdf, src)
+    for coverage in (False, True):
+        out, ref = tmp_path / f"b{coverage}.gpkg", tmp_path / f"r{coverage}.gpkg"
+        rep = batch.smooth_file(
+            src,
+            out,
+            coverage=coverage,
+            scheduler=cluster.scheduler_address,
+            partition_size=60,
+            progress=False,
+        )
+        assert rep.errors == ()
+        geo.smooth_file(src, ref, coverage=coverage)
+        a, b = geo.read_file(out).geometry.values, geo.read_file(ref).geometry.values
+        assert shapely.has_z(a).all()
+        assert np.array_equal(
+            shapely.get_coordinates(a, include_z=True), shapely.get_coordinates(b, include_z=True)
+        )

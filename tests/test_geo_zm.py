@@ -134,6 +134,14 @@ def test_polygons_multipolygons_holes_lines_xy_bit_identical_and_kept_z_exact():
         assert hit.any() and np.all(o[hit, 2] == z)
 
 
+def test_flat_z_stays_exact():
+    """A polygon at one height (a lake, a flat roof) stays at that height bit for bit."""
+    ring = noisy_ring(70, 500.0, seed=5)
+    for g in (shapely.Polygon(ring), shapely.LineString(ring)):
+        out = geo.smooth(shapely.force_3d(g, 250.0), iterations=3)
+        assert np.all(xyz(out)[:, 2] == 250.0)
+
+
 def test_gdf_mixed_2d_and_3d_none_and_empty():
     df = gpd.GeoDataFrame(
         {"name": ["a", "b", "c", "d"]},

@@ -575,6 +575,9 @@ def test_smooth_to_shapefile_keeps_areas_attributes_crs(qgis, data, tmp_path):
     res = _ran(qgis, "smooth_shp")
     src, out = data["counties"], _read(res["output"])
     _check_attributes_crs(out, src, res, ["GEOID", "NAME", "ALAND", "AWATER"])
+    # the input's attributes, names and types, and no float `fid` from the GeoPackage's ids
+    assert list(out.columns) == list(src.columns)
+    assert out.dtypes.astype(str).tolist() == src.dtypes.astype(str).tolist()
     _check_areas(out, src)
     # the plugin is thin: the same geometries as curvesmith's own file function
     geo.smooth_file(data["paths"]["counties"], tmp_path / "ref.gpkg", iterations=2)

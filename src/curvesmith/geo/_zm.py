@@ -10,7 +10,7 @@ the output are bit-identical to those of 2D input. Each output vertex then gets 
 * **Every other vertex** lies between two kept vertices. Walking that piece of the output
   in order, each vertex is projected onto the nearest input edge *at or after* the edge
   of the previous vertex, within the next ``WINDOW`` edges of the same piece, and its
-  values are interpolated linearly along that edge, ``v = (1 - t) v_a + t v_b`` at the
+  values are interpolated linearly along that edge, ``v = v_a + t (v_b - v_a)`` at the
   foot point's parameter ``t``. The projection never goes backwards, so a vertex is
   never attached to a far part of the ring that happens to be close in XY.
 * A ring with no kept vertex at all (a closed CCA ring: every vertex moves) starts at

@@ -35,8 +35,24 @@ def _foot(qx, qy, ax, ay, bx, by, lo, hi):
 
 @njit(cache=True, nogil=True)
 def _lerp(v, a, b, t, out, j):
+    """``v_a + t (v_b - v_a)``, exact at both ends and for equal values.
+
+    A flat polygon stays at its height bit for bit; the result is clamped into
+    ``[v_a, v_b]`` against rounding.
+    """
     for d in range(v.shape[1]):
-        out[j, d] = (1.0 - t) * v[a, d] + t * v[b, d]
+        va = v[a, d]
+        vb = v[b, d]
+        if t == 0.0 or va == vb:
+            r = va
+        elif t == 1.0:
+            r = vb
+        else:
+            r = va + t * (vb - va)
+            lo = min(va, vb)
+            hi = max(va, vb)
+            r = lo if r < lo else (hi if r > hi else r)
+        out[j, d] = r
 
 
 @njit(cache=True, nogil=True)
