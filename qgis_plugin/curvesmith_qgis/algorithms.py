@@ -311,14 +311,19 @@ def _read_output(path, expected):
     return geometries
 
 
+def _output_suffix(alg, parameters, context) -> str:
+    """The output file's suffix (``""`` for a memory layer)."""
+    dest = alg.parameterAsOutputLayer(parameters, "OUTPUT", context) or ""
+    return os.path.splitext(dest.split("|")[0])[1].lower()
+
+
 def _feature_id_fields(alg, parameters, context) -> list[int]:
     """Fields holding the input file's feature ids (a GeoPackage's ``fid``), not its data.
 
     An output file of another format would get them as an ordinary column (a
     Shapefile's float ``fid``); the input's own attributes are the others.
     """
-    dest = alg.parameterAsOutputLayer(parameters, "OUTPUT", context) or ""
-    suffix = os.path.splitext(dest.split("|")[0])[1].lower()
+    suffix = _output_suffix(alg, parameters, context)
     if not suffix or suffix in (".gpkg", ".sqlite"):  # memory layers, GeoPackages: kept
         return []
     layer = alg.parameterAsVectorLayer(parameters, "INPUT", context)
@@ -333,11 +338,15 @@ def _write_output(alg, parameters, context, feedback, source, attributes, geomet
         wkb_type = QgsWkbTypes.multiType(wkb_type)
     fields = source.fields()
     drop = _feature_id_fields(alg, parameters, context)
-    if drop:
+    shapefile = _output_suffix(alg, parameters, context) == ".shp"
+    if drop or shapefile:
         kept = [i for i in range(fields.count()) if i not in drop]
         fields = QgsFields()
         for i in kept:
-            fields.append(source.fields().at(i))
+            field = QgsField(source.fields().at(i))
+            if shapefile and field.type() == QVariant.LongLong and not 0 < field.length() <= 18:
+                field.setLength(18)  # GDAL reads a wider N(20, 0) column back as Real
+            fields.append(field)
         attributes = [[attrs[i] for i in kept] for attrs in attributes]
     sink, dest_id = alg.parameterAsSink(
         parameters, "OUTPUT", context, fields, wkb_type, source.sourceCrs()

@@ -724,7 +724,7 @@ def smooth(
         LineString, LinearRing, Polygon (with holes), Multi* and GeometryCollection.
         ``None`` and empty geometries are passed through unchanged. XYZ, XYM and XYZM
         geometries are smoothed in XY exactly as their 2D copies; every new vertex gets
-        Z/M interpolated along the input edge it was built from (:mod:`curvesmith.geo._zm`).
+        Z/M interpolated along the input edge it was built from (see ``curvesmith.geo._zm``).
         The index, the other columns and the CRS of a GeoSeries/GeoDataFrame are kept.
     method : {"cca", "chaikin"}
         Area-preserving CCA (default) or plain Chaikin corner cutting (shrinks shapes;
