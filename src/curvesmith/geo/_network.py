@@ -502,6 +502,7 @@ def smooth_network(
     alpha: Any = "regular",
     fixed_points: Any = None,
     full_output: bool = False,
+    map_arcs: Any = None,
 ) -> Any:
     """Smooth a line network: junctions and ends fixed, shared pieces once, no new contacts.
 
@@ -536,6 +537,11 @@ def smooth_network(
         becomes a node.
     full_output : bool
         Return a :class:`NetworkResult`.
+    map_arcs : callable, optional
+        ``map_arcs(topology, frozen) -> list of arrays``: the first, full-strength
+        smoothing of every arc (``topology.arcs``, ``topology.loops``), e.g. run in
+        parallel (:mod:`curvesmith.batch` passes a Dask map over blocks of arcs here);
+        conflicts are then resolved here as usual.
 
     Returns
     -------
@@ -587,15 +593,18 @@ def smooth_network(
     if iterations == 0:
         new_arcs, red = list(topo.arcs), []
     else:
-        initial = _initial(
-            topo.arcs,
-            topo.loops,
-            frozen,
-            method=method,
-            iterations=iterations,
-            alpha=alpha,
-            smoother=smoother,
-        )
+        if map_arcs is not None:  # e.g. on Dask (curvesmith.batch)
+            initial = map_arcs(topo, frozen)
+        else:
+            initial = _initial(
+                topo.arcs,
+                topo.loops,
+                frozen,
+                method=method,
+                iterations=iterations,
+                alpha=alpha,
+                smoother=smoother,
+            )
         new_arcs, red = resolve_arcs(
             topo.arcs,
             loops=topo.loops,
