@@ -134,6 +134,16 @@ def test_polygons_multipolygons_holes_lines_xy_bit_identical_and_kept_z_exact():
         assert hit.any() and np.all(o[hit, 2] == z)
 
 
+def test_geometry_collection_with_multipolygon():
+    mp = shapely.MultiPolygon([shapely.Polygon(noisy_ring(20, 300.0, seed=8))])
+    gc = with_z([shapely.GeometryCollection([mp, shapely.LineString(noisy_ring(15, 200.0)[:9])])])
+    out = geo.smooth(gc, iterations=2)
+    assert same_xy_as_2d(out, geo.smooth(shapely.force_2d(gc), iterations=2))
+    q, src = xyz(out), xyz(gc)
+    assert src[:, 2].min() <= q[:, 2].min() and q[:, 2].max() <= src[:, 2].max()
+    assert kept_z_exact(gc, out) >= 2
+
+
 def test_flat_z_stays_exact():
     """A polygon at one height (a lake, a flat roof) stays at that height bit for bit."""
     ring = noisy_ring(70, 500.0, seed=5)

@@ -116,6 +116,11 @@ def test_build_argv():
     assert argv("smoothnetwork", {"ITERATIONS": 1, "METHOD": 1, "SNAP": 2.0}) == (
         "smooth a.gpkg -o b.fgb --network --method chaikin --iterations 1 --alpha regular"
     )
+    # a network on Dask: batch smooth --network (the whole network noded once, arcs in parallel)
+    assert argv("smoothnetwork", {"WORKERS": 2, "PARTITION_SIZE": 600}) == (
+        "batch smooth a.gpkg -o b.fgb --network --method cca --iterations 1 --alpha regular "
+        "--workers 2 --partition-size 600"
+    )
     assert options.build_argv(exe, "smooth", {}, "a", "b")[0] == exe
 
 

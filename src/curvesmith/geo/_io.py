@@ -121,7 +121,8 @@ def read_file(path: str | Path, *, layer: str | int | None = None, columns=None)
     Raises
     ------
     CurveFormatError
-        Missing file, unreadable file, or unknown layer (the message lists the layers).
+        Missing file, unreadable file, or unknown layer (the message lists the layers);
+        a layer with M values (pyogrio drops them on reading and cannot write them).
     """
     pyogrio = require("pyogrio", "geo", "reading GIS files")
     path = Path(path)
@@ -130,7 +131,9 @@ def read_file(path: str | Path, *, layer: str | int | None = None, columns=None)
     if path.suffix.lower() == ".shp":
         _check_shapefile(path)
     try:
-        layers = pyogrio.list_layers(path)
+        with warnings.catch_warnings():  # M layers are refused below, when read
+            warnings.filterwarnings("ignore", message="Measured \\(M\\) geometry types")
+            layers = pyogrio.list_layers(path)
     except Exception as exc:  # pyogrio raises its own DataSourceError subclasses
         raise CurveFormatError(f"cannot read {str(path)!r}: {exc}") from exc
     names = [str(x) for x in layers[:, 0]]

@@ -112,6 +112,9 @@ def _curves(geoms: np.ndarray):
     T = shapely.GeometryType
     parts, pfeat = shapely.get_parts(geoms, return_index=True)
     ptype = shapely.get_type_id(parts)
+    while np.any(ptype >= T.MULTIPOINT):  # collections of multi-geometries: flatten
+        parts, sub = shapely.get_parts(parts, return_index=True)
+        pfeat, ptype = pfeat[sub], shapely.get_type_id(parts)
     poly = ptype == T.POLYGON
     ring_geoms, ring_part = shapely.get_rings(parts[poly], return_index=True)
     ring_part = np.flatnonzero(poly)[ring_part]
