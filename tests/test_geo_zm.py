@@ -398,17 +398,29 @@ def test_cli_network_with_z(tmp_path):
 
 
 def test_m_files_refused_in_one_line(tmp_path):
-    """pyogrio 0.13 drops M when reading and cannot write it: refuse instead of losing M."""
-    import subprocess
+    """pyogrio 0.13 drops M when reading and cannot write it: refuse instead of losing M.
 
-    csv = tmp_path / "m.csv"
-    csv.write_text('id,WKT\n1,"LINESTRING M (0 0 5, 1 1 6, 2 0 7)"\n')
+    The fixture is a GeoPackage written by pyogrio, its geometry then replaced in SQLite by
+    an ISO WKB LINESTRING M and its geometry column flagged m = 1 (GeoPackage 1.4, 2.1.3).
+    """
+    import sqlite3
+    import struct
+
     src = tmp_path / "m.gpkg"
-    done = subprocess.run(
-        ["ogr2ogr", "-f", "GPKG", str(src), str(csv), "-nlt", "LINESTRINGM"], capture_output=True
+    line = gpd.GeoDataFrame(
+        {"id": [1]}, geometry=[shapely.LineString([(0, 0), (1, 1), (2, 0)])], crs="EPSG:3857"
     )
-    if done.returncode != 0 or not src.exists():
-        pytest.fail(f"ogr2ogr could not make the M fixture: {done.stderr!r}")
+    line.to_file(src, layer="m", layer_options={"SPATIAL_INDEX": "NO"})
+    wkb = shapely.to_wkb(shapely.from_wkt("LINESTRING M (0 0 5, 1 1 6, 2 0 7)"), flavor="iso")
+    with sqlite3.connect(src) as con:
+        srs, col = con.execute(
+            "select srs_id, column_name from gpkg_geometry_columns where table_name = 'm'"
+        ).fetchone()
+        blob = b"GP" + bytes([0, 1]) + struct.pack("<i", srs) + wkb  # no envelope
+        con.execute(f'update "m" set "{col}" = ?', (blob,))
+        con.execute("update gpkg_geometry_columns set m = 1 where table_name = 'm'")
+    with pytest.warns(UserWarning, match="Measured"):
+        assert pyogrio.read_info(src)["geometry_type"] == "LineString"  # M dropped by pyogrio
     with pytest.raises(CurveError, match=r"has M \(measure\) values"):
         geo.read_file(src)
     out = tmp_path / "out.gpkg"
