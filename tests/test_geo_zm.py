@@ -144,6 +144,20 @@ def test_geometry_collection_with_multipolygon():
     assert kept_z_exact(gc, out) >= 2
 
 
+def test_make_valid_bowtie_pairs_the_repaired_rings():
+    """make_valid splits a bow-tie into two triangles; each gets Z from its own half."""
+    bow = shapely.Polygon([(0, 0, 0), (200, 200, 20), (200, 0, 30), (0, 200, 10)])
+    out = geo.smooth(bow, make_valid=True, iterations=2)
+    assert same_xy_as_2d([out], [geo.smooth(shapely.force_2d(bow), make_valid=True, iterations=2)])
+    assert out.geom_type == "MultiPolygon" and out.has_z
+    for part in out.geoms:
+        q = xyz(part.exterior)
+        right = q[:, 0].mean() > 100  # (100, 100, 15) - (200, 200, 20) - (200, 0, 30)
+        lo, hi = (15, 30) if right else (0, 15)
+        assert lo <= q[:, 2].min() and q[:, 2].max() <= hi
+        assert np.abs(np.diff(q[:, 2])).max() < 3.0  # no jump to the other half
+
+
 def test_flat_z_stays_exact():
     """A polygon at one height (a lake, a flat roof) stays at that height bit for bit."""
     ring = noisy_ring(70, 500.0, seed=5)

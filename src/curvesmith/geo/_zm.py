@@ -15,6 +15,8 @@ the output are bit-identical to those of 2D input. Each output vertex then gets 
   never attached to a far part of the ring that happens to be close in XY.
 * A ring with no kept vertex at all (a closed CCA ring: every vertex moves) starts at
   the nearest point of the whole ring and walks once around it.
+* Input repaired by ``make_valid=True`` is repaired here the same way first (GEOS keeps
+  Z/M and interpolates them at new nodes), so its rings pair up with the output's.
 
 Why this is "the edge it was built from" (Gordon 2010, section 3, CCA1): one iteration
 puts, for every input edge ``AB``, two cut points ``C, D`` on ``AB`` and the apex ``G``
@@ -137,7 +139,7 @@ def _pairs(src_feat, out_feat, src_curves, out_curves) -> np.ndarray:
     first_o = np.concatenate([[0], np.cumsum(no)[:-1]])
     ordinal = np.arange(len(out_feat)) - first_o[out_feat]
     pair = first_s[out_feat] + ordinal
-    # features whose rings were restructured (make_valid, coverage_clean): nearest ring
+    # features whose rings were restructured (coverage_clean with snap): nearest ring
     for f in np.flatnonzero((ns != no) & (no > 0)):
         if ns[f] == 0:
             pair[out_feat == f] = -1
@@ -178,7 +180,11 @@ def restore_zm(source: ZMSource, out: np.ndarray) -> np.ndarray:
         idx = idx[~shapely.is_empty(out[idx])]
     if idx.size == 0:
         return out
-    src_c, src_f = _curves(source.geoms[idx])
+    src = source.geoms[idx].copy()
+    invalid = ~shapely.is_valid(src)  # repaired as geo's prepare does (make_valid=True)
+    if invalid.any():  # GEOS keeps Z/M and interpolates them at the new nodes
+        src[invalid] = shapely.make_valid(src[invalid], method="structure", keep_collapsed=False)
+    src_c, src_f = _curves(src)
     out_c, out_f = _curves(out[idx])
     pair = _pairs(src_f, out_f, src_c, out_c)
     sxy, sv, soff, sclosed, skeep = _ragged(src_c, 2)
