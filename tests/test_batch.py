@@ -139,3 +139,112 @@ def test_partitioned_linear_rings_and_none(cluster):
         (a is None and b is None) or shapely.equals_exact(a, b, 0.0)
         for a, b in zip(out, ref, strict=True)
     )
+
+
+def test_z_kept_and_equal_to_the_single_process_run(cluster, counties_file, tmp_path):
+    """Z (issue 14.3): batch gives the Z of geo.smooth_file, per feature and in coverage mode."""
+    _, df = counties_file
+    xy = shapely.get_coordinates(df.geometry.values)
+    z = 300.0 + 1e-3 * (xy[:, 0] - xy[:, 0].min()) + 40.0 * np.sin(xy[:, 1] / 9e3)
+    zdf = df.assign(
+        geometry=shapely.set_coordinates(
+            shapely.force_3d(df.geometry.values), np.column_stack([xy, z])
+        )
+    )
+    src = tmp_path / "z.gpkg"
+    geo.write_file(zdf, src)
+    for coverage in (False, True):
+        out, ref = tmp_path / f"b{coverage}.gpkg", tmp_path / f"r{coverage}.gpkg"
+        rep = batch.smooth_file(
+            src,
+            out,
+            coverage=coverage,
+            scheduler=cluster.scheduler_address,
+            partition_size=60,
+            progress=False,
+        )
+        assert rep.errors == ()
+        geo.smooth_file(src, ref, coverage=coverage)
+        a, b = geo.read_file(out).geometry.values, geo.read_file(ref).geometry.values
+        assert shapely.has_z(a).all()
+        assert np.array_equal(
+            shapely.get_coordinates(a, include_z=True), shapely.get_coordinates(b, include_z=True)
+        )
+
+
+def _contour_lines():
+    """Raw 50 m contours of matplotlib's Jacksboro DEM (766 lines, open and closed)."""
+    from matplotlib import cbook
+
+    d = cbook.get_sample_data("jacksboro_fault_dem.npz")
+    z = d["elevation"].astype(float)
+    ny, nx = z.shape
+    return geo.contours(
+        z, x=np.arange(nx) * 74.5, y=np.arange(ny)[::-1] * 92.6, interval=50, iterations=0
+    ).set_crs("EPSG:32616")
+
+
+def test_network_mode_equals_smooth_network(cluster, tmp_path):
+    """batch smooth --network (issue 14 e): the whole network is noded on the client, the
+    arcs are smoothed on the workers in whole blocks, conflicts resolved on the client: the
+    output is smooth --network's, bit for bit (also with Z, and through the CLI)."""
+    from click.testing import CliRunner
+
+    from curvesmith.cli import main
+
+    lines = _contour_lines()
+    xy = shapely.get_coordinates(lines.geometry.values)
+    lines = lines.assign(
+        geometry=shapely.set_coordinates(
+            shapely.force_3d(lines.geometry.values), np.column_stack([xy, 0.01 * xy[:, 0]])
+        )
+    )
+    src = tmp_path / "contours.gpkg"
+    geo.write_file(lines, src)
+    ref = tmp_path / "ref.gpkg"
+    r = CliRunner().invoke(
+        main, ["smooth", str(src), "-o", str(ref), "--network", "--iterations", "2"]
+    )
+    assert r.exit_code == 0, r.output
+    out = tmp_path / "batch.gpkg"
+    rep = batch.smooth_file(
+        src,
+        out,
+        network=True,
+        iterations=2,
+        scheduler=cluster.scheduler_address,
+        partition_size=100,
+        progress=False,
+    )
+    assert rep.errors == () and rep.n_partitions >= 3  # open arcs in 2 blocks, loops in chunks
+    a, b = geo.read_file(out), geo.read_file(ref)
+    assert list(a["level"]) == list(b["level"])
+    assert shapely.has_z(a.geometry.values).all()
+    assert np.array_equal(
+        shapely.get_coordinates(a.geometry.values, include_z=True),
+        shapely.get_coordinates(b.geometry.values, include_z=True),
+    )
+    cli_out = tmp_path / "cli.gpkg"
+    r = CliRunner().invoke(
+        main,
+        [
+            "batch",
+            "smooth",
+            str(src),
+            "-o",
+            str(cli_out),
+            "--network",
+            "--iterations",
+            "2",
+            "--scheduler",
+            cluster.scheduler_address,
+            "--no-progress",
+        ],
+    )
+    assert r.exit_code == 0, r.output
+    c = geo.read_file(cli_out)
+    assert all(shapely.equals_exact(p, q, 0.0) for p, q in zip(c.geometry, b.geometry, strict=True))
+    r = CliRunner().invoke(
+        main, ["batch", "smooth", str(src), "-o", str(cli_out), "--network", "--coverage"]
+    )
+    assert r.exit_code == 2 and "--network cannot be combined with --coverage" in r.output

@@ -260,8 +260,8 @@ def test_iterations_zero_and_chaikin():
 def test_errors():
     with pytest.raises(CurveError, match=r"geometry\[1\] is a Polygon"):
         geo.smooth_network([shapely.LineString([(0, 0), (1, 1)]), shapely.box(0, 0, 1, 1)])
-    with pytest.raises(CurveError, match="Z coordinates"):
-        geo.smooth_network([shapely.LineString([(0, 0, 1), (1, 1, 2)])])
+    z = geo.smooth_network([shapely.LineString([(0, 0, 1), (1, 1, 2)])])  # Z kept (14.3)
+    assert shapely.get_coordinates(z, include_z=True).tolist() == [[0, 0, 1], [1, 1, 2]]
     with pytest.raises(CurveError, match="fewer than 2 distinct points"):
         geo.smooth_network([shapely.LineString([(1, 1), (1, 1)])])
     with pytest.raises(CurveError, match="method must be"):

@@ -116,6 +116,11 @@ def test_build_argv():
     assert argv("smoothnetwork", {"ITERATIONS": 1, "METHOD": 1, "SNAP": 2.0}) == (
         "smooth a.gpkg -o b.fgb --network --method chaikin --iterations 1 --alpha regular"
     )
+    # a network on Dask: batch smooth --network (the whole network noded once, arcs in parallel)
+    assert argv("smoothnetwork", {"WORKERS": 2, "PARTITION_SIZE": 600}) == (
+        "batch smooth a.gpkg -o b.fgb --network --method cca --iterations 1 --alpha regular "
+        "--workers 2 --partition-size 600"
+    )
     assert options.build_argv(exe, "smooth", {}, "a", "b")[0] == exe
 
 
@@ -580,6 +585,9 @@ def test_smooth_to_shapefile_keeps_areas_attributes_crs(qgis, data, tmp_path):
     res = _ran(qgis, "smooth_shp")
     src, out = data["counties"], _read(res["output"])
     _check_attributes_crs(out, src, res, ["GEOID", "NAME", "ALAND", "AWATER"])
+    # the input's attributes, names and types, and no float `fid` from the GeoPackage's ids
+    assert list(out.columns) == list(src.columns)
+    assert out.dtypes.astype(str).tolist() == src.dtypes.astype(str).tolist()
     _check_areas(out, src)
     # the plugin is thin: the same geometries as curvesmith's own file function
     geo.smooth_file(data["paths"]["counties"], tmp_path / "ref.gpkg", iterations=2)

@@ -311,19 +311,52 @@ def _read_output(path, expected):
     return geometries
 
 
+def _output_suffix(alg, parameters, context) -> str:
+    """The output file's suffix (``""`` for a memory layer)."""
+    dest = alg.parameterAsOutputLayer(parameters, "OUTPUT", context) or ""
+    return os.path.splitext(dest.split("|")[0])[1].lower()
+
+
+def _feature_id_fields(alg, parameters, context) -> list[int]:
+    """Fields holding the input file's feature ids (a GeoPackage's ``fid``), not its data.
+
+    An output file of another format would get them as an ordinary column (a
+    Shapefile's float ``fid``); the input's own attributes are the others.
+    """
+    suffix = _output_suffix(alg, parameters, context)
+    if not suffix or suffix in (".gpkg", ".sqlite"):  # memory layers, GeoPackages: kept
+        return []
+    layer = alg.parameterAsVectorLayer(parameters, "INPUT", context)
+    if layer is None or layer.providerType() != "ogr":
+        return []
+    return sorted(int(i) for i in layer.primaryKeyAttributes())
+
+
 def _write_output(alg, parameters, context, feedback, source, attributes, geometries, wkb_type):
     """Write every input row, with its attributes and smoothed geometry, to OUTPUT."""
     if not QgsWkbTypes.isMultiType(wkb_type) and any(g.isMultipart() for g in geometries.values()):
         wkb_type = QgsWkbTypes.multiType(wkb_type)
+    fields = source.fields()
+    drop = _feature_id_fields(alg, parameters, context)
+    shapefile = _output_suffix(alg, parameters, context) == ".shp"
+    if drop or shapefile:
+        kept = [i for i in range(fields.count()) if i not in drop]
+        fields = QgsFields()
+        for i in kept:
+            field = QgsField(source.fields().at(i))
+            if shapefile and field.type() == QVariant.LongLong and not 0 < field.length() <= 18:
+                field.setLength(18)  # GDAL reads a wider N(20, 0) column back as Real
+            fields.append(field)
+        attributes = [[attrs[i] for i in kept] for attrs in attributes]
     sink, dest_id = alg.parameterAsSink(
-        parameters, "OUTPUT", context, source.fields(), wkb_type, source.sourceCrs()
+        parameters, "OUTPUT", context, fields, wkb_type, source.sourceCrs()
     )
     if sink is None:
         raise QgsProcessingException(alg.invalidSinkError(parameters, "OUTPUT"))
     multi = QgsWkbTypes.isMultiType(wkb_type)
     span = 100.0 - _RUN_END
     for i, attrs in enumerate(attributes):
-        feat = QgsFeature(source.fields())
+        feat = QgsFeature(fields)
         feat.setAttributes(attrs)
         geom = geometries.get(i)
         if geom is not None:

@@ -207,7 +207,7 @@ OPTIONS = (
         minimum=1,
         advanced=True,
         batch="trigger",
-        algorithms=("smooth", "smoothcoverage"),
+        algorithms=("smooth", "smoothcoverage", "smoothnetwork"),
     ),
     Option(
         "SCHEDULER",
@@ -219,7 +219,7 @@ OPTIONS = (
         optional=True,
         advanced=True,
         batch="trigger",
-        algorithms=("smooth", "smoothcoverage"),
+        algorithms=("smooth", "smoothcoverage", "smoothnetwork"),
     ),
     Option(
         "PARTITION_SIZE",
@@ -227,11 +227,11 @@ OPTIONS = (
         "int",
         1000,
         "Features per Dask task",
-        "Batch mode: features per task (shared arcs per task in coverage mode).",
+        "Batch mode: features per task (arcs per task in coverage and network mode).",
         minimum=1,
         advanced=True,
         batch="only",
-        algorithms=("smooth", "smoothcoverage"),
+        algorithms=("smooth", "smoothcoverage", "smoothnetwork"),
     ),
 )
 

@@ -8,7 +8,10 @@ written unchanged and listed, with the reason, in the errors report — never dr
 
 In coverage mode the arc-node structure is built once (on the client), the arcs are cut
 into chunks smoothed in parallel, and conflicts between arcs are resolved on the client
-(:func:`curvesmith.geo.smooth_coverage` with a parallel ``map_arcs``).
+(:func:`curvesmith.geo.smooth_coverage` with a parallel ``map_arcs``). Network mode
+(``network=True``) does the same for a line network (:func:`curvesmith.geo.smooth_network`):
+it is not partitioned by features, because lines that do not touch must still not come to
+touch, so noding and conflict resolution need the whole network.
 """
 
 from __future__ import annotations
@@ -118,6 +121,22 @@ def _smooth_arc_chunk(
     from .geo._coverage import smooth_arc_blocks
 
     return smooth_arc_blocks(arcs, loops, frozen, **options)
+
+
+def _smooth_network_chunk(
+    arcs: list[np.ndarray], loops: np.ndarray, options: dict[str, Any]
+) -> list[np.ndarray]:
+    """Full-strength smoothing of a chunk of network arcs.
+
+    The chunks are whole blocks of the one-process run, so the result is the same bit
+    for bit.
+    """
+    from .geo._network import _initial
+    from .geo._smooth import make_smoother
+
+    smoother = make_smoother(options["method"], options["alpha"])
+    frozen = np.zeros(len(arcs), dtype=bool)
+    return _initial(arcs, loops, frozen, smoother=smoother, **options)
 
 
 # ---------------------------------------------------------------------------- cluster
@@ -258,6 +277,7 @@ def smooth_file(
     alpha: Any = "regular",
     layer: str | int | None = None,
     coverage: bool = False,
+    network: bool = False,
     equal_area: bool = False,
     make_valid: bool = False,
     snap: float | None = None,
@@ -280,6 +300,13 @@ def smooth_file(
         Input layer.
     coverage : bool
         Coverage mode (:func:`curvesmith.geo.smooth_coverage`), parallel over arcs.
+    network : bool
+        Line network mode (:func:`curvesmith.geo.smooth_network`): the whole network is
+        noded and cut into arcs on the client (a network cannot be cut into independent
+        parts by features: lines that do not touch still must not come to touch), the
+        full-strength smoothing of the arcs runs in parallel in chunks of whole blocks
+        (the same bits as one process), and conflicts are resolved on the client. The
+        output equals ``curvesmith smooth --network``.
     equal_area : bool
         Smooth in an equal-area projection and transform back.
     snap : float, optional
@@ -309,6 +336,9 @@ def smooth_file(
     from .geo._io import GeographicCRSWarning, clamp_to_domain, domain_fixed
 
     partition_size = as_int(partition_size, name="partition_size", minimum=1)
+    if network and (coverage or make_valid or snap is not None):
+        what = "coverage" if coverage else ("make_valid" if make_valid else "snap")
+        raise CurveError(f"network mode does not take {what} (it smooths lines, not polygons)")
     df = geo.read_file(in_path, layer=layer)
     crs = df.crs
     if equal_area and crs is None:
@@ -322,7 +352,20 @@ def smooth_file(
         )
     work = df.to_crs(geo.equal_area_crs(df)) if equal_area else df
     t0 = time.perf_counter()
-    if coverage:
+    if network:
+        out, n_tasks, n_red = _network_on_dask(
+            work,
+            method=method,
+            iterations=iterations,
+            alpha=alpha,
+            chunk=partition_size,
+            workers=workers,
+            scheduler=scheduler,
+            client=client,
+            progress=progress,
+        )
+        errors, valid = (), None
+    elif coverage:
         out, errors, n_tasks, n_red, valid = _coverage_on_dask(
             work,
             method=method,
@@ -442,3 +485,51 @@ def _coverage_on_dask(
                 errors.append(FeatureError(int(idx[p]), f"arc {arc} left unchanged: {reason}"))
         errors.sort(key=lambda e: e.index)
     return res.geometry, tuple(errors), n_tasks, len(res.reductions), res.coverage_valid
+
+
+def _network_on_dask(df, *, method, iterations, alpha, chunk, workers, scheduler, client, progress):
+    from . import geo
+    from .geo._network import ARC_BLOCK
+
+    own = None
+    if client is None:
+        own = _Cluster(workers, scheduler)
+        client = own.client
+    n_tasks = 0
+
+    def map_arcs(topo, frozen) -> list[np.ndarray]:
+        nonlocal n_tasks
+        options = {"method": method, "iterations": iterations, "alpha": alpha}
+        loops = np.asarray(topo.loops, dtype=bool)
+        todo = ~np.asarray(frozen, dtype=bool)
+        groups = []
+        if method == "cca":  # open arcs are smoothed in blocks of ARC_BLOCK: chunks of whole ones
+            step = -(-chunk // ARC_BLOCK) * ARC_BLOCK
+            open_idx, loop_idx = np.flatnonzero(todo & ~loops), np.flatnonzero(todo & loops)
+            groups += [open_idx[s : s + step] for s in range(0, len(open_idx), step)]
+        else:
+            loop_idx = np.flatnonzero(todo)  # one arc at a time anyway
+        groups += [loop_idx[s : s + chunk] for s in range(0, len(loop_idx), chunk)]
+        args = [([topo.arcs[k] for k in g], loops[g], options) for g in groups]
+        n_tasks = len(args)
+        out = list(topo.arcs)
+        for g, arcs in zip(
+            groups, _run(client, _smooth_network_chunk, args, progress), strict=True
+        ):
+            for k, xy in zip(g, arcs, strict=True):
+                out[k] = xy
+        return out
+
+    try:
+        res = geo.smooth_network(
+            df,
+            method=method,
+            iterations=iterations,
+            alpha=alpha,
+            full_output=True,
+            map_arcs=map_arcs,
+        )
+    finally:
+        if own is not None:
+            own.close()
+    return res.geometry, n_tasks, len(res.reductions)

@@ -203,6 +203,11 @@ def batch_group() -> None:
     help="cca: 'regular' (angle-dependent profile) or a number in (0, 1/3).",
 )
 @click.option("--coverage", is_flag=True, help="Shared borders smoothed once: no gaps/overlaps.")
+@click.option(
+    "--network",
+    is_flag=True,
+    help="Lines as one network: ends, junctions, crossings fixed; no new contacts.",
+)
 @click.option("--layer", default=None, help="Input layer name (or index).")
 @click.option("--equal-area", is_flag=True, help="Smooth in an equal-area projection.")
 @click.option("--make-valid", is_flag=True, help="Repair invalid polygons instead of failing them.")
@@ -224,7 +229,7 @@ def batch_group() -> None:
     type=click.IntRange(min=1),
     default=1000,
     show_default=True,
-    help="Features per task (arcs per task with --coverage).",
+    help="Features per task (arcs per task with --coverage or --network).",
 )
 @click.option(
     "--errors", "errors_path", default=None, help="Errors report [default: OUT.errors.json]."
@@ -240,6 +245,7 @@ def batch_smooth_command(
     iterations: int,
     alpha: str,
     coverage: bool,
+    network: bool,
     layer: str | None,
     equal_area: bool,
     make_valid: bool,
@@ -259,6 +265,18 @@ def batch_smooth_command(
     """
     from .. import batch
 
+    if network:
+        clash = [
+            f
+            for f, on in (
+                ("--coverage", coverage),
+                ("--snap", snap is not None),
+                ("--make-valid", make_valid),
+            )
+            if on
+        ]
+        if clash:
+            raise click.UsageError(f"--network cannot be combined with {clash[0]}")
     _check_batch_paths(source, dest)
     n_null, n_empty = _null_precheck(source, _layer(layer), allow_null)
 
@@ -271,6 +289,7 @@ def batch_smooth_command(
         alpha=_alpha(alpha),
         layer=_layer(layer),
         coverage=coverage,
+        network=network,
         equal_area=equal_area,
         make_valid=make_valid,
         snap=snap,

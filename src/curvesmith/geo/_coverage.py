@@ -10,6 +10,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import CurveError
+from . import _zm
 from ._engine import levels_for, resolve_arcs
 from ._smooth import (
     FixedVertices,
@@ -389,6 +390,9 @@ def smooth_coverage(
     shapely = _shapely()
     iterations = check_method(method, iterations, alpha)
     geoms, wrap = as_geometry_array(polygons)
+    geoms, zm = _zm.split_zm(geoms)  # smoothed in XY; Z/M interpolated back (geo._zm)
+    if zm is not None:
+        wrap = _zm.restoring(wrap, zm)
     fixed_spec = None
     if fixed is not None:
         if method != "cca":

@@ -125,7 +125,8 @@ def read_file(path: str | Path, *, layer: str | int | None = None, columns=None)
     Raises
     ------
     CurveFormatError
-        Missing file, unreadable file, or unknown layer (the message lists the layers).
+        Missing file, unreadable file, or unknown layer (the message lists the layers);
+        a layer with M values (pyogrio drops them on reading and cannot write them).
     """
     pyogrio = require("pyogrio", "geo", "reading GIS files")
     path = Path(path)
@@ -134,7 +135,9 @@ def read_file(path: str | Path, *, layer: str | int | None = None, columns=None)
     if path.suffix.lower() == ".shp":
         _check_shapefile(path)
     try:
-        layers = pyogrio.list_layers(path)
+        with warnings.catch_warnings():  # M layers are refused below, when read
+            warnings.filterwarnings("ignore", message="Measured \\(M\\) geometry types")
+            layers = pyogrio.list_layers(path)
     except Exception as exc:  # pyogrio raises its own DataSourceError subclasses
         raise CurveFormatError(f"cannot read {str(path)!r}: {exc}") from exc
     names = [str(x) for x in layers[:, 0]]
@@ -161,9 +164,21 @@ def read_file(path: str | Path, *, layer: str | int | None = None, columns=None)
             )
     layer = chosen
     try:
-        return pyogrio.read_dataframe(path, layer=layer, columns=columns)
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            df = pyogrio.read_dataframe(path, layer=layer, columns=columns)
     except Exception as exc:
         raise CurveFormatError(f"cannot read {str(path)!r}: {exc}") from exc
+    for w in caught:
+        if "Measured (M)" in str(w.message):  # pyogrio drops M on reading, and cannot write it
+            raise CurveFormatError(
+                f"{str(path)!r} has M (measure) values, which pyogrio {pyogrio.__version__} "
+                f"can neither read nor write (they would be lost); drop them first "
+                f"(ogr2ogr -dim XYZ) or smooth the geometries with curvesmith.geo.smooth, "
+                f"which keeps M"
+            )
+        warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+    return df
 
 
 def _check_shapefile(path: Path) -> None:
@@ -425,12 +440,29 @@ def clamp_to_domain(geoms: Any, where: str, originals: Any = None) -> Any:
         new[snap[0]] = snap[1][snap[0]]
     new[:, 0] = np.clip(new[:, 0], -180.0, 180.0)
     new[:, 1] = np.clip(new[:, 1], -90.0, 90.0)
-    clipped = shapely.set_coordinates(np.array(values, dtype=object, copy=True), new)
+    clipped = _set_xy(np.array(values, dtype=object, copy=True), new, index)
     if hasattr(geoms, "values"):
         out = geoms.copy()
         out[:] = clipped
         return out
     return clipped
+
+
+def _set_xy(values: np.ndarray, xy: np.ndarray, index: np.ndarray) -> np.ndarray:
+    """``shapely.set_coordinates`` of new XY that keeps the Z of 3D features."""
+    import shapely
+
+    has_z = np.zeros(len(values), dtype=bool)
+    present = ~shapely.is_missing(values)
+    has_z[present] = shapely.has_z(values[present])
+    if not has_z.any():
+        return shapely.set_coordinates(values, xy)
+    rows = has_z[index]
+    z = shapely.get_coordinates(values[has_z], include_z=True)[:, 2]
+    values[has_z] = shapely.set_coordinates(values[has_z], np.column_stack([xy[rows], z]))
+    if (~has_z).any():
+        values[~has_z] = shapely.set_coordinates(values[~has_z], xy[~rows])
+    return values
 
 
 def write_file(df: Any, path: str | Path, *, layer: str | None = None) -> None:

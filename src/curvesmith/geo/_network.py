@@ -37,6 +37,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import CurveError
+from . import _zm
 from ._engine import Level, levels_for, resolve_arcs
 from ._smooth import _shapely, as_geometry_array, check_method, make_smoother
 
@@ -501,6 +502,7 @@ def smooth_network(
     alpha: Any = "regular",
     fixed_points: Any = None,
     full_output: bool = False,
+    map_arcs: Any = None,
 ) -> Any:
     """Smooth a line network: junctions and ends fixed, shared pieces once, no new contacts.
 
@@ -535,6 +537,11 @@ def smooth_network(
         becomes a node.
     full_output : bool
         Return a :class:`NetworkResult`.
+    map_arcs : callable, optional
+        ``map_arcs(topology, frozen) -> list of arrays``: the first, full-strength
+        smoothing of every arc (``topology.arcs``, ``topology.loops``), e.g. run in
+        parallel (:mod:`curvesmith.batch` passes a Dask map over blocks of arcs here);
+        conflicts are then resolved here as usual.
 
     Returns
     -------
@@ -546,7 +553,7 @@ def smooth_network(
     Raises
     ------
     CurveError
-        For other geometry types, Z coordinates, lines of fewer than two distinct points,
+        For other geometry types, lines of fewer than two distinct points,
         an unknown method or a bad ``iterations``/``alpha``.
 
     Examples
@@ -567,7 +574,9 @@ def smooth_network(
     shapely = _shapely()
     iterations = check_method(method, iterations, alpha)
     geoms, wrap = as_geometry_array(geometry)
-    geoms = np.asarray(geoms, dtype=object).copy()
+    geoms, zm = _zm.split_zm(np.asarray(geoms, dtype=object).copy())  # Z/M: geo._zm
+    if zm is not None:
+        wrap = _zm.restoring(wrap, zm)
     idx, types, line_feat, lines, closed = _line_parts(geoms)
     empty = NetworkResult(wrap(geoms), 0, 0, 0, 0, (), 0.0, 0.0)
     if not lines:
@@ -584,15 +593,18 @@ def smooth_network(
     if iterations == 0:
         new_arcs, red = list(topo.arcs), []
     else:
-        initial = _initial(
-            topo.arcs,
-            topo.loops,
-            frozen,
-            method=method,
-            iterations=iterations,
-            alpha=alpha,
-            smoother=smoother,
-        )
+        if map_arcs is not None:  # e.g. on Dask (curvesmith.batch)
+            initial = map_arcs(topo, frozen)
+        else:
+            initial = _initial(
+                topo.arcs,
+                topo.loops,
+                frozen,
+                method=method,
+                iterations=iterations,
+                alpha=alpha,
+                smoother=smoother,
+            )
         new_arcs, red = resolve_arcs(
             topo.arcs,
             loops=topo.loops,

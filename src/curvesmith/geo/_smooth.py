@@ -11,6 +11,7 @@ import numpy as np
 from ..errors import CurveError, require
 from ..geometry import _signed_area
 from ._engine import Level, levels_for, resolve_arcs
+from ._zm import split_zm
 
 __all__ = ["GeometryReduction", "SmoothResult", "smooth"]
 
@@ -721,8 +722,10 @@ def smooth(
     ----------
     geometry : shapely.Geometry, sequence of them, GeoSeries or GeoDataFrame
         LineString, LinearRing, Polygon (with holes), Multi* and GeometryCollection.
-        ``None`` and empty geometries are passed through unchanged. The index, the other
-        columns and the CRS of a GeoSeries/GeoDataFrame are kept.
+        ``None`` and empty geometries are passed through unchanged. XYZ, XYM and XYZM
+        geometries are smoothed in XY exactly as their 2D copies; every new vertex gets
+        Z/M interpolated along the input edge it was built from (see ``curvesmith.geo._zm``).
+        The index, the other columns and the CRS of a GeoSeries/GeoDataFrame are kept.
     method : {"cca", "chaikin"}
         Area-preserving CCA (default) or plain Chaikin corner cutting (shrinks shapes;
         for comparison).
@@ -760,7 +763,7 @@ def smooth(
     Raises
     ------
     CurveError
-        For points, Z coordinates, invalid polygons (without ``make_valid``), an
+        For points, invalid polygons (without ``make_valid``), an
         unknown method or a bad ``iterations``/``alpha``.
 
     Examples
@@ -774,6 +777,7 @@ def smooth(
     """
     iterations = check_method(method, iterations, alpha)
     geoms, wrap = as_geometry_array(geometry)
+    geoms, zm = split_zm(geoms)  # smoothed in XY; Z/M interpolated back (geo._zm)
     fixed_spec = None
     if fixed is not None:
         if method != "cca":
@@ -785,7 +789,7 @@ def smooth(
     out, reductions, n, change = _smooth_feature_array(
         geoms, method=method, iterations=iterations, alpha=alpha, fixed=fixed_spec
     )
-    result = wrap(out)
+    result = wrap(out if zm is None else zm.restore(out))
     if full_output:
         return SmoothResult(result, tuple(reductions), n, change)
     return result
