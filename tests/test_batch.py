@@ -248,3 +248,39 @@ def test_network_mode_equals_smooth_network(cluster, tmp_path):
         main, ["batch", "smooth", str(src), "-o", str(cli_out), "--network", "--coverage"]
     )
     assert r.exit_code == 2 and "--network cannot be combined with --coverage" in r.output
+
+
+@pytest.mark.slow
+def test_equal_area_batch_is_per_region_like_smooth_file(cluster, tmp_path):
+    # Before, batch projected the whole world into one equal-area projection: 4 features
+    # failed, exit 1, and the file held invalid geometries. Now the regions, projections and
+    # checks are geo's: the same bits as geo.smooth_file, every feature valid, ground areas
+    # kept to the per-region accuracy
+    from pathlib import Path
+
+    import geopandas as gpd
+    import pyogrio
+    from pyproj import Geod
+
+    src = Path(pyogrio.__file__).parent / "tests" / "fixtures" / "naturalearth_lowres"
+    src = src / "naturalearth_lowres.shp"
+    one, many = tmp_path / "one.gpkg", tmp_path / "many.gpkg"
+    geo.smooth_file(src, one, equal_area=True, iterations=2)
+    rep = batch.smooth_file(
+        src,
+        many,
+        equal_area=True,
+        iterations=2,
+        scheduler=cluster.scheduler_address,
+        partition_size=16,
+        progress=False,
+    )
+    assert rep.errors == () and rep.n_partitions > 10  # several regions, several tasks
+    a, b = gpd.read_file(one), gpd.read_file(many)
+    assert all(x.equals_exact(y, 0.0) for x, y in zip(a.geometry, b.geometry, strict=True))
+    assert shapely.is_valid(b.geometry.values).all()
+    geod = Geod(ellps="WGS84")
+    world = gpd.read_file(src)
+    before = np.array([abs(geod.geometry_area_perimeter(g)[0]) for g in world.geometry])
+    after = np.array([abs(geod.geometry_area_perimeter(g)[0]) for g in b.geometry])
+    assert np.max(np.abs(after / before - 1)) < 1e-3  # worst 0.057 % (geo's equal-area test)

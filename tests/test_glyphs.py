@@ -226,6 +226,33 @@ def test_cli_glyphs_report_and_errors(tmp_path):
     assert not (tmp_path / "y.ttf").exists()
 
 
+def test_a_glyph_without_a_fit_is_written_as_it_was(tmp_path, monkeypatch):
+    # one hard glyph must not cost the whole font: it is copied unchanged, reported, and the
+    # command exits 1 naming it (as batch does for features it could not smooth)
+    real = glyphs.refit_glyph
+
+    def refit(font, name, **kw):
+        if name == "o":
+            raise CurveError(f"glyph {name}, contour 0: deviation 9 (tolerance 2.05)")
+        return real(font, name, **kw)
+
+    monkeypatch.setattr(glyphs, "refit_glyph", refit)
+    out = tmp_path / "o.ttf"
+    r = CliRunner().invoke(main, ["glyphs", SANS, "-o", str(out), "--glyphs", "o,N", "--json"])
+    assert r.exit_code == 1
+    rows = {row["glyph"]: row for row in json.loads(r.stdout)["glyphs"]}
+    assert rows["o"]["refitted"] is False and rows["o"]["g2_defect"] is None
+    assert rows["N"]["refitted"] is True and rows["N"]["segments_after"] == 10
+    assert r.stderr.strip() == (
+        "Error: 1 of 2 glyph(s) have no G2 fit within the tolerance 2.048 and were written "
+        "as they were (o); the first: glyph o, contour 0: deviation 9 (tolerance 2.05)"
+    )
+    source, written = fonts.open_font(SANS), fonts.open_font(str(out))
+    a, b = fonts.read_glyph(source, "o"), fonts.read_glyph(written, "o")
+    for ca, cb in zip(a.contours, b.contours, strict=True):  # the source's outline, exactly
+        assert all(np.array_equal(x, y) for x, y in zip(ca.segments, cb.segments, strict=True))
+
+
 @pytest.mark.slow
 def test_ufo_output_is_exactly_g2(tmp_path):
     out = tmp_path / "out.ufo"

@@ -81,13 +81,19 @@ class BatchReport:
 
 
 def _smooth_partition(
-    data: np.ndarray, start: int, options: dict[str, Any], as_wkb: bool = True
+    data: np.ndarray,
+    start: int,
+    options: dict[str, Any],
+    as_wkb: bool = True,
+    labels: np.ndarray | None = None,
 ) -> tuple[np.ndarray, list[tuple[int, str]], int]:
     """Smooth one partition; a failing feature is kept unchanged and reported.
 
     Geometries travel as WKB (``as_wkb``: one vectorized encode/decode per partition
     instead of one pickle per geometry; WKB keeps float64 coordinates exactly), or as
-    shapely objects when the input has LinearRings, which WKB cannot represent.
+    shapely objects when the input has LinearRings, which WKB cannot represent. Errors
+    are reported at ``start + k``; their messages name the file's feature, ``start + k``
+    or, when given, ``labels[k]``.
     """
     import shapely
 
@@ -109,7 +115,8 @@ def _smooth_partition(
             out[k] = res.geometry[0]
             n_red += len(res.reductions)
         except Exception as exc:  # the feature is written unchanged and reported
-            reason = str(exc).replace("geometry[0]", f"feature {start + k}", 1)  # file index
+            feature = start + k if labels is None else int(labels[k])  # the file's index
+            reason = str(exc).replace("geometry[0]", f"feature {feature}", 1)
             errors.append((start + k, f"{type(exc).__name__}: {reason}"))
     return encode(out), errors, n_red
 
@@ -350,9 +357,26 @@ def smooth_file(
             GeographicCRSWarning,
             stacklevel=2,
         )
-    work = df.to_crs(geo.equal_area_crs(df)) if equal_area else df
+    # feature by feature, equal-area smoothing is per region (geo's smooth_file): one
+    # projection for the world folds some features and distorts ground areas far away
+    regional = equal_area and not (coverage or network)
+    work = df.to_crs(geo.equal_area_crs(df)) if equal_area and not regional else df
     t0 = time.perf_counter()
-    if network:
+    if regional:
+        if snap is not None:
+            raise CurveError("snap applies to coverage mode only (coverage=True)")
+        out, errors, n_tasks, n_red = _equal_area_on_dask(
+            df,
+            options={"method": method, "iterations": iterations, "alpha": alpha},
+            make_valid=make_valid,
+            partition_size=partition_size,
+            workers=workers,
+            scheduler=scheduler,
+            client=client,
+            progress=progress,
+        )
+        valid = None
+    elif network:
         out, n_tasks, n_red = _network_on_dask(
             work,
             method=method,
@@ -398,7 +422,7 @@ def smooth_file(
         )
         valid = None
     seconds = time.perf_counter() - t0
-    if equal_area:
+    if equal_area and not regional:
         out = out.to_crs(crs)
     if crs is not None and crs.is_geographic:
         out = out.copy()
@@ -419,6 +443,66 @@ def smooth_file(
         seconds=seconds,
         coverage_valid=valid,
     )
+
+
+def _equal_area_on_dask(
+    df: Any,
+    *,
+    options: dict[str, Any],
+    make_valid: bool,
+    partition_size: int,
+    workers: int | None,
+    scheduler: str | None,
+    client: Any,
+    progress: bool,
+) -> tuple[Any, tuple[FeatureError, ...], int, int]:
+    """Per-region equal-area smoothing (geo's) with each region's features smoothed on Dask.
+
+    The regions, projections and the checks back home are geo's (the same result as
+    :func:`curvesmith.geo.smooth_file` with ``equal_area=True``, feature for feature);
+    the projected features of every region go to the workers in partitions.
+    """
+    import shapely
+
+    from .geo._io import _smooth_equal_area
+    from .geo._smooth import check_method
+
+    check_method(options["method"], options["iterations"], options["alpha"])
+    errors: list[tuple[int, str]] = []
+    n_tasks = 0
+    own = None
+    if client is None:
+        own = _Cluster(workers, scheduler)
+        client = own.client
+
+    def smoother(jobs):
+        nonlocal n_tasks
+        args, where = [], []
+        for k, (geoms, labels, extra) in enumerate(jobs):
+            rings = bool(np.any(shapely.get_type_id(geoms) == shapely.GeometryType.LINEARRING))
+            for s in range(0, len(geoms), partition_size):
+                part = geoms[s : s + partition_size]
+                data = part if rings else shapely.to_wkb(part)
+                opts = {**options, "make_valid": make_valid, **extra}
+                args.append((data, s, opts, not rings, labels[s : s + partition_size]))
+                where.append((k, s, rings))
+        n_tasks += len(args)
+        results = _run(client, _smooth_partition, args, progress) if args else []
+        outs = [(np.array(g, dtype=object, copy=True), 0, []) for g, _, _ in jobs]
+        for (k, s, rings), (part, errs, nr) in zip(where, results, strict=True):
+            out, n_red, job_errors = outs[k]
+            out[s : s + len(part)] = part if rings else shapely.from_wkb(part)
+            outs[k] = (out, n_red + nr, job_errors + [(i, r) for i, r in errs])
+        return outs
+
+    try:
+        out, n_red, _, _ = _smooth_equal_area(
+            df, make_valid=make_valid, smoother=smoother, errors=errors, **options
+        )
+    finally:
+        if own is not None:
+            own.close()
+    return out, tuple(FeatureError(i, r) for i, r in sorted(errors)), n_tasks, n_red
 
 
 def _coverage_on_dask(

@@ -56,8 +56,11 @@ class GlyphReport:
     g2_defect : float
         Largest relative curvature jump at smooth joints of the exact fit (0 for G2).
     segments : tuple of (S, 3, 2) ndarray
-        The fitted quadratic contours.
+        The fitted quadratic contours (empty when the glyph was not refitted).
     message : str
+    refitted : bool
+        False when no G2 fit within the tolerance was found: :func:`refit_font` then
+        writes the glyph as it was, and `message` says why.
     """
 
     name: str
@@ -70,6 +73,7 @@ class GlyphReport:
     g2_defect: float
     segments: tuple
     message: str
+    refitted: bool = True
 
     @property
     def area_change(self) -> float:
@@ -89,7 +93,9 @@ class GlyphReport:
             "segments_after": self.segments_after,
             "area_change": self.area_change,
             "max_deviation": self.max_deviation,
-            "g2_defect": self.g2_defect,
+            "g2_defect": self.g2_defect if self.refitted else None,
+            "refitted": self.refitted,
+            "message": self.message,
         }
 
 
@@ -201,6 +207,9 @@ def refit_font(
     Returns
     -------
     list of GlyphReport
+        One per glyph; a glyph that has no G2 fit within the tolerance (``refitted``
+        false, the reason in ``message``) is written as it was, so one hard glyph does not
+        cost the whole font.
     """
     from .io.fonts import open_font, resolve_glyphs, write_truetype
 
@@ -212,9 +221,28 @@ def refit_font(
     for name in names:
         if glyphs is None and not read_glyph(font, name).contours:
             continue
-        rep = refit_glyph(font, name, tolerance=tolerance, iterations=iterations)
+        try:
+            rep = refit_glyph(font, name, tolerance=tolerance, iterations=iterations)
+        except CurveError as exc:
+            outline = read_glyph(font, name)
+            count = sum(c.count for c in outline.contours)
+            area = sum(c.area() for c in outline.contours)
+            rep = GlyphReport(
+                name=name,
+                contours=len(outline.contours),
+                segments_before=count,
+                segments_after=count,
+                area_before=area,
+                area_after=area,
+                max_deviation=0.0,
+                g2_defect=math.nan,
+                segments=(),
+                message=f"kept as it was: {exc}",
+                refitted=False,
+            )
         reports.append(rep)
-        new[name] = list(rep.segments)
+        if rep.refitted:
+            new[name] = list(rep.segments)
         if progress is not None:
             progress(rep)
     if str(dest).lower().rstrip("/").endswith(".ufo"):

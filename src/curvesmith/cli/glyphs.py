@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import sys
 from pathlib import Path
 
 import click
@@ -67,16 +68,33 @@ def glyphs_command(
     rows = []
     for r in reports:
         row = r.row()
-        row["g2_defect_written"] = glyphs.written_g2_defect(written, r.name)
+        row["g2_defect_written"] = glyphs.written_g2_defect(written, r.name) if r.refitted else None
         rows.append(row)
+    kept = [r for r in reports if not r.refitted]
     if as_json:
         click.echo(json.dumps({"font": font_path, "output": dest, "glyphs": rows}, indent=2))
-        return
+    else:
+        _table(rows)
+    if kept:
+        shown = ", ".join(r.name for r in kept[:8]) + (", ..." if len(kept) > 8 else "")
+        click.echo(
+            f"Error: {len(kept)} of {len(reports)} glyph(s) have no G2 fit within the "
+            f"tolerance {tolerance:g} and were written as they were ({shown}); the first: "
+            f"{kept[0].message.removeprefix('kept as it was: ')}",
+            err=True,
+        )
+        sys.exit(1)
+
+
+def _table(rows) -> None:
     click.echo(
         f"{'glyph':<16} {'segments':>14} {'area change':>12} {'max dev':>9} "
         f"{'G2 fit':>9} {'G2 written':>10}"
     )
     for row in rows:
+        if not row["refitted"]:
+            click.echo(f"{row['glyph']:<16} {row['segments_before']:>6} (kept as it was)")
+            continue
         click.echo(
             f"{row['glyph']:<16} {row['segments_before']:>6} -> {row['segments_after']:<5} "
             f"{row['area_change']:>12.2e} {row['max_deviation']:>9.3g} "

@@ -670,7 +670,9 @@ def _split_antimeridian(geom):
     return sides
 
 
-def _smooth_equal_area(df: Any, *, make_valid: bool, **options):
+def _smooth_equal_area(
+    df: Any, *, make_valid: bool, smoother: Any = None, errors: list | None = None, **options
+):
     """Smooth region by region in equal-area projections; check validity back home.
 
     Each region of :func:`equal_area_regions` is projected, smoothed and projected back to
@@ -678,6 +680,12 @@ def _smooth_equal_area(df: Any, *, make_valid: bool, **options):
     longitudes unwrapped on the way back). A feature that is not valid there is smoothed
     again alone in a projection centred on it; if that is still invalid the run stops
     with an error naming the feature, rather than writing it.
+
+    `smoother` (used by :mod:`curvesmith.batch`) smooths the projected regions elsewhere:
+    called with a list of ``(geometries, labels, extra_options)``, one per region (labels:
+    the file's feature index of each geometry), it returns per region ``(smoothed,
+    n_reductions, [(position, reason), ...])`` for the features it had to leave unchanged,
+    which are appended to `errors` as ``(feature, reason)``.
     """
     import geopandas
 
@@ -732,8 +740,28 @@ def _smooth_equal_area(df: Any, *, make_valid: bool, **options):
             done[idx[keep]] = back
         planar.update(int(j) for j in idx[folded])
 
-    for laea, idx in equal_area_regions(work):
-        run(idx, laea)
+    if smoother is None:
+        for laea, idx in equal_area_regions(work):
+            run(idx, laea)
+    else:
+        jobs = []
+        for laea, idx in equal_area_regions(work):
+            home = np.asarray(work.geometry.values[idx], dtype=object)
+            there = np.asarray(work.iloc[idx].to_crs(laea).geometry.values, dtype=object)
+            folded = shapely.is_valid(home) & ~shapely.is_valid(there)
+            planar.update(int(j) for j in idx[folded])
+            if (~folded).any():
+                edges = {"fixed": domain_fixed(crs, laea)} if geographic else {}
+                jobs.append((idx[~folded], laea, there[~folded], edges))
+        labels = [np.array([owners[j][0] for j in idx]) for idx, *_ in jobs]
+        results = smoother([(g, lab, e) for (_, _, g, e), lab in zip(jobs, labels, strict=True)])
+        for (idx, laea, _, _), lab, (out, nr, errs) in zip(jobs, labels, results, strict=True):
+            n_red += nr
+            if errors is not None:
+                errors.extend((int(lab[k]), reason) for k, reason in errs)
+            back = geopandas.GeoSeries(out, crs=laea).to_crs(crs).values
+            back = np.array([_unwrap(g) for g in back], dtype=object) if geographic else back
+            done[idx] = back
     present = ~(shapely.is_missing(done) | shapely.is_empty(done))
     planar.update(int(j) for j in np.flatnonzero(present & ~shapely.is_valid(done)))
     for j in sorted(planar):  # folded there, or invalid back home: smooth in the data's CRS
