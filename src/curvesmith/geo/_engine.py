@@ -14,6 +14,15 @@ then a smaller alpha), down to the original vertices. Cutting at anchors keeps t
 guarantee of CCA: the area between a piece and its chord is kept, the chords of the pieces
 are fixed, so the area between the whole old and new arc stays zero (CCA section 5,
 "anchor points").
+
+Backing off does not stop at the first level at which two pieces no longer meet, which
+could leave them a rounding error apart (valid as written, invalid after a reprojection):
+two pieces that do not touch in the input (no shared end, input distance ``d > 0``)
+conflict as well when their outputs come closer than the *clearance margin*
+``min(MARGIN_EDGE * l, MARGIN_GAP * d)``, with ``l`` the longer mean input edge length
+of the two pieces. Level 0 (the input vertices) always satisfies it, so the resolution
+still terminates. Pieces that share an end (neighbours along a ring, arcs at a node)
+touch in the input and keep the plain rule (they may meet only at the shared ends).
 """
 
 from __future__ import annotations
@@ -21,6 +30,7 @@ from __future__ import annotations
 import itertools
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -30,6 +40,10 @@ __all__ = ["Level", "Reduction", "resolve_arcs"]
 MIN_PIECE_VERTICES = 16
 #: Safety bound on resolution rounds (each round at least splits a piece or lowers a level).
 MAX_ROUNDS = 200
+#: Clearance margin, as a fraction of the (longer) mean input edge length of two pieces.
+MARGIN_EDGE = 1e-3
+#: Clearance margin, as a fraction of the two pieces' distance in the input.
+MARGIN_GAP = 0.5
 
 
 @dataclass(frozen=True)
@@ -176,6 +190,20 @@ def resolve_arcs(
         )
 
     simple_orig: dict[tuple[int, int, int, bool], bool] = {}
+    in_geom: dict[tuple[int, int, int, bool], Any] = {}
+
+    def input_geom(p: _Piece):
+        """The piece's input vertices as a LineString, and their mean edge length."""
+        key = (p.arc, p.start, p.stop, p.loop)
+        val = in_geom.get(key)
+        if val is None:
+            pts = _piece_points(arcs[p.arc], p, bool(loops[p.arc]))
+            if p.loop:
+                pts = np.vstack([pts, pts[:1]])
+            line = shapely.linestrings(pts)
+            val = (line, float(shapely.length(line)) / max(len(pts) - 1, 1))
+            in_geom[key] = val
+        return val
 
     def original_simple(p: _Piece) -> bool:
         key = (p.arc, p.start, p.stop, p.loop)
@@ -191,7 +219,9 @@ def resolve_arcs(
     geoms = geoms_of(pieces)
     to_check = np.arange(len(pieces))
     for _ in range(MAX_ROUNDS):
-        bad = _conflicts(pieces, geoms, to_check, groups, top, check_simple, original_simple)
+        bad = _conflicts(
+            pieces, geoms, to_check, groups, top, check_simple, original_simple, input_geom
+        )
         if not bad:
             break
         changed = []
@@ -249,8 +279,10 @@ def resolve_arcs(
     return out, reductions
 
 
-def _conflicts(pieces, geoms, to_check, groups, top, check_simple, original_simple) -> set[int]:
-    """Indices of pieces that take part in a new crossing or self-intersection."""
+def _conflicts(
+    pieces, geoms, to_check, groups, top, check_simple, original_simple, input_geom
+) -> set[int]:
+    """Indices of pieces in a new crossing, self-intersection or near-contact (margin)."""
     import shapely
 
     bad: set[int] = set()
@@ -273,6 +305,7 @@ def _conflicts(pieces, geoms, to_check, groups, top, check_simple, original_simp
     qi = to_check[qi]
     keep = (qi != qj) & (grp[qi] == grp[qj]) & (changed[qi] | changed[qj])
     qi, qj = qi[keep], qj[keep]
+    bad |= _near_contacts(pieces, geoms, tree, to_check, grp, changed, input_geom)
     if len(qi) == 0:
         return bad
     a, b = np.minimum(qi, qj), np.maximum(qi, qj)
@@ -316,3 +349,54 @@ def _conflicts(pieces, geoms, to_check, groups, top, check_simple, original_simp
         if changed[j]:
             bad.add(int(j))
     return bad
+
+
+def _near_contacts(pieces, geoms, tree, to_check, grp, changed, input_geom) -> set[int]:
+    """Changed pieces closer than the clearance margin to a piece they do not touch in the input.
+
+    Candidates are the pairs within ``MARGIN_EDGE * l`` of each other (queried from both
+    sides, each piece with its own ``l``), of the same group, one of them changed, that
+    share no end vertex. Their input distance ``d`` is computed and the pair is a conflict
+    when ``0 < d`` and the output distance is below ``min(MARGIN_EDGE * l, MARGIN_GAP * d)``.
+    """
+    import shapely
+
+    scale = np.array([input_geom(p)[1] for p in pieces])
+    radius = MARGIN_EDGE * scale
+    qi, qj = tree.query(geoms[to_check], predicate="dwithin", distance=radius[to_check])
+    qi = to_check[qi]
+    ri, rj = shapely.STRtree(geoms[to_check]).query(geoms, predicate="dwithin", distance=radius)
+    rj = to_check[rj]
+    a = np.concatenate([qi, rj])
+    b = np.concatenate([qj, ri])
+    keep = (a != b) & (grp[a] == grp[b]) & (changed[a] | changed[b])
+    a, b = np.minimum(a[keep], b[keep]), np.maximum(a[keep], b[keep])
+    if len(a) == 0:
+        return set()
+    pairs = np.unique(np.stack([a, b], axis=1), axis=0)
+    a, b = pairs[:, 0], pairs[:, 1]
+    # pieces that share an end vertex touch in the input (ring neighbours, arcs at a node)
+    first = shapely.get_coordinates(shapely.get_point(geoms, 0))
+    last = shapely.get_coordinates(shapely.get_point(geoms, -1))
+    ends_a = np.stack([first[a], last[a]], axis=1)
+    ends_b = np.stack([first[b], last[b]], axis=1)
+    share = np.all(ends_a[:, :, None, :] == ends_b[:, None, :, :], axis=-1).any(axis=(1, 2))
+    loop = np.array([pieces[k].loop for k in range(len(pieces))])
+    share &= ~(loop[a] | loop[b])
+    a, b = a[~share], b[~share]
+    if len(a) == 0:
+        return set()
+    lines = np.empty(len(pieces), dtype=object)
+    for k in np.unique(np.concatenate([a, b])):
+        lines[k] = input_geom(pieces[k])[0]
+    d_in = shapely.distance(lines[a], lines[b])
+    d_out = shapely.distance(geoms[a], geoms[b])
+    margin = np.minimum(MARGIN_EDGE * np.maximum(scale[a], scale[b]), MARGIN_GAP * d_in)
+    near = (d_in > 0) & (d_out < margin)
+    out: set[int] = set()
+    for i, j in zip(a[near], b[near], strict=True):
+        if changed[i]:
+            out.add(int(i))
+        if changed[j]:
+            out.add(int(j))
+    return out
