@@ -335,7 +335,14 @@ def prepare(geoms: np.ndarray, *, make_valid: bool, what: str = "geometry") -> n
         fixed = shapely.make_valid(g[~valid], method="structure", keep_collapsed=False)
         g = g.copy()
         g[~valid] = fixed
-    g = shapely.remove_repeated_points(g, 0.0)
+    # remove_repeated_points (a new GEOS geometry each) only where a vertex repeats the
+    # previous one: the others would come back with the same coordinates
+    xy, owner = shapely.get_coordinates(g, return_index=True)
+    rep = np.all(xy[1:] == xy[:-1], axis=1) & (owner[1:] == owner[:-1])
+    if rep.any():
+        k = np.unique(owner[1:][rep])
+        g = g.copy()
+        g[k] = shapely.remove_repeated_points(g[k], 0.0)
     geoms[present] = g
     return geoms
 
