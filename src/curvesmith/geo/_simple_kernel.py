@@ -163,3 +163,106 @@ def rings_simple(X, offsets, closing, max_chains):
             n -= 1
         out[k] = _ring_simple(X, s, n, max_chains, starts, lens, ups, bb, co, cx, cy, cid)
     return out
+
+
+@njit(cache=True, nogil=True)
+def _seg_dist2(ax, ay, bx, by, px, py):
+    """Squared distance from point p to segment a-b."""
+    dx, dy = bx - ax, by - ay
+    ll = dx * dx + dy * dy
+    t = 0.0
+    if ll > 0.0:
+        t = ((px - ax) * dx + (py - ay) * dy) / ll
+        t = min(1.0, max(0.0, t))
+    ex, ey = ax + t * dx - px, ay + t * dy - py
+    return ex * ex + ey * ey
+
+
+@njit(cache=True, nogil=True)
+def _segs_within(ax, ay, bx, by, cx, cy, dx, dy, d2):
+    """Whether segments a-b and c-d cross or come within sqrt(d2) (floating point)."""
+    o1 = (bx - ax) * (cy - ay) - (by - ay) * (cx - ax)
+    o2 = (bx - ax) * (dy - ay) - (by - ay) * (dx - ax)
+    o3 = (dx - cx) * (ay - cy) - (dy - cy) * (ax - cx)
+    o4 = (dx - cx) * (by - cy) - (dy - cy) * (bx - cx)
+    if o1 * o2 <= 0.0 and o3 * o4 <= 0.0:
+        return True
+    return (
+        _seg_dist2(ax, ay, bx, by, cx, cy) < d2
+        or _seg_dist2(ax, ay, bx, by, dx, dy) < d2
+        or _seg_dist2(cx, cy, dx, dy, ax, ay) < d2
+        or _seg_dist2(cx, cy, dx, dy, bx, by) < d2
+    )
+
+
+@njit(cache=True, nogil=True)
+def polylines_within(X, offsets, pa, pb, dist):
+    """Per pair ``k``: whether polylines ``pa[k]`` and ``pb[k]`` come within ``dist[k]``.
+
+    Polyline ``i`` is ``X[offsets[i]:offsets[i + 1]]``. Only the segments of each that lie
+    within ``dist`` of the other's bounding box are compared, pairwise with box checks
+    first. Floating point: a screening test for the clearance margin, not a proof.
+    """
+    npairs = pa.shape[0]
+    out = np.zeros(npairs, dtype=np.bool_)
+    nmax = 1
+    for i in range(offsets.shape[0] - 1):
+        nmax = max(nmax, offsets[i + 1] - offsets[i])
+    sa = np.empty(nmax, dtype=np.int64)
+    sb = np.empty(nmax, dtype=np.int64)
+    for k in range(npairs):
+        r = dist[k]
+        d2 = r * r
+        ia0, ia1 = offsets[pa[k]], offsets[pa[k] + 1]
+        ib0, ib1 = offsets[pb[k]], offsets[pb[k] + 1]
+        # boxes of both, expanded
+        ax0, ax1, ay0, ay1 = np.inf, -np.inf, np.inf, -np.inf
+        for t in range(ia0, ia1):
+            ax0, ax1 = min(ax0, X[t, 0]), max(ax1, X[t, 0])
+            ay0, ay1 = min(ay0, X[t, 1]), max(ay1, X[t, 1])
+        bx0, bx1, by0, by1 = np.inf, -np.inf, np.inf, -np.inf
+        for t in range(ib0, ib1):
+            bx0, bx1 = min(bx0, X[t, 0]), max(bx1, X[t, 0])
+            by0, by1 = min(by0, X[t, 1]), max(by1, X[t, 1])
+        na = 0
+        for t in range(ia0, ia1 - 1):
+            if (
+                min(X[t, 0], X[t + 1, 0]) <= bx1 + r
+                and max(X[t, 0], X[t + 1, 0]) >= bx0 - r
+                and min(X[t, 1], X[t + 1, 1]) <= by1 + r
+                and max(X[t, 1], X[t + 1, 1]) >= by0 - r
+            ):
+                sa[na] = t
+                na += 1
+        nb = 0
+        for t in range(ib0, ib1 - 1):
+            if (
+                min(X[t, 0], X[t + 1, 0]) <= ax1 + r
+                and max(X[t, 0], X[t + 1, 0]) >= ax0 - r
+                and min(X[t, 1], X[t + 1, 1]) <= ay1 + r
+                and max(X[t, 1], X[t + 1, 1]) >= ay0 - r
+            ):
+                sb[nb] = t
+                nb += 1
+        found = False
+        for u in range(na):
+            t = sa[u]
+            x0, x1 = min(X[t, 0], X[t + 1, 0]) - r, max(X[t, 0], X[t + 1, 0]) + r
+            y0, y1 = min(X[t, 1], X[t + 1, 1]) - r, max(X[t, 1], X[t + 1, 1]) + r
+            for v in range(nb):
+                q = sb[v]
+                if (
+                    min(X[q, 0], X[q + 1, 0]) > x1
+                    or max(X[q, 0], X[q + 1, 0]) < x0
+                    or min(X[q, 1], X[q + 1, 1]) > y1
+                    or max(X[q, 1], X[q + 1, 1]) < y0
+                ):
+                    continue
+                if _segs_within(X[t, 0], X[t, 1], X[t + 1, 0], X[t + 1, 1],
+                                X[q, 0], X[q, 1], X[q + 1, 0], X[q + 1, 1], d2):  # fmt: skip
+                    found = True
+                    break
+            if found:
+                break
+        out[k] = found
+    return out
