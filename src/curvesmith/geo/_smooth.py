@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import itertools
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
@@ -490,9 +491,16 @@ def _smooth_feature_array(
     batch = (method, alpha, fixed)
 
     for mask, smooth_kind in ((poly, _smooth_polygonal), (line, _smooth_lineal)):
-        if mask.any():
-            res, red, n, ch = smooth_kind(g[mask], idx[mask], smoother, levels, batch)
-            out[idx[mask]] = res
+        if not mask.any():
+            continue
+        # in chunks of about CHUNK_VERTICES input vertices, so that the engine's buffers
+        # and the ragged arrays are those of one chunk, not of the whole layer (each curve
+        # is smoothed as on its own, so chunking does not change a bit)
+        sel = np.flatnonzero(mask)
+        for part in _chunks(shapely.get_num_coordinates(g[sel])):
+            k = sel[part]
+            res, red, n, ch = smooth_kind(g[k], idx[k], smoother, levels, batch)
+            out[idx[k]] = res
             reductions += red
             n_curves += n
             max_change = max(max_change, ch)
@@ -515,6 +523,18 @@ def _smooth_feature_array(
         n_curves += n
         max_change = max(max_change, ch)
     return out, reductions, n_curves, max_change
+
+
+#: Input vertices per call of the ragged engine in :func:`smooth` (a layer goes in chunks).
+CHUNK_VERTICES = 1 << 20
+
+
+def _chunks(counts: np.ndarray) -> list[slice]:
+    """Consecutive slices of features holding about CHUNK_VERTICES vertices each."""
+    ends = np.cumsum(counts)
+    cuts = np.searchsorted(ends, np.arange(CHUNK_VERTICES, ends[-1], CHUNK_VERTICES), "right")
+    bounds = np.unique(np.concatenate([[0], cuts, [len(counts)]]))
+    return [slice(int(a), int(b)) for a, b in itertools.pairwise(bounds)]
 
 
 def _smooth_polygonal(g, feat_index, smoother, levels, batch):
