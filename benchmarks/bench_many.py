@@ -24,7 +24,17 @@ UTM-like frame, uneven spacing, both orientations), 2 iterations. In one run:
 The machine these figures come from is shared (2 cores, several jobs): compare the
 ratios of one run, not absolute times across runs.
 
-Run: ``python benchmarks/bench_many.py [--n N] [--footprints M] [--dask] [--quick]``.
+* ``--ring N`` (default 1,000,000; 0 to skip): one ring of N vertices (wavy, jagged,
+  noisy; metres), ``cca.smooth`` against ``subdivision.chaikin`` at 1 and 3 iterations,
+  time per output vertex, wall and CPU;
+* ``--counties``: the US county coverage (plotly-geo) through ``geo.smooth_coverage``
+  with and without the output check, and its arc smoothing alone.
+
+Every row gives wall and CPU time (``time.process_time``: user + system of this
+process, so threads count); PostGIS's figure is its backend's execution time.
+
+Run: ``python benchmarks/bench_many.py [--n N] [--footprints M] [--ring N] [--counties]
+[--dask] [--quick]``.
 """
 
 from __future__ import annotations
@@ -79,12 +89,21 @@ def footprints(n: int, seed: int) -> np.ndarray:
 
 
 def best(fn, repeats: int):
-    times, out = [], None
+    """Smallest wall time of ``repeats`` runs, and the output of the last."""
+    t, _, out = best_cpu(fn, repeats)
+    return t, out
+
+
+def best_cpu(fn, repeats: int):
+    """Smallest wall time, smallest CPU time (user + system, this process) and the output."""
+    walls, cpus, out = [], [], None
     for _ in range(repeats):
+        c0 = time.process_time()
         t0 = time.perf_counter()
         out = fn()
-        times.append(time.perf_counter() - t0)
-    return min(times), out
+        walls.append(time.perf_counter() - t0)
+        cpus.append(time.process_time() - c0)
+    return min(walls), min(cpus), out
 
 
 # ------------------------------------------------------------------------------- PostGIS
@@ -177,6 +196,85 @@ def bench_postgis(polys: np.ndarray, repeats: int) -> dict[str, float] | None:
         )
         nout = int(pg.psql(f"SELECT sum(ST_NPoints(ST_ChaikinSmoothing(geom, {ITER}))) FROM t"))
     return {"version": version, "scan": scan, "smooth": smooth, "full": full, "nout": nout}
+
+
+# ------------------------------------------------------------------------------- long rings
+
+
+def long_rings(n: int, seed: int) -> dict[str, np.ndarray]:
+    """Rings of n vertices in metres: a wavy coastline, a jagged one and a noisy circle."""
+    rng = np.random.default_rng(seed)
+    t = np.sort(rng.uniform(0, 2 * np.pi, n))
+    wavy = 1e4 * (1 + 0.05 * np.sin(40 * t) + 0.01 * np.sin(700 * t))
+    jag = 1e4 * (1 + 0.02 * rng.choice([-1, 1], n) * rng.uniform(0.5, 1, n))
+    noisy = 1e4 * (1 + 0.003 * rng.standard_normal(n))
+    return {
+        name: np.c_[r * np.cos(t), r * np.sin(t)] + np.array([5e5, 5e6])
+        for name, r in (("wavy", wavy), ("jagged", jag), ("noisy", noisy))
+    }
+
+
+def bench_ring(n: int, repeats: int) -> None:
+    print(
+        f"\n== one ring of {n} vertices: cca.smooth vs subdivision.chaikin (same run), "
+        "time per output vertex =="
+    )
+    print(
+        f"{'shape':>7} {'it':>3} {'cca wall':>9} {'cca cpu':>8} {'chaikin wall':>12} "
+        f"{'chaikin cpu':>11} {'x wall':>7} {'x cpu':>6}  (target x <= 2)"
+    )
+    for name, ring in long_rings(n, seed=5).items():
+        for it in (1, 3):
+            tw, tc, out = best_cpu(
+                lambda ring=ring, it=it: cca.smooth(ring, closed=True, iterations=it), repeats
+            )
+            cw, cc, ch = best_cpu(
+                lambda ring=ring, it=it: subdivision.chaikin(ring, closed=True, iterations=it),
+                repeats,
+            )
+            fw = (tw / len(out)) / (cw / len(ch))
+            fc = (tc / len(out)) / (cc / len(ch))
+            print(
+                f"{name:>7} {it:>3} {tw:>9.3f} {tc:>8.3f} {cw:>12.3f} {cc:>11.3f} "
+                f"{fw:>7.2f} {fc:>6.2f}"
+            )
+
+
+# ------------------------------------------------------------------------------- counties
+
+
+def bench_counties() -> None:
+    try:
+        df = geo.us_counties().to_crs("EPSG:5070")
+    except Exception as exc:  # plotly-geo missing
+        print(f"\nUS counties: skipped ({type(exc).__name__}: {exc})")
+        return
+    g = df.geometry.values
+    nv = int(shapely.get_num_coordinates(g).sum())
+    print(f"\n== coverage: {len(g)} US counties, {nv} vertices (EPSG:5070), 2 iterations ==")
+    geo.smooth_coverage(g[:3])
+    for validate in (True, False):
+        t, c, res = best_cpu(
+            lambda v=validate: geo.smooth_coverage(
+                g, iterations=ITER, validate=v, full_output=True
+            ),
+            1,
+        )
+        print(
+            f"validate={validate!s:5}: wall {t:.2f} s, cpu {c:.2f} s; {res.n_arcs} arcs, "
+            f"{len(res.reductions)} reductions, max dA/A {res.max_area_change:.1e}, "
+            f"coverage valid {res.coverage_valid}"
+        )
+    from curvesmith.geo._coverage import smooth_arc_blocks
+
+    topo = geo.coverage_topology(g)
+    t, c, _ = best_cpu(
+        lambda: smooth_arc_blocks(
+            topo.arcs, topo.loops, topo.frozen, method="cca", iterations=ITER, alpha="regular"
+        ),
+        1,
+    )
+    print(f"arc smoothing alone (one ragged call): wall {t:.2f} s, cpu {c:.2f} s (target < 1 s)")
 
 
 # ------------------------------------------------------------------------------- footprints
@@ -273,10 +371,12 @@ def main() -> None:
     ap.add_argument("--footprints", type=int, default=1_000_000, help="GeoPackage run; 0: skip")
     ap.add_argument("--dask", action="store_true", help="Dask throughput vs workers")
     ap.add_argument("--repeats", type=int, default=3)
-    ap.add_argument("--quick", action="store_true", help="--n 5000 --footprints 0")
+    ap.add_argument("--ring", type=int, default=1_000_000, help="long-ring vertices; 0: skip")
+    ap.add_argument("--counties", action="store_true", help="US county coverage (plotly-geo)")
+    ap.add_argument("--quick", action="store_true", help="--n 5000 --footprints 0 --ring 1e5")
     args = ap.parse_args()
     if args.quick:
-        args.n, args.footprints = 5_000, 0
+        args.n, args.footprints, args.ring = 5_000, 0, 100_000
     polys = footprints(int(args.n * 1.02) + 10, seed=7)[: args.n]
     n = len(polys)
     nv = int(shapely.get_num_coordinates(polys).sum()) - n
@@ -296,66 +396,75 @@ def main() -> None:
     xy = shapely.get_coordinates(polys)
     off = np.concatenate([[0], np.cumsum(shapely.get_num_coordinates(polys))])
 
-    t, res = best(lambda: geo.smooth(polys, iterations=ITER, full_output=True), args.repeats)
+    nan = float("nan")
+    t, c, res = best_cpu(lambda: geo.smooth(polys, iterations=ITER, full_output=True), args.repeats)
     valid = bool(shapely.is_valid(res.geometry).all())
-    rows.append(("geo.smooth (cca), one call", t, res.max_area_change, valid))
-    t, out = best(lambda: geo.smooth(polys, method="chaikin", iterations=ITER), args.repeats)
+    rows.append(("geo.smooth (cca), one call", t, c, res.max_area_change, valid))
+    t, c, out = best_cpu(lambda: geo.smooth(polys, method="chaikin", iterations=ITER), args.repeats)
     a0 = shapely.area(polys)
     rows.append(
-        ("geo.smooth (chaikin), one call", t, float(np.max(np.abs(shapely.area(out) - a0) / a0)),
-         bool(shapely.is_valid(out).all()))
+        ("geo.smooth (chaikin), one call", t, c,
+         float(np.max(np.abs(shapely.area(out) - a0) / a0)), bool(shapely.is_valid(out).all()))
     )  # fmt: skip
-    t, _ = best(lambda: cca.smooth_ragged(xy, off, closed=True, iterations=ITER), args.repeats)
-    rows.append(("cca.smooth_ragged (engine alone)", t, float("nan"), None))
-    t, _ = best(
+    t, c, _ = best_cpu(
+        lambda: cca.smooth_ragged(xy, off, closed=True, iterations=ITER), args.repeats
+    )
+    rows.append(("cca.smooth_ragged (engine alone)", t, c, nan, None))
+    t, c, _ = best_cpu(
+        lambda: cca.smooth_ragged(xy, off, closed=True, iterations=ITER, workers=1), args.repeats
+    )
+    rows.append(("cca.smooth_ragged (engine alone, workers=1)", t, c, nan, None))
+    t, c, _ = best_cpu(
         lambda: subdivision.chaikin_ragged(xy, off, closed=True, iterations=ITER), args.repeats
     )
-    rows.append(("subdivision.chaikin_ragged (engine alone)", t, float("nan"), None))
+    rows.append(("subdivision.chaikin_ragged (engine alone)", t, c, nan, None))
     k = min(n, 2000)
-    t, _ = best(
+    t, c, _ = best_cpu(
         lambda: [
             cca.smooth(xy[off[i] : off[i + 1]], closed=True, iterations=ITER) for i in range(k)
         ],
         1,
     )
     rows.append(
-        (f"cca.smooth once per polygon ({k} polygons, scaled)", t * n / k, float("nan"), None)
+        (f"cca.smooth once per polygon ({k} polygons, scaled)", t * n / k, c * n / k, nan, None)
     )
 
     pg = bench_postgis(polys, args.repeats)
     if pg is not None:
+        # PostgreSQL's execution time: its backend is one process doing only this query
         rows.append(
-            (
-                f"PostGIS {pg['version']} ST_ChaikinSmoothing (EXPLAIN ANALYZE)",
-                pg["smooth"],
-                float("nan"),
-                None,
-            )
-        )
-        rows.append(
-            ("PostGIS same, minus the table scan", pg["smooth"] - pg["scan"], float("nan"), None)
-        )
-        rows.append(
-            ("PostGIS sum(ST_NPoints(..)) query, psql wall", pg["full"], float("nan"), None)
-        )
-    ref = rows[0][1]
+            (f"PostGIS {pg['version']} ST_ChaikinSmoothing (EXPLAIN ANALYZE)", pg["smooth"],
+             pg["smooth"], nan, None)
+        )  # fmt: skip
+        d = pg["smooth"] - pg["scan"]
+        rows.append(("PostGIS same, minus the table scan", d, d, nan, None))
+        rows.append(("PostGIS sum(ST_NPoints(..)) query, psql wall", pg["full"], nan, nan, None))
+    ref, ref_cpu = rows[0][1], rows[0][2]
     peer = pg["smooth"] if pg is not None else None
     print(
-        f"\n{'':<58} {'s':>7} {'us/poly':>8} {'x geo.smooth':>12} {'x PostGIS':>9} "
-        f"{'max|dA|/A':>10} {'valid':>5}"
+        f"\n{'':<52} {'wall s':>7} {'cpu s':>7} {'us/poly':>8} {'cpu us':>7} "
+        f"{'x PostGIS':>9} {'cpu x PG':>8} {'max|dA|/A':>10} {'valid':>5}"
     )
-    for name, t, dA, ok in rows:
+    for name, t, c, dA, ok in rows:
         px = f"{t / peer:>9.2f}" if peer else f"{'-':>9}"
+        pc = f"{c / peer:>8.2f}" if peer and c == c else f"{'-':>8}"
         da = f"{dA:>10.1e}" if dA == dA else f"{'-':>10}"
+        cs = f"{c:>7.3f}" if c == c else f"{'-':>7}"
+        cu = f"{c / n * 1e6:>7.2f}" if c == c else f"{'-':>7}"
         print(
-            f"{name:<58} {t:>7.3f} {t / n * 1e6:>8.2f} {t / ref:>12.2f} {px} {da} "
+            f"{name:<52} {t:>7.3f} {cs} {t / n * 1e6:>8.2f} {cu} {px} {pc} {da} "
             f"{'-' if ok is None else ok!s:>5}"
         )
     if peer:
         print(
-            f"\ngeo.smooth / PostGIS per polygon: {ref / peer:.2f} (target <= 3, aim 1); "
-            f"the engine alone: {rows[2][1] / peer:.2f}"
+            f"\ngeo.smooth / PostGIS per polygon: {ref / peer:.2f} wall, {ref_cpu / peer:.2f} "
+            f"cpu (target <= 3, aim 1); the engine alone: {rows[2][1] / peer:.2f} wall, "
+            f"{rows[3][2] / peer:.2f} cpu (workers=1)"
         )
+    if args.ring:
+        bench_ring(args.ring, args.repeats)
+    if args.counties:
+        bench_counties()
     if args.footprints:
         bench_footprints(args.footprints)
     if args.dask:

@@ -51,6 +51,26 @@ def test_one_call_equals_feature_by_feature():
     assert shapely.is_valid(res.geometry[:-2]).all()
 
 
+def test_chunks_give_the_same_bits(monkeypatch):
+    """A layer goes through the engine in chunks of vertices: chunk size changes nothing."""
+    from curvesmith.geo import _smooth
+
+    polys = _footprints(300, 1)  # has slivers re-smoothed locally
+    polys.insert(7, shapely.LineString([(0, 0), (1, 1), (2, 0), (3, 1)]))
+    polys.insert(9, shapely.MultiLineString([[(0, 0), (1, 2), (2, 0)], [(5, 5), (6, 7), (7, 5)]]))
+    arr = np.array(polys, dtype=object)
+    whole = geo.smooth(arr, iterations=2, full_output=True)
+    monkeypatch.setattr(_smooth, "CHUNK_VERTICES", 37)
+    assert len(_smooth._chunks(shapely.get_num_coordinates(arr))) > 50
+    parts = geo.smooth(arr, iterations=2, full_output=True)
+    for a, b in zip(whole.geometry, parts.geometry, strict=True):
+        np.testing.assert_array_equal(shapely.get_coordinates(a), shapely.get_coordinates(b))
+        assert a.geom_type == b.geom_type
+    assert whole.reductions == parts.reductions and len(whole.reductions) >= 1
+    assert whole.n_curves == parts.n_curves
+    assert whole.max_area_change == parts.max_area_change
+
+
 def test_fixed_mask_keeps_antimeridian_vertices_and_areas():
     # lon/lat cells cut at the antimeridian: vertices on lon = 180 must stay there
     cells = [

@@ -14,6 +14,16 @@ then a smaller alpha), down to the original vertices. Cutting at anchors keeps t
 guarantee of CCA: the area between a piece and its chord is kept, the chords of the pieces
 are fixed, so the area between the whole old and new arc stays zero (CCA section 5,
 "anchor points").
+
+Backing off does not stop at the first level at which two pieces no longer meet, which
+could leave them a rounding error apart (valid as written, invalid after a reprojection):
+two pieces that do not touch in the input (no shared end, input distance ``d > 0``)
+conflict as well when their outputs come
+closer than the *clearance margin* ``min(MARGIN_EDGE * l, MARGIN_GAP * d)``, with ``l``
+the larger mean input edge length of the two pieces' arcs (rings, coverage arcs, network
+arcs). Level 0 (the input vertices) always satisfies it, so the resolution still
+terminates. Pieces that share an end (neighbours along a ring, arcs at a node) touch in
+the input and keep the plain rule (they may meet only at the shared ends).
 """
 
 from __future__ import annotations
@@ -21,6 +31,7 @@ from __future__ import annotations
 import itertools
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -30,6 +41,10 @@ __all__ = ["Level", "Reduction", "resolve_arcs"]
 MIN_PIECE_VERTICES = 16
 #: Safety bound on resolution rounds (each round at least splits a piece or lowers a level).
 MAX_ROUNDS = 200
+#: Clearance margin, as a fraction of the (larger) mean input edge length of two pieces' arcs.
+MARGIN_EDGE = 1e-3
+#: Clearance margin, as a fraction of the two pieces' distance in the input.
+MARGIN_GAP = 0.5
 
 
 @dataclass(frozen=True)
@@ -87,6 +102,7 @@ class _Piece:
     stop: int
     loop: bool  # an unsplit closed loop without a node
     level: int
+    split: bool = False  # cut out of a longer piece by the resolution
 
 
 def _piece_points(xy: np.ndarray, piece: _Piece, closed_arc: bool) -> np.ndarray:
@@ -176,6 +192,20 @@ def resolve_arcs(
         )
 
     simple_orig: dict[tuple[int, int, int, bool], bool] = {}
+    in_geom: dict[tuple[int, int, int, bool], Any] = {}
+    scale = _mean_edges(arcs, loops)
+
+    def input_geom(p: _Piece):
+        """The piece's input vertices as a LineString."""
+        key = (p.arc, p.start, p.stop, p.loop)
+        val = in_geom.get(key)
+        if val is None:
+            pts = _piece_points(arcs[p.arc], p, bool(loops[p.arc]))
+            if p.loop:
+                pts = np.vstack([pts, pts[:1]])
+            val = shapely.linestrings(pts)
+            in_geom[key] = val
+        return val
 
     def original_simple(p: _Piece) -> bool:
         key = (p.arc, p.start, p.stop, p.loop)
@@ -191,7 +221,10 @@ def resolve_arcs(
     geoms = geoms_of(pieces)
     to_check = np.arange(len(pieces))
     for _ in range(MAX_ROUNDS):
-        bad = _conflicts(pieces, geoms, to_check, groups, top, check_simple, original_simple)
+        bad = _conflicts(
+            pieces, arcs, geoms, to_check, groups, top, check_simple, original_simple, input_geom,
+            scale,
+        )  # fmt: skip
         if not bad:
             break
         changed = []
@@ -209,11 +242,11 @@ def resolve_arcs(
                 else:
                     cuts = np.array([p.start, (p.start + p.stop) // 2, p.stop])
                 for a, b in itertools.pairwise(cuts):
-                    new_pieces.append(_Piece(p.arc, int(a), int(b), False, p.level))
+                    new_pieces.append(_Piece(p.arc, int(a), int(b), False, p.level, True))
                     changed.append(len(new_pieces) - 1)
                     kept_from.append(-1)
             else:
-                new_pieces.append(_Piece(p.arc, p.start, p.stop, p.loop, p.level + 1))
+                new_pieces.append(_Piece(p.arc, p.start, p.stop, p.loop, p.level + 1, p.split))
                 changed.append(len(new_pieces) - 1)
                 kept_from.append(-1)
         src = np.asarray(kept_from)
@@ -249,8 +282,33 @@ def resolve_arcs(
     return out, reductions
 
 
-def _conflicts(pieces, geoms, to_check, groups, top, check_simple, original_simple) -> set[int]:
-    """Indices of pieces that take part in a new crossing or self-intersection."""
+def _mean_edges(arcs: Sequence[np.ndarray], loops: np.ndarray) -> np.ndarray:
+    """Mean input edge length of every arc (a loop with its closing edge)."""
+    cnt = np.array([len(x) for x in arcs], dtype=np.int64)
+    if len(arcs) == 0 or cnt.min() == 0:
+        return np.array([_mean_edge(x, bool(lp)) for x, lp in zip(arcs, loops, strict=True)])
+    off = np.concatenate([[0], np.cumsum(cnt)])
+    xy = np.concatenate(arcs)
+    d = np.zeros(len(xy))
+    d[:-1] = np.hypot(xy[1:, 0] - xy[:-1, 0], xy[1:, 1] - xy[:-1, 1])
+    d[off[1:] - 1] = 0.0  # no edge from an arc's last vertex to the next arc
+    total = np.add.reduceat(d, off[:-1])
+    closing = np.hypot(*(xy[off[1:] - 1] - xy[off[:-1]]).T)
+    total = total + np.where(loops, closing, 0.0)
+    return total / np.maximum(cnt - 1 + loops.astype(np.int64), 1)
+
+
+def _mean_edge(xy: np.ndarray, loop: bool) -> float:
+    if len(xy) < 2:
+        return 0.0
+    pts = np.vstack([xy, xy[:1]]) if loop else xy
+    return float(np.mean(np.hypot(*np.diff(pts, axis=0).T)))
+
+
+def _conflicts(
+    pieces, arcs, geoms, to_check, groups, top, check_simple, original_simple, input_geom, scale
+) -> set[int]:
+    """Indices of pieces in a new crossing, self-intersection or near-contact (margin)."""
     import shapely
 
     bad: set[int] = set()
@@ -273,6 +331,9 @@ def _conflicts(pieces, geoms, to_check, groups, top, check_simple, original_simp
     qi = to_check[qi]
     keep = (qi != qj) & (grp[qi] == grp[qj]) & (changed[qi] | changed[qj])
     qi, qj = qi[keep], qj[keep]
+    bad |= _near_contacts(
+        pieces, arcs, geoms, tree, to_check, grp, changed, input_geom, scale[arc_of]
+    )
     if len(qi) == 0:
         return bad
     a, b = np.minimum(qi, qj), np.maximum(qi, qj)
@@ -316,3 +377,82 @@ def _conflicts(pieces, geoms, to_check, groups, top, check_simple, original_simp
         if changed[j]:
             bad.add(int(j))
     return bad
+
+
+def _near_contacts(
+    pieces, arcs, geoms, tree, to_check, grp, changed, input_geom, scale
+) -> set[int]:
+    """Changed pieces closer than the clearance margin to a piece they do not touch in the input.
+
+    Candidates are the pairs (of the same group, one of them changed, one of them in
+    ``to_check``) whose bounding boxes come within the largest ``MARGIN_EDGE * l`` of
+    each other and that share no end vertex; a compiled segment screening keeps those
+    within ``MARGIN_EDGE * l``, and only for these few GEOS computes both distances. A
+    pair is a conflict when ``0 < d`` and the output distance is below
+    ``min(MARGIN_EDGE * l, MARGIN_GAP * d)``.
+    """
+    import shapely
+
+    r_max = MARGIN_EDGE * float(scale.max()) if len(scale) else 0.0
+    box = shapely.bounds(geoms[to_check])
+    qi, qj = tree.query(
+        shapely.box(box[:, 0] - r_max, box[:, 1] - r_max, box[:, 2] + r_max, box[:, 3] + r_max)
+    )
+    a, b = to_check[qi], qj
+    keep = (a != b) & (grp[a] == grp[b]) & (changed[a] | changed[b])
+    a, b = np.minimum(a[keep], b[keep]), np.maximum(a[keep], b[keep])
+    if len(a) == 0:
+        return set()
+    pairs = np.unique(np.stack([a, b], axis=1), axis=0)
+    a, b = pairs[:, 0], pairs[:, 1]
+
+    # pieces that share an end vertex touch in the input (ring neighbours, arcs at a node)
+    def ends(k):  # the fixed end vertices of the pieces (pinned: equal to the input's)
+        out = np.empty((len(k), 2, 2))
+        for t, q in enumerate(k):
+            p = pieces[q]
+            xy = arcs[p.arc]
+            out[t, 0] = xy[p.start]
+            out[t, 1] = xy[p.stop % len(xy)]
+        return out
+
+    ends_a, ends_b = ends(a), ends(b)
+    share = np.all(ends_a[:, :, None, :] == ends_b[:, None, :, :], axis=-1).any(axis=(1, 2))
+    loop = np.array([pieces[k].loop for k in range(len(pieces))])
+    share &= ~(loop[a] | loop[b])
+    a, b = a[~share], b[~share]
+    if len(a) == 0:
+        return set()
+    upper = MARGIN_EDGE * np.maximum(scale[a], scale[b])
+    close = _within(geoms, a, b, upper)
+    a, b, upper = a[close], b[close], upper[close]
+    if len(a) == 0:
+        return set()
+    lines = np.empty(len(pieces), dtype=object)
+    for k in np.unique(np.concatenate([a, b])):
+        lines[k] = input_geom(pieces[k])
+    d_in = shapely.distance(lines[a], lines[b])
+    d_out = shapely.distance(geoms[a], geoms[b])
+    near = (d_in > 0) & (d_out < np.minimum(upper, MARGIN_GAP * d_in))
+    out: set[int] = set()
+    for i, j in zip(a[near], b[near], strict=True):
+        if changed[i]:
+            out.add(int(i))
+        if changed[j]:
+            out.add(int(j))
+    return out
+
+
+def _within(geoms, a, b, dist) -> np.ndarray:
+    """Per pair: whether ``geoms[a[k]]`` and ``geoms[b[k]]`` come within ``dist[k]``."""
+    import shapely
+
+    from ._simple_kernel import polylines_within
+
+    ks, inv = np.unique(np.concatenate([a, b]), return_inverse=True)
+    xy, owner = shapely.get_coordinates(geoms[ks], return_index=True)
+    off = np.zeros(len(ks) + 1, dtype=np.int64)
+    np.cumsum(np.bincount(owner, minlength=len(ks)), out=off[1:])
+    return polylines_within(
+        np.ascontiguousarray(xy), off, inv[: len(a)], inv[len(a) :], np.asarray(dist, float)
+    )

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import itertools
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
@@ -324,7 +325,12 @@ def prepare(geoms: np.ndarray, *, make_valid: bool, what: str = "geometry") -> n
             f"{what}[{k}] has Z coordinates; curvesmith.geo smooths planar geometries "
             f"(drop Z with shapely.force_2d)"
         )
-    valid = shapely.is_valid(g)
+    # single-ring polygons proven simple by the compiled test are valid; GEOS checks the rest
+    xy, owner = shapely.get_coordinates(g, return_index=True)
+    valid = _certainly_valid_polygons(g, xy, owner)
+    doubt = np.flatnonzero(~valid)
+    if doubt.size:
+        valid[doubt] = shapely.is_valid(g[doubt])
     if not valid.all():
         if not make_valid:
             k = int(np.nonzero(~valid)[0][0])
@@ -336,9 +342,37 @@ def prepare(geoms: np.ndarray, *, make_valid: bool, what: str = "geometry") -> n
         fixed = shapely.make_valid(g[~valid], method="structure", keep_collapsed=False)
         g = g.copy()
         g[~valid] = fixed
-    g = shapely.remove_repeated_points(g, 0.0)
+        xy, owner = shapely.get_coordinates(g, return_index=True)
+    # remove_repeated_points (a new GEOS geometry each) only where a vertex repeats the
+    # previous one: the others would come back with the same coordinates
+    rep = np.all(xy[1:] == xy[:-1], axis=1) & (owner[1:] == owner[:-1])
+    if rep.any():
+        k = np.unique(owner[1:][rep])
+        g = g.copy()
+        g[k] = shapely.remove_repeated_points(g[k], 0.0)
     geoms[present] = g
     return geoms
+
+
+def _certainly_valid_polygons(g, xy, owner) -> np.ndarray:
+    """Per geometry: True for a Polygon without holes whose ring is proven simple.
+
+    ``xy, owner``: ``shapely.get_coordinates(g, return_index=True)``. False means "ask
+    GEOS" (other types, holes, doubtful rings; see :mod:`curvesmith.geo._simple`).
+    """
+    shapely = _shapely()
+    from ._simple import rings_certainly_simple
+
+    out = np.zeros(len(g), dtype=bool)
+    cand = (shapely.get_type_id(g) == shapely.GeometryType.POLYGON) & (
+        shapely.get_num_interior_rings(g) == 0
+    )
+    if not cand.any():
+        return out
+    off = np.zeros(len(g) + 1, dtype=np.int64)
+    np.cumsum(np.bincount(owner, minlength=len(g)), out=off[1:])
+    out[cand] = rings_certainly_simple(xy, off, True)[cand]
+    return out
 
 
 # --------------------------------------------------------------------------------------------
@@ -458,9 +492,16 @@ def _smooth_feature_array(
     batch = (method, alpha, fixed)
 
     for mask, smooth_kind in ((poly, _smooth_polygonal), (line, _smooth_lineal)):
-        if mask.any():
-            res, red, n, ch = smooth_kind(g[mask], idx[mask], smoother, levels, batch)
-            out[idx[mask]] = res
+        if not mask.any():
+            continue
+        # in chunks of about CHUNK_VERTICES input vertices, so that the engine's buffers
+        # and the ragged arrays are those of one chunk, not of the whole layer (each curve
+        # is smoothed as on its own, so chunking does not change a bit)
+        sel = np.flatnonzero(mask)
+        for part in _chunks(shapely.get_num_coordinates(g[sel])):
+            k = sel[part]
+            res, red, n, ch = smooth_kind(g[k], idx[k], smoother, levels, batch)
+            out[idx[k]] = res
             reductions += red
             n_curves += n
             max_change = max(max_change, ch)
@@ -483,6 +524,18 @@ def _smooth_feature_array(
         n_curves += n
         max_change = max(max_change, ch)
     return out, reductions, n_curves, max_change
+
+
+#: Input vertices per call of the ragged engine in :func:`smooth` (a layer goes in chunks).
+CHUNK_VERTICES = 1 << 20
+
+
+def _chunks(counts: np.ndarray) -> list[slice]:
+    """Consecutive slices of features holding about CHUNK_VERTICES vertices each."""
+    ends = np.cumsum(counts)
+    cuts = np.searchsorted(ends, np.arange(CHUNK_VERTICES, ends[-1], CHUNK_VERTICES), "right")
+    bounds = np.unique(np.concatenate([[0], cuts, [len(counts)]]))
+    return [slice(int(a), int(b)) for a, b in itertools.pairwise(bounds)]
 
 
 def _smooth_polygonal(g, feat_index, smoother, levels, batch):
@@ -520,7 +573,11 @@ def _smooth_polygonal(g, feat_index, smoother, levels, batch):
     rings_per_geom = np.bincount(ring_geom, minlength=len(g))
     hard = rings_per_geom > 1  # holes or parts: checked for conflicts anyway
     one = np.flatnonzero(~hard)
-    hard[one] = ~shapely.is_valid(res[one])
+    # a feature of one ring proven simple by the compiled test is valid; GEOS checks the rest
+    from ._simple import rings_certainly_simple
+
+    doubt = one[~rings_certainly_simple(new_xy, new_off, True)[first_ring_of_geom[one]]]
+    hard[doubt] = ~shapely.is_valid(res[doubt])
     reductions: list[GeometryReduction] = []
     rings = _RaggedView(coords, ring_off, drop_last=True)
     if hard.any():

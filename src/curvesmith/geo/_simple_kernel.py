@@ -1,0 +1,268 @@
+"""numba kernel of :mod:`curvesmith.geo._simple` (imported only when it runs)."""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+# Shewchuk's ccwerrboundA = (3 + 16 eps) eps, eps = 2**-53
+_CCW_ERR = (3.0 + 16.0 * 2.0**-53) * 2.0**-53
+# below this the products may have lost relative accuracy (subnormal range)
+_TINY = 1e-280
+
+
+@njit(cache=True, nogil=True)
+def _orient(ax, ay, bx, by, cx, cy):
+    """+1 / -1: c is certainly left / right of a -> b; 0: not certain (or NaN)."""
+    detleft = (ax - cx) * (by - cy)
+    detright = (ay - cy) * (bx - cx)
+    det = detleft - detright
+    size = abs(detleft) + abs(detright)
+    if not size > _TINY:
+        return 0
+    err = _CCW_ERR * size
+    if det > err:
+        return 1
+    if -det > err:
+        return -1
+    return 0
+
+
+@njit(cache=True, nogil=True)
+def _side(cx, cy, cid, oa, la, ea0, ea1, ob, lb, xlo, xhi, sign):
+    """Signs of chain b's vertices in [xlo, xhi] against chain a: the common sign or 2.
+
+    Chains are stored in increasing x: vertices ``oa .. oa + la`` (``la`` edges) of the
+    scratch arrays ``cx, cy`` with their ring positions ``cid``. Returns the sign found
+    (``sign`` on entry, 0 = none yet) or 2 when a vertex of b is on or across chain a,
+    or its sign is not certain. ``ea0, ea1``: chain a's end vertices (ring positions),
+    skipped (shared turning vertices of adjacent chains).
+    """
+    # first vertex of b at or after xlo (binary search)
+    lo, hi = ob, ob + lb + 1
+    while lo < hi:
+        mid = (lo + hi) >> 1
+        if cx[mid] < xlo:
+            lo = mid + 1
+        else:
+            hi = mid
+    i = oa  # segment of a: vertices i, i + 1
+    last = oa + la - 1
+    for t in range(lo, ob + lb + 1):
+        x = cx[t]
+        if x > xhi:
+            break
+        r = cid[t]
+        if r == ea0 or r == ea1:  # noqa: SIM109 (plain compares in numba)
+            continue
+        while i < last and cx[i + 1] < x:
+            i += 1
+        o = _orient(cx[i], cy[i], cx[i + 1], cy[i + 1], x, cy[t])
+        if o == 0:
+            return 2
+        if sign == 0:
+            sign = o
+        elif o != sign:
+            return 2
+    return sign
+
+
+@njit(cache=True, nogil=True)
+def _ring_simple(X, s, n, max_chains, starts, lens, ups, bb, co, cx, cy, cid):
+    if n < 3:
+        return False
+    for i in range(n):
+        if not (abs(X[s + i, 0]) < np.inf and abs(X[s + i, 1]) < np.inf):
+            return False  # NaN or infinite: doubtful
+    # direction of every edge; a vertical edge or a repeated vertex: doubtful
+    e = X[s, 0] - X[s + n - 1, 0]
+    if e > 0.0:
+        d_prev = 1
+    elif e < 0.0:
+        d_prev = -1
+    else:
+        return False
+    nch = 0
+    for i in range(n):
+        j = s + i + 1 if i + 1 < n else s
+        e = X[j, 0] - X[s + i, 0]
+        if e > 0.0:
+            d = 1
+        elif e < 0.0:
+            d = -1
+        else:
+            return False
+        if d != d_prev:  # vertex i turns in x: a chain starts here
+            if nch == max_chains:
+                return False
+            starts[nch] = i
+            ups[nch] = d > 0
+            nch += 1
+        d_prev = d
+    if nch < 2:
+        return False  # not possible for a closed ring of finite coordinates
+    # every chain in increasing x into the scratch arrays, with its bounding box
+    pos = 0
+    for c in range(nch):
+        nxt = starts[c + 1] if c + 1 < nch else starts[0] + n
+        ln = nxt - starts[c]
+        lens[c] = ln
+        co[c] = pos
+        y0, y1 = np.inf, -np.inf
+        for t in range(ln + 1):
+            u = starts[c] + (t if ups[c] else ln - t)
+            if u >= n:
+                u -= n
+            cx[pos + t] = X[s + u, 0]
+            cy[pos + t] = X[s + u, 1]
+            cid[pos + t] = u
+            y0 = min(y0, X[s + u, 1])
+            y1 = max(y1, X[s + u, 1])
+        bb[c, 0], bb[c, 1], bb[c, 2], bb[c, 3] = cx[pos], cx[pos + ln], y0, y1
+        pos += ln + 1
+    for a in range(nch):
+        for b in range(a + 1, nch):
+            xlo = max(bb[a, 0], bb[b, 0])
+            xhi = min(bb[a, 1], bb[b, 1])
+            if xlo > xhi or max(bb[a, 2], bb[b, 2]) > min(bb[a, 3], bb[b, 3]):
+                continue  # boxes apart (touching boxes are compared)
+            oa, la, ob, lb = co[a], lens[a], co[b], lens[b]
+            sg = _side(cx, cy, cid, oa, la, cid[oa], cid[oa + la], ob, lb, xlo, xhi, 0)
+            if sg == 2:
+                return False
+            # chain a's vertices against chain b give the sign of y_a - y_b: flip
+            sg2 = _side(cx, cy, cid, ob, lb, cid[ob], cid[ob + lb], oa, la, xlo, xhi, -sg)
+            if sg2 == 2:
+                return False
+            if sg == 0 and sg2 == 0 and xlo != xhi:
+                return False  # nothing compared over an overlap of positive length
+    return True
+
+
+@njit(cache=True, nogil=True)
+def rings_simple(X, offsets, closing, max_chains):
+    m = offsets.shape[0] - 1
+    out = np.zeros(m, dtype=np.bool_)
+    nmax = 1
+    for k in range(m):
+        nmax = max(nmax, offsets[k + 1] - offsets[k])
+    starts = np.empty(max_chains, dtype=np.int64)
+    lens = np.empty(max_chains, dtype=np.int64)
+    co = np.empty(max_chains, dtype=np.int64)
+    ups = np.empty(max_chains, dtype=np.bool_)
+    bb = np.empty((max_chains, 4))
+    cx = np.empty(nmax + max_chains + 1)
+    cy = np.empty(nmax + max_chains + 1)
+    cid = np.empty(nmax + max_chains + 1, dtype=np.int64)
+    for k in range(m):
+        s = offsets[k]
+        n = offsets[k + 1] - s
+        if closing:
+            if n < 1 or X[s, 0] != X[s + n - 1, 0] or X[s, 1] != X[s + n - 1, 1]:
+                continue  # not closed: doubtful
+            n -= 1
+        out[k] = _ring_simple(X, s, n, max_chains, starts, lens, ups, bb, co, cx, cy, cid)
+    return out
+
+
+@njit(cache=True, nogil=True)
+def _seg_dist2(ax, ay, bx, by, px, py):
+    """Squared distance from point p to segment a-b."""
+    dx, dy = bx - ax, by - ay
+    ll = dx * dx + dy * dy
+    t = 0.0
+    if ll > 0.0:
+        t = ((px - ax) * dx + (py - ay) * dy) / ll
+        t = min(1.0, max(0.0, t))
+    ex, ey = ax + t * dx - px, ay + t * dy - py
+    return ex * ex + ey * ey
+
+
+@njit(cache=True, nogil=True)
+def _segs_within(ax, ay, bx, by, cx, cy, dx, dy, d2):
+    """Whether segments a-b and c-d cross or come within sqrt(d2) (floating point)."""
+    o1 = (bx - ax) * (cy - ay) - (by - ay) * (cx - ax)
+    o2 = (bx - ax) * (dy - ay) - (by - ay) * (dx - ax)
+    o3 = (dx - cx) * (ay - cy) - (dy - cy) * (ax - cx)
+    o4 = (dx - cx) * (by - cy) - (dy - cy) * (bx - cx)
+    if o1 * o2 <= 0.0 and o3 * o4 <= 0.0:
+        return True
+    return (
+        _seg_dist2(ax, ay, bx, by, cx, cy) < d2
+        or _seg_dist2(ax, ay, bx, by, dx, dy) < d2
+        or _seg_dist2(cx, cy, dx, dy, ax, ay) < d2
+        or _seg_dist2(cx, cy, dx, dy, bx, by) < d2
+    )
+
+
+@njit(cache=True, nogil=True)
+def polylines_within(X, offsets, pa, pb, dist):
+    """Per pair ``k``: whether polylines ``pa[k]`` and ``pb[k]`` come within ``dist[k]``.
+
+    Polyline ``i`` is ``X[offsets[i]:offsets[i + 1]]``. Only the segments of each that lie
+    within ``dist`` of the other's bounding box are compared, pairwise with box checks
+    first. Floating point: a screening test for the clearance margin, not a proof.
+    """
+    npairs = pa.shape[0]
+    out = np.zeros(npairs, dtype=np.bool_)
+    nmax = 1
+    for i in range(offsets.shape[0] - 1):
+        nmax = max(nmax, offsets[i + 1] - offsets[i])
+    sa = np.empty(nmax, dtype=np.int64)
+    sb = np.empty(nmax, dtype=np.int64)
+    for k in range(npairs):
+        r = dist[k]
+        d2 = r * r
+        ia0, ia1 = offsets[pa[k]], offsets[pa[k] + 1]
+        ib0, ib1 = offsets[pb[k]], offsets[pb[k] + 1]
+        # boxes of both, expanded
+        ax0, ax1, ay0, ay1 = np.inf, -np.inf, np.inf, -np.inf
+        for t in range(ia0, ia1):
+            ax0, ax1 = min(ax0, X[t, 0]), max(ax1, X[t, 0])
+            ay0, ay1 = min(ay0, X[t, 1]), max(ay1, X[t, 1])
+        bx0, bx1, by0, by1 = np.inf, -np.inf, np.inf, -np.inf
+        for t in range(ib0, ib1):
+            bx0, bx1 = min(bx0, X[t, 0]), max(bx1, X[t, 0])
+            by0, by1 = min(by0, X[t, 1]), max(by1, X[t, 1])
+        na = 0
+        for t in range(ia0, ia1 - 1):
+            if (
+                min(X[t, 0], X[t + 1, 0]) <= bx1 + r
+                and max(X[t, 0], X[t + 1, 0]) >= bx0 - r
+                and min(X[t, 1], X[t + 1, 1]) <= by1 + r
+                and max(X[t, 1], X[t + 1, 1]) >= by0 - r
+            ):
+                sa[na] = t
+                na += 1
+        nb = 0
+        for t in range(ib0, ib1 - 1):
+            if (
+                min(X[t, 0], X[t + 1, 0]) <= ax1 + r
+                and max(X[t, 0], X[t + 1, 0]) >= ax0 - r
+                and min(X[t, 1], X[t + 1, 1]) <= ay1 + r
+                and max(X[t, 1], X[t + 1, 1]) >= ay0 - r
+            ):
+                sb[nb] = t
+                nb += 1
+        found = False
+        for u in range(na):
+            t = sa[u]
+            x0, x1 = min(X[t, 0], X[t + 1, 0]) - r, max(X[t, 0], X[t + 1, 0]) + r
+            y0, y1 = min(X[t, 1], X[t + 1, 1]) - r, max(X[t, 1], X[t + 1, 1]) + r
+            for v in range(nb):
+                q = sb[v]
+                if (
+                    min(X[q, 0], X[q + 1, 0]) > x1
+                    or max(X[q, 0], X[q + 1, 0]) < x0
+                    or min(X[q, 1], X[q + 1, 1]) > y1
+                    or max(X[q, 1], X[q + 1, 1]) < y0
+                ):
+                    continue
+                if _segs_within(X[t, 0], X[t, 1], X[t + 1, 0], X[t + 1, 1],
+                                X[q, 0], X[q, 1], X[q + 1, 0], X[q + 1, 1], d2):  # fmt: skip
+                    found = True
+                    break
+            if found:
+                break
+        out[k] = found
+    return out
