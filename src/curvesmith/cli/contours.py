@@ -14,7 +14,7 @@ from typing import Any
 import click
 
 from ..errors import CurveError
-from ._common import COUNT, POSITIVE, POSITIVE_INT
+from ._common import ALPHA, COUNT, POSITIVE, POSITIVE_INT
 
 __all__ = ["contours_command", "smooth_network_geofile"]
 
@@ -151,6 +151,7 @@ def _levels(text: str | None) -> list[float] | None:
 )
 @click.option(
     "--alpha",
+    type=ALPHA,
     default="regular",
     show_default=True,
     help="cca: 'regular' (angle-dependent profile) or a number in (0, 1/3).",

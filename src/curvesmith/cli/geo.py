@@ -14,6 +14,7 @@ from typing import Any
 import click
 
 from ..errors import CurveError
+from ._common import ALPHA, COUNT
 
 __all__ = ["GEO_SUFFIXES", "batch_group", "check_geo_output", "is_geofile", "smooth_geofile"]
 
@@ -195,9 +196,10 @@ def batch_group() -> None:
     show_default=True,
     help="cca keeps every ring's area exactly; chaikin shrinks.",
 )
-@click.option("--iterations", type=int, default=1, show_default=True, help="Smoothing passes.")
+@click.option("--iterations", type=COUNT, default=1, show_default=True, help="Smoothing passes.")
 @click.option(
     "--alpha",
+    type=ALPHA,
     default="regular",
     show_default=True,
     help="cca: 'regular' (angle-dependent profile) or a number in (0, 1/3).",
