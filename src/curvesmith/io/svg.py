@@ -673,8 +673,9 @@ def write_svg(
             raise CurveFormatError(
                 f"SVG is planar: curve {i} has 3D points; drop or project the z coordinate first"
             )
-    allpts = np.concatenate([c.points for c in curves])
-    lo, hi = allpts.min(axis=0), allpts.max(axis=0)
+    # the extent curve by curve: no copy of all the points
+    lo = np.min([c.points.min(axis=0) for c in curves], axis=0)
+    hi = np.max([c.points.max(axis=0) for c in curves], axis=0)
     with np.errstate(over="ignore"):
         size = float(max(hi - lo))
     if not math.isfinite(size):
