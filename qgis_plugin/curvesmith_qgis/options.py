@@ -184,6 +184,18 @@ OPTIONS = (
         algorithms=("smooth", "smoothcoverage"),
     ),
     Option(
+        "KEEP_ANGLE",
+        "--keep-angle",
+        "float",
+        None,
+        "Keep corners sharper than (degrees)",
+        "cca: vertices that turn by more than this angle stay where they are (building "
+        "footprints, parcels, field boundaries); every ring still keeps its area. Empty: "
+        "no corner is kept.",
+        optional=True,
+        minimum=0.0,
+    ),
+    Option(
         "SNAP",
         "--snap",
         "float",

@@ -204,6 +204,7 @@ def smooth_partitioned(
     client: Any = None,
     progress: bool = False,
     fixed: Any = None,
+    keep_angle: float | None = None,
 ) -> tuple[Any, tuple[FeatureError, ...], int, int]:
     """Smooth features (array, GeoSeries or GeoDataFrame) on Dask, partition by partition.
 
@@ -226,6 +227,8 @@ def smooth_partitioned(
     fixed : bool mask or callable, optional
         Vertices that stay put, as in :func:`curvesmith.geo.smooth` (a callable is sent to
         every partition; a mask over the whole input is not supported here).
+    keep_angle : float, optional
+        Keep sharp corners (radians), as in :func:`curvesmith.geo.smooth`.
 
     Returns
     -------
@@ -248,6 +251,8 @@ def smooth_partitioned(
     options = {"method": method, "iterations": iterations, "alpha": alpha, "make_valid": make_valid}
     if fixed is not None:
         options["fixed"] = fixed
+    if keep_angle is not None:  # corners found partition by partition: per feature anyway
+        options["keep_angle"] = keep_angle
     starts = list(range(0, len(geoms), partition_size))
     import shapely
 
@@ -294,6 +299,7 @@ def smooth_file(
     client: Any = None,
     progress: bool = True,
     errors_path: str | Path | None = None,
+    keep_angle: float | None = None,
 ) -> BatchReport:
     """Smooth a GIS file on Dask and write the result and an errors report.
 
@@ -328,6 +334,8 @@ def smooth_file(
         An existing client.
     progress : bool
         Show a progress bar on the terminal.
+    keep_angle : float, optional
+        Keep sharp corners (radians), as in :func:`curvesmith.geo.smooth`.
     errors_path : str or Path, optional
         Where to write the errors report (JSON list of ``{"index", "reason"}``);
         default ``OUT.errors.json`` beside the output. Always written.
@@ -367,7 +375,8 @@ def smooth_file(
             raise CurveError("snap applies to coverage mode only (coverage=True)")
         out, errors, n_tasks, n_red = _equal_area_on_dask(
             df,
-            options={"method": method, "iterations": iterations, "alpha": alpha},
+            options={"method": method, "iterations": iterations, "alpha": alpha}
+            | ({} if keep_angle is None else {"keep_angle": keep_angle}),
             make_valid=make_valid,
             partition_size=partition_size,
             workers=workers,
@@ -382,6 +391,7 @@ def smooth_file(
             method=method,
             iterations=iterations,
             alpha=alpha,
+            keep_angle=keep_angle,
             chunk=partition_size,
             workers=workers,
             scheduler=scheduler,
@@ -397,6 +407,7 @@ def smooth_file(
             alpha=alpha,
             make_valid=make_valid,
             snap=snap,
+            keep_angle=keep_angle,
             chunk=partition_size,
             workers=workers,
             scheduler=scheduler,
@@ -419,6 +430,7 @@ def smooth_file(
             progress=progress,
             # lon/lat: the antimeridian and the poles stay put (as in geo's smooth_file)
             fixed=domain_fixed(crs, work.crs) if crs is not None and crs.is_geographic else None,
+            keep_angle=keep_angle,
         )
         valid = None
     seconds = time.perf_counter() - t0
@@ -506,7 +518,19 @@ def _equal_area_on_dask(
 
 
 def _coverage_on_dask(
-    df, *, method, iterations, alpha, make_valid, snap, chunk, workers, scheduler, client, progress
+    df,
+    *,
+    method,
+    iterations,
+    alpha,
+    make_valid,
+    snap,
+    chunk,
+    workers,
+    scheduler,
+    client,
+    progress,
+    keep_angle=None,
 ):
     from . import geo
 
@@ -553,6 +577,7 @@ def _coverage_on_dask(
             make_valid=make_valid,
             full_output=True,
             map_arcs=map_arcs,
+            keep_angle=keep_angle,
         )
     finally:
         if own is not None:
@@ -571,7 +596,9 @@ def _coverage_on_dask(
     return res.geometry, tuple(errors), n_tasks, len(res.reductions), res.coverage_valid
 
 
-def _network_on_dask(df, *, method, iterations, alpha, chunk, workers, scheduler, client, progress):
+def _network_on_dask(
+    df, *, method, iterations, alpha, chunk, workers, scheduler, client, progress, keep_angle=None
+):
     from . import geo
     from .geo._network import ARC_BLOCK
 
@@ -612,6 +639,7 @@ def _network_on_dask(df, *, method, iterations, alpha, chunk, workers, scheduler
             alpha=alpha,
             full_output=True,
             map_arcs=map_arcs,
+            keep_angle=keep_angle,
         )
     finally:
         if own is not None:

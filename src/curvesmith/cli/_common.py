@@ -21,6 +21,7 @@ __all__ = [
     "COUNT",
     "FORMAT_OPTION",
     "GAMMA",
+    "KEEP_ANGLE_OPTION",
     "POSITIVE",
     "POSITIVE_INT",
     "check_output",
@@ -71,6 +72,15 @@ POSITIVE = _Number(min=0.0, min_open=True)
 GAMMA = _Number(min=1.0, min_open=True)
 #: cca's cut parameter
 ALPHA = _Alpha()
+
+
+KEEP_ANGLE_OPTION = click.option(
+    "--keep-angle",
+    type=_Number(min=0.0, max=180.0, max_open=True),
+    default=None,
+    metavar="DEG",
+    help="cca: keep corners that turn by more than DEG degrees (footprints, parcels).",
+)
 
 
 FORMAT_OPTION = click.option(

@@ -16,6 +16,7 @@ from ._common import (
     COUNT,
     FORMAT_OPTION,
     GAMMA,
+    KEEP_ANGLE_OPTION,
     POSITIVE,
     check_output,
     parse_indices,
@@ -193,6 +194,7 @@ def _where(row: dict) -> str:
     help="Write G2 Bezier paths (fewest segments within --tolerance) instead of polylines.",
 )
 @click.option("--tolerance", type=POSITIVE, default=None, help="--curves: max deviation.")
+@KEEP_ANGLE_OPTION
 def smooth_command(
     source: str,
     dest: str,
@@ -212,6 +214,7 @@ def smooth_command(
     network: bool,
     curve_kind: str | None,
     tolerance: float | None,
+    keep_angle: float | None,
 ) -> None:
     """Smooth every curve in IN and write the result to OUT.
 
@@ -241,6 +244,7 @@ def smooth_command(
             alpha=alpha,
             layer=layer,
             equal_area=equal_area,
+            keep_angle=None if keep_angle is None else math.radians(keep_angle),
         )
         return
     geojson_in = Path(source).suffix.lower() in (".geojson", ".json")
@@ -261,6 +265,7 @@ def smooth_command(
             make_valid=make_valid,
             snap=snap,
             allow_null=allow_null,
+            keep_angle=keep_angle,
         )
         return
     flags = (coverage, layer is not None, equal_area, make_valid, snap is not None, allow_null)
@@ -277,6 +282,8 @@ def smooth_command(
         )
     check_output(dest, fmt)
 
+    if keep_angle is not None and method != "cca":
+        raise click.UsageError(f"--keep-angle needs --method cca, got {method}")
     if method == "cca":
         from .. import cca
 
@@ -284,12 +291,18 @@ def smooth_command(
         anchor_idx = parse_indices(anchors, name="--anchors") if anchors else None
 
         def run(c):
+            fixed = anchor_idx
+            if keep_angle is not None:  # corners turning by more than keep_angle stay
+                turn = np.abs(geometry.turning_angles(c.points, closed=c.closed))
+                corners = np.flatnonzero(turn > math.radians(keep_angle))
+                corners = corners if c.closed else corners + 1  # interior vertices of a line
+                fixed = sorted(set(corners.tolist()) | set(anchor_idx or ()))
             return cca.smooth(
                 c.points,
                 closed=c.closed,
                 iterations=iterations,
                 alpha=alpha_value,
-                anchors=anchor_idx,
+                anchors=fixed or None,
             )
     elif method == "chaikin":
 

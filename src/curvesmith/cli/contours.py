@@ -71,6 +71,7 @@ def smooth_network_geofile(
     alpha: Any = "regular",
     layer: str | None = None,
     equal_area: bool = False,
+    keep_angle: float | None = None,
 ):
     """Smooth the lines of a GIS file as one network; one-line summary on stderr.
 
@@ -110,7 +111,12 @@ def smooth_network_geofile(
         )
     work = df.to_crs(geo.equal_area_crs(df)) if equal_area else df
     res = geo.smooth_network(
-        work, method=method, iterations=iterations, alpha=_alpha(alpha), full_output=True
+        work,
+        method=method,
+        iterations=iterations,
+        alpha=_alpha(alpha),
+        full_output=True,
+        keep_angle=keep_angle,
     )
     out = res.geometry.to_crs(crs) if equal_area else res.geometry
     _write(out, out_path)

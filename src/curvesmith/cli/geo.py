@@ -7,6 +7,7 @@ Shapefile or FlatGeobuf (or GeoJSON with ``--coverage``); ``batch_group`` is the
 
 from __future__ import annotations
 
+import math
 import warnings
 from pathlib import Path
 from typing import Any
@@ -14,7 +15,7 @@ from typing import Any
 import click
 
 from ..errors import CurveError
-from ._common import ALPHA, COUNT
+from ._common import ALPHA, COUNT, KEEP_ANGLE_OPTION
 
 __all__ = ["GEO_SUFFIXES", "batch_group", "check_geo_output", "is_geofile", "smooth_geofile"]
 
@@ -96,6 +97,7 @@ def smooth_geofile(
     make_valid: bool = False,
     snap: float | None = None,
     allow_null: bool = False,
+    keep_angle: float | None = None,
 ):
     """Smooth a GIS file for ``curvesmith smooth`` and print a one-line summary on stderr.
 
@@ -121,6 +123,8 @@ def smooth_geofile(
         Coverage mode: snapping distance to clean an imperfect coverage first.
     allow_null : bool
         Write features without geometry through (default: an error, the file may be damaged).
+    keep_angle : float, optional
+        Keep corners turning by more than this many degrees.
 
     Returns
     -------
@@ -147,6 +151,7 @@ def smooth_geofile(
             make_valid=make_valid,
             snap=snap,
             allow_null=allow_null,
+            keep_angle=None if keep_angle is None else math.radians(keep_angle),
         )
         if out_path == "-":
             click.echo(Path(target).read_text(encoding="utf-8"), nl=False)
@@ -240,6 +245,7 @@ def batch_group() -> None:
 @click.option(
     "--allow-null", is_flag=True, help="Write features without geometry through unchanged."
 )
+@KEEP_ANGLE_OPTION
 def batch_smooth_command(
     source: str,
     dest: str,
@@ -258,6 +264,7 @@ def batch_smooth_command(
     errors_path: str | None,
     progress: bool,
     allow_null: bool,
+    keep_angle: float | None,
 ) -> None:
     """Smooth every feature of IN on Dask and write OUT, in the same order.
 
@@ -300,6 +307,7 @@ def batch_smooth_command(
         scheduler=scheduler,
         progress=progress,
         errors_path=errors_path,
+        keep_angle=None if keep_angle is None else math.radians(keep_angle),
     )
     click.echo(
         f"{report.n_features} features in {report.n_partitions} task(s), "

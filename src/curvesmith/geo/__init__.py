@@ -22,6 +22,7 @@ read_file, write_file, smooth_file
 from __future__ import annotations
 
 from ._contours import ContourResult, Grid, contours, read_grid
+from ._corners import corner_vertices
 from ._coverage import (
     CoverageReduction,
     CoverageResult,
@@ -72,6 +73,7 @@ __all__ = [
     "changed_contacts",
     "clamp_to_domain",
     "contours",
+    "corner_vertices",
     "coverage_topology",
     "domain_edge_mask",
     "domain_fixed",

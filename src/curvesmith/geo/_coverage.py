@@ -11,6 +11,7 @@ import numpy as np
 
 from ..errors import CurveError
 from . import _zm
+from ._corners import with_corners
 from ._engine import levels_for, resolve_arcs
 from ._smooth import (
     FixedVertices,
@@ -323,6 +324,7 @@ def smooth_coverage(
     full_output: bool = False,
     map_arcs: Callable[[Topology], list[np.ndarray]] | None = None,
     fixed: Any = None,
+    keep_angle: float | None = None,
 ) -> Any:
     """Smooth a polygonal coverage so that every polygon keeps its area and no gap opens.
 
@@ -371,6 +373,10 @@ def smooth_coverage(
         ``shapely.get_coordinates(polygons)`` or a callable on ``(N, 2)`` coordinates.
         Every arc through a fixed vertex is anchored there (the areas stay exact).
         Needs ``method="cca"``.
+    keep_angle : float, optional
+        Keep sharp corners: every vertex turning by more than this angle (radians; a
+        square corner turns by pi/2) is fixed (:func:`curvesmith.geo.corner_vertices`).
+        Needs ``method="cca"``.
 
     Returns
     -------
@@ -393,6 +399,11 @@ def smooth_coverage(
     geoms, zm = _zm.split_zm(geoms)  # smoothed in XY; Z/M interpolated back (geo._zm)
     if zm is not None:
         wrap = _zm.restoring(wrap, zm)
+    if keep_angle is not None and method != "cca":
+        raise CurveError(
+            f"keep_angle needs method='cca' (Chaikin moves every vertex), got {method!r}"
+        )
+    fixed = with_corners(geoms, fixed, keep_angle)
     fixed_spec = None
     if fixed is not None:
         if method != "cca":

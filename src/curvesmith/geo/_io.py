@@ -803,6 +803,7 @@ def smooth_file(
     make_valid: bool = False,
     snap: float | None = None,
     allow_null: bool = False,
+    keep_angle: float | None = None,
 ) -> FileSmoothReport:
     """Smooth every feature of a GIS file and write the result (same features, same order).
 
@@ -827,6 +828,8 @@ def smooth_file(
     allow_null : bool, optional
         Write features without geometry (NULL) through unchanged. By default they are an
         error: a damaged file reads as NULL geometries without any error from GDAL.
+    keep_angle : float, optional
+        Keep sharp corners (radians), as in :func:`curvesmith.geo.smooth`.
 
     Returns
     -------
@@ -883,6 +886,7 @@ def smooth_file(
             snap=snap,
             make_valid=make_valid,
             full_output=True,
+            keep_angle=keep_angle,
             **edges,
         )
         n_red, invalid, valid = len(res.reductions), res.invalid_edges, res.coverage_valid
@@ -893,6 +897,8 @@ def smooth_file(
         if snap is not None:
             raise CurveError("snap applies to coverage mode only (coverage=True)")
         options = {"method": method, "iterations": iterations, "alpha": alpha}
+        if keep_angle is not None:
+            options["keep_angle"] = keep_angle
         if equal_area:
             out, n_red, change, planar = _smooth_equal_area(df, make_valid=make_valid, **options)
         else:

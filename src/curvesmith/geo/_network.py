@@ -38,6 +38,7 @@ import numpy as np
 
 from ..errors import CurveError
 from . import _zm
+from ._corners import with_corners
 from ._engine import Level, levels_for, resolve_arcs
 from ._smooth import _shapely, as_geometry_array, check_method, make_smoother
 
@@ -503,6 +504,7 @@ def smooth_network(
     fixed_points: Any = None,
     full_output: bool = False,
     map_arcs: Any = None,
+    keep_angle: float | None = None,
 ) -> Any:
     """Smooth a line network: junctions and ends fixed, shared pieces once, no new contacts.
 
@@ -535,6 +537,9 @@ def smooth_network(
     fixed_points : (K, 2) array_like or sequence of shapely Points, optional
         Further points to keep fixed: every input vertex with exactly these coordinates
         becomes a node.
+    keep_angle : float, optional
+        Keep sharp corners: every vertex turning by more than this angle (radians) becomes
+        a node, as a fixed point (:func:`curvesmith.geo.corner_vertices`).
     full_output : bool
         Return a :class:`NetworkResult`.
     map_arcs : callable, optional
@@ -582,6 +587,12 @@ def smooth_network(
     if not lines:
         return empty if full_output else empty.geometry
     fixed = [np.zeros(len(x), dtype=bool) for x in lines]
+    if keep_angle is not None:  # sharp corners become nodes, like fixed points
+        corners = shapely.get_coordinates(geoms[[g is not None for g in geoms]])
+        corners = corners[with_corners(geoms, None, keep_angle)]
+        if fixed_points is not None:
+            corners = np.concatenate([_points_array(fixed_points).reshape(-1, 2), corners])
+        fixed_points = corners
     if fixed_points is not None:
         fp = _points_array(fixed_points)
         if len(fp):

@@ -11,6 +11,7 @@ import numpy as np
 
 from ..errors import CurveError, require
 from ..geometry import _signed_area
+from ._corners import with_corners
 from ._engine import Level, levels_for, resolve_arcs
 from ._zm import split_zm
 
@@ -758,6 +759,7 @@ def smooth(
     make_valid: bool = False,
     full_output: bool = False,
     fixed: Any = None,
+    keep_angle: float | None = None,
 ) -> Any:
     """Smooth shapely geometries, GeoSeries or GeoDataFrames, keeping every ring's area.
 
@@ -804,6 +806,10 @@ def smooth(
         fixes every vertex at the coordinates it selects. Every ring still keeps its
         area (each piece between anchors keeps its area against its chord). Needs
         ``method="cca"``.
+    keep_angle : float, optional
+        Keep sharp corners: every vertex turning by more than this angle (radians; a
+        square corner turns by pi/2) is fixed, as with `fixed`
+        (:func:`curvesmith.geo.corner_vertices`). Needs ``method="cca"``.
 
     Returns
     -------
@@ -835,6 +841,11 @@ def smooth(
     iterations = check_method(method, iterations, alpha)
     geoms, wrap = as_geometry_array(geometry)
     geoms, zm = split_zm(geoms)  # smoothed in XY; Z/M interpolated back (geo._zm)
+    if keep_angle is not None and method != "cca":
+        raise CurveError(
+            f"keep_angle needs method='cca' (Chaikin moves every vertex), got {method!r}"
+        )
+    fixed = with_corners(geoms, fixed, keep_angle)
     fixed_spec = None
     if fixed is not None:
         if method != "cca":
