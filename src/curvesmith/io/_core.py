@@ -390,6 +390,12 @@ class _Utf8Sink:
         self.nbytes += len(data)
         return len(text)
 
+    def write_bytes(self, data: bytes) -> int:
+        """Write UTF-8 bytes as they are (the formatted rows: no decode and encode)."""
+        self.raw.write(data)
+        self.nbytes += len(data)
+        return len(data)
+
 
 @contextlib.contextmanager
 def open_destination(dest: Source) -> Iterator[Any]:
@@ -435,7 +441,20 @@ def open_destination(dest: Source) -> Iterator[Any]:
 CHUNK_ROWS = 16384
 
 
-def format_rows(points: np.ndarray, row: str, *, chunk: int | None = None) -> Iterator[str]:
+def write_rows(out: Any, points: np.ndarray, row: str) -> None:
+    """Write the rows of `points` formatted by :func:`format_rows` to a text sink.
+
+    The sinks of :func:`open_destination` take the formatted bytes as they are; any other
+    text file object gets them as text.
+    """
+    raw = getattr(out, "write_bytes", None)
+    for chunk in format_rows(points, row, as_bytes=raw is not None):
+        (raw or out.write)(chunk)
+
+
+def format_rows(
+    points: np.ndarray, row: str, *, chunk: int | None = None, as_bytes: bool = False
+) -> Iterator[Any]:
     """Format the rows of a float array chunk by chunk with a ``%``-template per row.
 
     ``row`` holds one ``%r`` per column (``"%r,%r;"``; a literal percent sign written as
@@ -443,7 +462,7 @@ def format_rows(points: np.ndarray, row: str, *, chunk: int | None = None) -> It
     text that reads back to the same float, so the output round-trips bit-exactly and is
     what ``"%r" % value`` (and :func:`json.dumps`) writes. Each yielded string holds at most
     `chunk` rows (default :data:`CHUNK_ROWS`), so memory stays bounded for curves of any
-    size.
+    size; with `as_bytes` the chunks are UTF-8 bytes.
 
     The numbers are formatted by orjson's compiled shortest round-trip formatter (the same
     digits as ``repr``), about 25 ns per number where ``str.__mod__`` takes about 500 ns;
@@ -476,19 +495,22 @@ def format_rows(points: np.ndarray, row: str, *, chunk: int | None = None) -> It
     if len(set(inner)) > 1:  # no writer needs it: the plain (slow) formatting
         for start in range(0, len(arr), chunk):
             block = arr[start : start + chunk]
-            yield (row * len(block)) % tuple(block.ravel().tolist())
+            text = (row * len(block)) % tuple(block.ravel().tolist())
+            yield text.encode() if as_bytes else text
         return
     sep = inner[0].encode() if inner else b","
     boundary = (tail + head).encode()
     joint = b"]" + sep + b"["
 
-    def fast(block: np.ndarray) -> str:
+    head_b, tail_b = head.encode(), tail.encode()
+
+    def fast(block: np.ndarray):
         body = orjson.dumps(block, option=orjson.OPT_SERIALIZE_NUMPY)[2:-2]  # a,b],[c,d
         if sep != b",":
             body = body.replace(b",", sep)  # a<sep>b]<sep>[c<sep>d: tokens hold no , [ ]
         if boundary != joint:
             body = body.replace(joint, boundary)
-        return head + body.decode() + tail
+        return head_b + body + tail_b if as_bytes else head + body.decode() + tail
 
     for start in range(0, len(arr), chunk):
         block = np.ascontiguousarray(arr[start : start + chunk])
@@ -504,7 +526,8 @@ def format_rows(points: np.ndarray, row: str, *, chunk: int | None = None) -> It
         for s in range(0, len(block), _SUB_ROWS):
             sub = block[s : s + _SUB_ROWS]
             if odd[s : s + _SUB_ROWS].any():
-                yield (row * len(sub)) % tuple(sub.ravel().tolist())
+                text = (row * len(sub)) % tuple(sub.ravel().tolist())
+                yield text.encode() if as_bytes else text
             else:
                 yield fast(sub)
 

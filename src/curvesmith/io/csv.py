@@ -23,9 +23,9 @@ from ._core import (
     Source,
     _check_curves,
     _read_text,
-    format_rows,
     open_destination,
     register,
+    write_rows,
 )
 
 __all__ = ["read_csv", "write_csv"]
@@ -410,8 +410,7 @@ def write_csv(curves: Iterable[Curve], dest: Source) -> None:
             first = one.getvalue()
             suffix = first[len(",".join(map(repr, first_xy))) :]
             row = ",".join(["%r"] * c.dim) + suffix.replace("%", "%%")
-            for text in format_rows(pts, row):
-                out.write(text)
+            write_rows(out, pts, row)
             if c.closed:
                 out.write(first)
 

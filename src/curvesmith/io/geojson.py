@@ -24,9 +24,9 @@ from ._core import (
     _check_curves,
     _json_default,
     _read_text,
-    format_rows,
     open_destination,
     register,
+    write_rows,
 )
 
 __all__ = ["GeoJSONCurves", "read_geojson", "write_geojson"]
@@ -372,8 +372,7 @@ class _Coords:
             out.write("[")
             out.write(f"[{one}]" % tuple(points[0].tolist()))
             rest = points[:0:-1] if reverse else points[1:]  # views: no copy of the ring
-            for chunk in format_rows(rest, f", [{one}]"):
-                out.write(chunk)
+            write_rows(out, rest, f", [{one}]")
             if close:
                 out.write(f", [{one}]" % tuple(points[0].tolist()))
             out.write("]")

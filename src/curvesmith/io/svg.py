@@ -30,6 +30,7 @@ from ._core import (
     format_rows,
     open_destination,
     register,
+    write_rows,
 )
 
 __all__ = [
@@ -755,8 +756,7 @@ def write_svg(
                 # numbers need no XML escaping; rows streamed chunk by chunk
                 x0, y0 = c.points[0].tolist()
                 out.write(("" if k == 0 else " ") + f"M {x0!r},{y0!r} L")
-                for chunk in format_rows(c.points[1:], " %r,%r"):
-                    out.write(chunk)
+                write_rows(out, c.points[1:], " %r,%r")
                 if c.closed:
                     out.write(" Z")
             out.write('"/>\n')
