@@ -568,10 +568,22 @@ class _Search:
         self.total = 0
         self.tried = 0
 
-    def solve(self, data, start, pinned, cap=None, reduced=True):
+    def solve(self, data, start, pinned, cap=None, reduced=True, bar=math.inf):
         limit = self.max_iter if cap is None else min(cap, self.max_iter)
         reduced = reduced and _VARPRO and self.method == "lsq" and set(pinned) in (set(), {0, 1})
         out = self._reduced(data, start, pinned, limit) if reduced else None
+        if out is None and reduced and cap is not None and limit > _PROBE_CAP:
+            # a projected solve that failed, while exploring: the seven-parameter solve gets
+            # _PROBE_CAP evaluations first and the rest only if it is then within `bar`
+            # (the runner-up margin of the best so far; worse candidates are never refined)
+            out = _solve(data, start, pinned, self.method, _PROBE_CAP, self.tol, fallback=False)
+            with np.errstate(all="ignore"):
+                r = _rms(data, out[0])
+            if not out[2] and r <= bar:
+                more = _solve(
+                    data, out[0], pinned, self.method, limit - _PROBE_CAP, self.tol, False
+                )
+                out = (more[0], out[1] + more[1], more[2], more[3])
         if out is None:
             out = _solve(data, start, pinned, self.method, limit, self.tol, fallback=cap is None)
         params, iters, ok, msg = out
@@ -636,7 +648,8 @@ class _Search:
             if key in seen:
                 continue
             seen.add(key)
-            c = self.solve(data, s, pinned, cap=_EXPLORE_CAP)
+            best = min((c["rms"] for c in out if c["ok"]), default=math.inf)
+            c = self.solve(data, s, pinned, cap=_EXPLORE_CAP, bar=_RUNNER_UP * best)
             out.append(c)
             if c["ok"] and c["rms"] <= early:
                 break
@@ -656,6 +669,9 @@ class _Search:
 _EXPLORE_CAP = 300
 #: Function evaluations of the seven-parameter LM that polishes a variable-projection optimum.
 _POLISH_CAP = 100
+#: Function evaluations after which a seven-parameter exploring solve (where the projected
+#: one failed) must be within the runner-up margin of the best start to go on.
+_PROBE_CAP = 60
 #: The global search solves by variable projection (:mod:`._varpro`); False gives the
 #: seven-parameter solves throughout (``benchmarks/bench_elastica_global.py`` times both).
 _VARPRO = True
