@@ -87,6 +87,7 @@ class Reduced:
     ):
         self.zeta = np.ascontiguousarray(data).view(complex).ravel()
         self.n = self.zeta.size
+        self.zeta_mean = self.zeta.sum() / self.n
         self.c = 0.5 * (self.n - 1)
         self.anchor = anchor
         k = start.k
@@ -143,9 +144,9 @@ class Reduced:
     def _linear(self, W: np.ndarray):
         """``(gamma_0, w, e)``: regression of the data on ``(1, W)``, unit basis vector of ``W``."""
         if self.anchor is None:
-            Wm = W.mean()
+            Wm = W.sum() / self.n
             Wc = W - Wm
-            zm = self.zeta.mean()
+            zm = self.zeta_mean
         else:
             Wc = W
             zm = self.anchor
@@ -153,7 +154,7 @@ class Reduced:
         if not (math.isfinite(norm2) and norm2 > 0.0):
             return None
         w = np.vdot(Wc, self.zeta - zm) / norm2
-        g0 = zm - w * W.mean() if self.anchor is None else self.anchor
+        g0 = zm - w * Wm if self.anchor is None else self.anchor
         return g0, w, Wc / math.sqrt(norm2)
 
     def _eval(self, theta: np.ndarray, derivatives: bool):
@@ -161,9 +162,9 @@ class Reduced:
         if key == self._key:
             return self._cache
         out = None
-        if theta[2] > 0.0 and np.all(np.isfinite(theta)):
+        if theta[2] > 0.0 and math.isfinite(theta[0] + theta[1] + theta[2]):
             W, dW = self._basis(theta, derivatives)
-            lin = self._linear(W) if np.all(np.isfinite(W)) else None
+            lin = self._linear(W)  # None also for non-finite W (its norm is not finite)
             if lin is not None:
                 out = (W, dW, *lin)
         self._key, self._cache = key, out
@@ -184,7 +185,7 @@ class Reduced:
         _, dW, _, w, e = ev
         D = w * dW
         if self.anchor is None:
-            D -= D.mean(axis=1, keepdims=True)
+            D -= D.sum(axis=1, keepdims=True) / self.n
         D -= e[None, :] * (np.conj(e)[None, :] @ D.T).T
         return np.ascontiguousarray(D).view(float).reshape(3, -1)
 

@@ -571,11 +571,12 @@ class _Search:
     def solve(self, data, start, pinned, cap=None, reduced=True, bar=math.inf):
         limit = self.max_iter if cap is None else min(cap, self.max_iter)
         reduced = reduced and _VARPRO and self.method == "lsq" and set(pinned) in (set(), {0, 1})
-        out = self._reduced(data, start, pinned, limit) if reduced else None
+        out = self._reduced(data, start, pinned, limit, bar) if reduced else None
         if out is None and reduced and cap is not None and limit > _PROBE_CAP:
             # a projected solve that failed, while exploring: the seven-parameter solve gets
             # _PROBE_CAP evaluations first and the rest only if it is then within `bar`
-            # (the runner-up margin of the best so far; worse candidates are never refined)
+            # (the runner-up margin of the best so far; worse candidates are never refined;
+            # the projected solves are probed the same way)
             out = _solve(data, start, pinned, self.method, _PROBE_CAP, self.tol, fallback=False)
             with np.errstate(all="ignore"):
                 r = _rms(data, out[0])
@@ -603,7 +604,7 @@ class _Search:
             "capped": cap is not None and limit < self.max_iter,
         }
 
-    def _reduced(self, data, start, pinned, limit):
+    def _reduced(self, data, start, pinned, limit, bar=math.inf):
         """Variable projection (:mod:`._varpro`), then the paper's LM on all seven parameters.
 
         Returns ``_solve``'s tuple, or None when the reduced solve failed (the caller then
@@ -611,7 +612,18 @@ class _Search:
         ``_POLISH_CAP`` evaluations stays the result, as converged (its message says so).
         """
         anchor = complex(pinned[0], pinned[1]) if pinned else None
-        params, iters, status = _varpro.solve(data, start, anchor, limit, self.tol)
+        if math.isfinite(bar) and limit > _PROBE_CAP:  # exploring: _PROBE_CAP first (solve)
+            params, iters, status = _varpro.solve(data, start, anchor, _PROBE_CAP, self.tol)
+            if status == "cap":
+                with np.errstate(all="ignore"):
+                    r = _rms(data, params)
+                if r <= bar:
+                    more = _varpro.solve(data, params, anchor, limit - _PROBE_CAP, self.tol)
+                    if more[0] is not None:
+                        params, status = more[0], more[2]
+                    iters += more[1]
+        else:
+            params, iters, status = _varpro.solve(data, start, anchor, limit, self.tol)
         if status == "failed":
             self.total += iters
             return None
@@ -669,8 +681,8 @@ class _Search:
 _EXPLORE_CAP = 300
 #: Function evaluations of the seven-parameter LM that polishes a variable-projection optimum.
 _POLISH_CAP = 100
-#: Function evaluations after which a seven-parameter exploring solve (where the projected
-#: one failed) must be within the runner-up margin of the best start to go on.
+#: Function evaluations after which an exploring solve that has not converged must be within
+#: the runner-up margin of the best converged start so far to go on.
 _PROBE_CAP = 60
 #: The global search solves by variable projection (:mod:`._varpro`); False gives the
 #: seven-parameter solves throughout (``benchmarks/bench_elastica_global.py`` times both).
