@@ -47,7 +47,7 @@ separatrix. The default fit therefore
 and keeps the candidate of least cost. A start from the guess that already fits at the
 noise level ends the search early.
 
-The solves of steps 2 (without pinned parameters, or with only ``x0, y0`` pinned) run by
+The solves of step 2 (without pinned parameters, or with only ``x0, y0`` pinned) run by
 variable projection (:mod:`._varpro`): ``x0, y0, h, phi`` enter eq. (4.4) linearly as
 ``gamma_0 + h e^{i phi} W_n`` and are solved in closed form, Levenberg-Marquardt works on
 ``(z, q, k)`` in coordinates that follow the curvature extremum near the separatrix, and
@@ -57,7 +57,11 @@ seven-parameter solves crawled along a curved valley for 16,000 evaluations (10 
 projected ones need 12. The single start (``continuation=False``, ``start=``), the
 growing-prefix continuation and the degenerate probe keep the seven-parameter solves: the
 projected problem has other basins on long many-loop curves near ``k = 1``, where the
-continuation is what finds the right one.
+continuation is what finds the right one. A projected solve that reaches or crosses
+``k = 1`` with a period shift (singular coordinates there, :mod:`._varpro`) is redone in
+the seven parameters from the same start. While exploring, a solve that has not converged
+after ``_PROBE_CAP`` evaluations goes on only if its rms is within the runner-up margin of
+the best converged start so far (a worse one is never refined).
 
 Verdict and quality are separate. ``success`` says that the solver converged (to the
 best minimum of the search, unless a single start was asked for). How close the curve
