@@ -54,6 +54,7 @@ Examples
 
 from __future__ import annotations
 
+import itertools
 import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
@@ -78,6 +79,7 @@ __all__ = [
     "SyntheticKeyline",
     "canonical_params",
     "estimate_inflection",
+    "estimate_inflections",
     "fit",
     "fit_plane",
     "principal_frame",
@@ -484,6 +486,141 @@ def _estimate_inflection(p: np.ndarray) -> InflectionEstimate:
     return InflectionEstimate(index=idx, point=p[idx].copy(), labels=tuple(labels))
 
 
+#: A sub-polyline has an inflection if a vertex lies deeper than this many noise levels
+#: inside the convex hull of the sub-polyline (a convex arc: only the noise is inside).
+_DEPTH_NOISE = 10.0
+
+
+def _inflections(p: np.ndarray, lo: int, hi: int, floor: float) -> list[int]:
+    """Inflection indices of ``p[lo..hi]``: the RDP method of section 5.3, recursively.
+
+    A piece whose :func:`_concavity_depth` is at most `floor` is convex (no inflection).
+    Otherwise the RDP estimate ``i`` splits it and both halves are searched; on a curve with
+    two inflections the estimate is the apex of the middle lobe (the method assumes one),
+    so ``i`` itself is kept only if the piece between the nearest inflections found on
+    either side still has one, estimated again on that piece (an S with one inflection).
+    """
+    if hi - lo < 4 or _concavity_depth(p, lo, hi) <= floor:
+        return []
+    i = _rdp_index(p, lo, hi)
+    estimate = i is not None
+    if not estimate:  # the estimate fell on an end: split at point 3 of step (1) instead
+        i = _farthest(p, lo, hi)[0]
+    left = _inflections(p, lo, i, floor)
+    right = _inflections(p, i, hi, floor)
+    a = left[-1] if left else lo
+    b = right[0] if right else hi
+    middle = None
+    if (a, b) == (lo, hi):
+        middle = i if estimate else None
+    elif b - a >= 4 and _concavity_depth(p, a, b) > floor:
+        middle = _rdp_index(p, a, b)
+    return [*left, *([] if middle is None else [middle]), *right]
+
+
+def _rdp_index(p: np.ndarray, lo: int, hi: int) -> int | None:
+    """The RDP estimate on ``p[lo..hi]`` as an index of `p`; None if it fails or is an end."""
+    try:
+        i = lo + _estimate_inflection(p[lo : hi + 1]).index
+    except CurveError:
+        return None
+    return i if lo + 2 <= i <= hi - 2 else None
+
+
+def estimate_inflections(points, *, noise: float | None = None) -> tuple[InflectionEstimate, ...]:
+    """Estimate every inflection of an open polyline by the RDP method, recursively.
+
+    The RDP method of section 5.3 (:func:`estimate_inflection`) assumes one global
+    inflection; on a curve with two it returns the apex of the middle lobe. Here it splits
+    the polyline, both halves are searched again, and a split point is kept only where the
+    piece between the nearest inflections on either side still has one (then estimated on
+    that piece, an S with a single inflection). A piece has an inflection if one of its
+    vertices lies deeper inside the convex hull of the piece than ``10`` noise levels (the
+    robust noise of ``elastica.fit._scan_noise``): a noisy convex arc has only its noise
+    inside. Each estimate is thus the paper's, made on a piece with one inflection, then
+    refined to the zero of curvature of a least-squares quintic graph over the S between
+    the apexes of the two lobes around it (``labels`` holds the RDP estimate): under scan
+    noise the RDP estimate moves by tens of vertices on gentle curves (on 0.05 mm noise,
+    1 mm steps, lobes turning by ~0.5 rad: up to 30 mm), the fit by a few.
+
+    Parameters
+    ----------
+    points : (N, 2) array_like
+        Open polyline, roughly equally spaced (e.g. :func:`resample_equilateral`), N >= 5.
+    noise : float, optional
+        Noise level (standard deviation per coordinate) of the data; default: estimated
+        from `points`. A polygon resampled with chords shorter than the scan's noise hides
+        part of it (its vertices are a biased sample), so :func:`fit` passes the larger of
+        the scan's and the polygon's.
+
+    Returns
+    -------
+    tuple of InflectionEstimate
+        In order along the polyline, indices into `points` (``labels`` = the RDP estimate
+        before the refinement); empty for a convex arc.
+
+    Examples
+    --------
+    >>> t = np.linspace(0.0, 3.0 * np.pi, 301)
+    >>> est = estimate_inflections(np.column_stack([t, np.sin(t)]))
+    >>> [round(float(e.point[0]) / np.pi, 2) for e in est]
+    [1.0, 2.0]
+    """
+    from .elastica.fit import _scan_noise
+
+    p = as_points(points, min_points=5)
+    extent = float(np.ptp(p, axis=0).max())
+    sigma = (
+        _scan_noise(p) if noise is None else as_float(noise, name="noise", low=0.0, low_open=False)
+    )
+    floor = max(_DEPTH_NOISE * sigma, 1e-9 * extent)
+    found = _inflections(p, 0, p.shape[0] - 1, floor)
+    bounds = [0, *found, p.shape[0] - 1]
+    out = []
+    for j, idx in enumerate(found):
+        # the S between the apexes of the two lobes around this inflection
+        a = _farthest(p, bounds[j], idx)[0] if idx - bounds[j] >= 2 else bounds[j]
+        b = _farthest(p, idx, bounds[j + 2])[0] if bounds[j + 2] - idx >= 2 else bounds[j + 2]
+        best = _refine_inflection(p, a, b, idx)
+        out.append(InflectionEstimate(index=best, point=p[best].copy(), labels=(idx,)))
+    return tuple(out)
+
+
+#: Degree of the polynomial graph that locates an inflection between two lobe apexes.
+_REFINE_DEGREE = 5
+
+
+def _refine_inflection(p: np.ndarray, a: int, b: int, idx: int) -> int:
+    """The vertex of ``p[a..b]`` nearest the zero of curvature of a least-squares quintic.
+
+    ``p[a..b]`` runs from the apex of one lobe to the apex of the next (an S with the one
+    inflection `idx`, the RDP estimate). In the frame of its chord it is a graph
+    ``y(x)``; the zero of ``y''`` of the fitted polynomial nearest `idx` is the inflection
+    (``kappa = y'' / (1 + y'^2)^{3/2}``). Under scan noise the RDP estimate, which
+    recurses down to adjacent vertices where the curve leaves its chords only cubically,
+    moves by tens of vertices on gentle keylines; the fit averages the noise over the whole
+    S. Returns `idx` where the piece is not a graph over its chord or has no such zero.
+    """
+    seg = p[a : b + 1]
+    if seg.shape[0] < 3 * _REFINE_DEGREE:
+        return idx
+    u = seg[-1] - seg[0]
+    u = u / math.hypot(u[0], u[1])
+    d = seg - seg[0]
+    x = d @ u
+    y = d[:, 1] * u[0] - d[:, 0] * u[1]
+    if np.any(np.diff(x) <= 0.0):
+        return idx
+    poly = np.polynomial.Polynomial.fit(x, y, _REFINE_DEGREE)
+    roots = poly.deriv(2).roots()
+    roots = roots[np.abs(roots.imag) < 1e-9].real
+    roots = roots[(roots > x[0]) & (roots < x[-1])]
+    if roots.size == 0:
+        return idx
+    x0 = roots[np.argmin(np.abs(roots - x[idx - a]))]
+    return a + int(np.argmin(np.abs(x - x0)))
+
+
 # --------------------------------------------------------------------------------------
 # 5.4 the pipeline: one discrete elastica on each side of the inflection
 # --------------------------------------------------------------------------------------
@@ -528,6 +665,17 @@ class KeylineFit:
         ``points[index:]`` (to the right end), each with ``(x0, y0)`` pinned at
         the inflection point (section 5.4): ``params``, ``points``, ``rms``,
         ``success``, ``message``, ... (see ``curvesmith.elastica.fit``).
+        With several inflections, the first and the last piece.
+    whole : curvesmith.elastica.FitResult or None
+        The fit of the whole keyline when it has no inflection (``single_if_convex``).
+    resampling : str
+        ``"paper"`` or ``"walk"`` (see :func:`fit`).
+    pieces : tuple of curvesmith.elastica.FitResult
+        With several inflections: one fit per piece between consecutive inflections (and
+        the ends), in order; the first traversed from its inflection to the left end, the
+        others from their first inflection onwards, each pinned there. Empty otherwise.
+    inflections : tuple of InflectionEstimate
+        With several inflections: all of them, in order (`inflection` is the first).
     """
 
     points: np.ndarray
@@ -539,16 +687,41 @@ class KeylineFit:
     right: FitResult | None
     whole: FitResult | None = None
     resampling: str = "paper"
+    pieces: tuple = ()
+    inflections: tuple = ()
 
     @property
     def sides(self) -> tuple[tuple[str, FitResult], ...]:
         """tuple: the fitted pieces, ``(("left", fit), ("right", fit))``.
 
-        ``(("whole", fit),)`` for a keyline without inflection (``single_if_convex``).
+        ``(("whole", fit),)`` for a keyline without inflection (``single_if_convex``);
+        ``(("left", fit), ("middle1", fit), ..., ("right", fit))`` for several inflections.
         """
         if self.whole is not None:
             return (("whole", self.whole),)
+        if self.pieces:
+            middle = [(f"middle{i}", f) for i, f in enumerate(self.pieces[1:-1], start=1)]
+            return (("left", self.pieces[0]), *middle, ("right", self.pieces[-1]))
         return (("left", self.left), ("right", self.right))
+
+    @property
+    def piece_ranges(self) -> tuple[tuple[int, int, int], ...]:
+        """tuple: ``(first, last, pinned)`` vertex indices of `points` per entry of `sides`.
+
+        Each piece runs from inflection to inflection (or to an end) and includes both;
+        ``pinned`` is the inflection its fit starts from (``(x0, y0)`` pinned there), -1 for
+        the whole keyline.
+        """
+        n = self.points.shape[0]
+        if self.whole is not None:
+            return ((0, n - 1, -1),)
+        idx = [e.index for e in (self.inflections or (self.inflection,))]
+        bounds = [0, *idx, n - 1]
+        out = []
+        for j in range(len(bounds) - 1):
+            pinned = bounds[1] if j == 0 else bounds[j]
+            out.append((bounds[j], bounds[j + 1], pinned))
+        return tuple(out)
 
     @property
     def success(self) -> bool:
@@ -656,6 +829,11 @@ def fit(
        ``curvesmith.elastica.fit`` with ``(x0, y0)`` pinned at the inflection
        point; the other five parameters ``(h, phi, z, q, k)`` are optimised.
 
+    A keyline with several inflections (:func:`estimate_inflections` finds two or more)
+    is split at each, and every piece is fitted from an inflection, pinned there
+    (``result.pieces``, ``result.inflections``; ``sides`` names them left, middle1, ...,
+    right). With one inflection the paper's steps 4-5 run unchanged.
+
     Parameters
     ----------
     points : (N, 3) or (N, 2) array_like
@@ -668,11 +846,12 @@ def fit(
         :data:`DEFAULT_STEPS` (200).
     normal_hint : (3,) array_like, optional
         Side from which the plane is viewed, see :func:`fit_plane` (3D only).
-    inflection : int, optional
+    inflection : int or sequence of int, optional
         Vertex index of the equilateral polygon to use as the inflection
         instead of the RDP estimate (e.g. to correct an estimate moved by
         noise, as for F16/F24 in the paper); the result's
-        ``inflection.labels`` is then empty.
+        ``inflection.labels`` is then empty. Several increasing indices split the
+        keyline at each (as for an estimate of several inflections).
     min_side_points : int, optional
         Minimum number of vertices on each side of the inflection (>= 5).
     fit_options : dict, optional
@@ -747,6 +926,37 @@ def fit(
         )
     frame = _principal_frame(poly)
     xy = frame.coords
+    several = None
+    if inflection is None:
+        from .elastica.fit import _scan_noise
+
+        found = estimate_inflections(xy, noise=max(_scan_noise(q), _scan_noise(xy)))
+        if len(found) >= 2:
+            several = found
+    elif np.ndim(inflection) == 1:
+        idx = [as_int(j, name="inflection", minimum=0, maximum=xy.shape[0] - 1) for j in inflection]
+        if sorted(set(idx)) != idx or not idx:
+            raise CurveError(
+                f"inflection must be increasing vertex indices, got {list(inflection)}"
+            )
+        if len(idx) == 1:
+            inflection = idx[0]
+        else:
+            several = tuple(InflectionEstimate(index=j, point=xy[j].copy(), labels=()) for j in idx)
+    if several is not None:
+        pieces = _fit_pieces(xy, several, min_side, dict(fit_options or {}))
+        return KeylineFit(
+            points=xy,
+            step=r,
+            plane=plane,
+            frame=frame,
+            inflection=several[0],
+            left=pieces[0],
+            right=pieces[-1],
+            resampling=rule,
+            pieces=pieces,
+            inflections=several,
+        )
     if inflection is None:
         try:
             est = _estimate_inflection(xy)
@@ -794,6 +1004,24 @@ def fit(
         right=right,
         resampling=rule,
     )
+
+
+def _fit_pieces(xy: np.ndarray, inflections, min_side: int, options: dict) -> tuple:
+    """Fit each piece between consecutive inflections, pinned at an inflection (section 5.4)."""
+    idx = [e.index for e in inflections]
+    bounds = [0, *idx, xy.shape[0] - 1]
+    sizes = [b - a + 1 for a, b in itertools.pairwise(bounds)]
+    if min(sizes) < min_side:
+        j = int(np.argmin(sizes))
+        raise CurveError(
+            f"points must have inflections at least {min_side} vertices apart, got inflections "
+            f"at vertices {idx} of {xy.shape[0]}: piece {j + 1} (vertices {bounds[j]}-"
+            f"{bounds[j + 1]}) has {sizes[j]}"
+        )
+    pieces = [_fit_side(xy[idx[0] :: -1], options)]
+    for a, b in itertools.pairwise(bounds[1:]):
+        pieces.append(_fit_side(xy[a : b + 1], options))
+    return tuple(pieces)
 
 
 def _fit_whole(xy: np.ndarray, options: dict):

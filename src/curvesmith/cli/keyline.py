@@ -37,6 +37,7 @@ SUMMARY_PARAMS = ("h", "phi", "phi_deg", "z", "q", "k")
 def _rows_for(file: str, name: str, res, out_name: str) -> list[dict]:
     rows = []
     side_message = {side: fit.message for side, fit in res.sides}
+    pinned = {side: rng[2] for (side, _), rng in zip(res.sides, res.piece_ranges, strict=True)}
     for row in res.table():
         full = dict.fromkeys(TABLE_FIELDS, "")
         full.update(row)
@@ -44,7 +45,7 @@ def _rows_for(file: str, name: str, res, out_name: str) -> list[dict]:
             file=file,
             curve=name,
             step=res.step,
-            inflection_index=res.inflection.index,
+            inflection_index=pinned[row["side"]] if res.pieces else res.inflection.index,
             plane_rms=res.plane.rms_distance if res.plane is not None else 0.0,
             output=out_name,
             transform=Path(out_name).stem + "_transform.json",
@@ -83,7 +84,10 @@ def _write_fit(res, dest: Path) -> Path:
 def _summary(rows: list[dict]) -> dict:
     """Mean and standard deviation per side over the converged fits, like Table 1."""
     out = {}
-    for side in ("left", "right", "whole"):
+    extra = sorted(
+        {r["side"] for r in rows if str(r["side"]).startswith("middle")}, key=lambda s: int(s[6:])
+    )
+    for side in ("left", *extra, "right", "whole"):
         good = [r for r in rows if r["side"] == side and r["success"] is True]
         if side == "whole" and not any(r["side"] == "whole" for r in rows):
             continue
@@ -146,9 +150,12 @@ def keyline_command(ctx, inputs, outdir, step, normal, max_iter) -> None:
     side with its start pinned at the inflection.
 
     A keyline without inflection (a C-shaped section) gets one elastica fitted
-    to the whole keyline (side "whole"). Writes OUTDIR/<name>_fit.csv (the
+    to the whole keyline (side "whole"); one with several inflections is split
+    at each and every piece gets its own elastica, pinned at an inflection
+    (sides left, middle1, ..., right). Writes OUTDIR/<name>_fit.csv (the
     resampled keyline and the fitted elasticae in the scan's coordinates, ids
-    keyline/left/right or keyline/whole), OUTDIR/<name>_fit_transform.json (the
+    keyline/left/right, keyline/whole or keyline/left/middle1/.../right),
+    OUTDIR/<name>_fit_transform.json (the
     map from the 2D frame of the parameters to the scan) and the
     parameter table (h, phi, z, q, k per side, like Table 1) as
     OUTDIR/keyline_table.csv and .json (with the mean and standard deviation

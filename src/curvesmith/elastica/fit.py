@@ -47,6 +47,22 @@ separatrix. The default fit therefore
 and keeps the candidate of least cost. A start from the guess that already fits at the
 noise level ends the search early.
 
+The solves of step 2 (without pinned parameters, or with only ``x0, y0`` pinned) run by
+variable projection (:mod:`._varpro`): ``x0, y0, h, phi`` enter eq. (4.4) linearly as
+``gamma_0 + h e^{i phi} W_n`` and are solved in closed form, Levenberg-Marquardt works on
+``(z, q, k)`` in coordinates that follow the curvature extremum near the separatrix, and
+the paper's seven-parameter LM polishes the optimum (it then stops after 1-5 Jacobian
+evaluations). On a 1.5 m uneven section scan near the separatrix (``k = 1.0014``) the
+seven-parameter solves crawled along a curved valley for 16,000 evaluations (10 s); the
+projected ones need 12. The single start (``continuation=False``, ``start=``), the
+growing-prefix continuation and the degenerate probe keep the seven-parameter solves: the
+projected problem has other basins on long many-loop curves near ``k = 1``, where the
+continuation is what finds the right one. A projected solve that reaches or crosses
+``k = 1`` with a period shift (singular coordinates there, :mod:`._varpro`) is redone in
+the seven parameters from the same start. While exploring, a solve that has not converged
+after ``_PROBE_CAP`` evaluations goes on only if its rms is within the runner-up margin of
+the best converged start so far (a worse one is never refined).
+
 Verdict and quality are separate. ``success`` says that the solver converged (to the
 best minimum of the search, unless a single start was asked for). How close the curve
 is to an elastica is measured, not judged: ``rms`` (index-paired, eq. (4.8)),
@@ -70,7 +86,7 @@ from scipy.special import ellipk
 from .._validate import as_float, as_int, as_points
 from ..errors import CurveError, require
 from ..geometry import _resample_walk
-from . import _degenerate, _geom
+from . import _degenerate, _geom, _varpro
 from .exact import (
     ElasticaParams,
     _as_params,
@@ -556,11 +572,26 @@ class _Search:
         self.total = 0
         self.tried = 0
 
-    def solve(self, data, start, pinned, cap=None):
+    def solve(self, data, start, pinned, cap=None, reduced=True, bar=math.inf):
         limit = self.max_iter if cap is None else min(cap, self.max_iter)
-        params, iters, ok, msg = _solve(
-            data, start, pinned, self.method, limit, self.tol, fallback=cap is None
-        )
+        reduced = reduced and _VARPRO and self.method == "lsq" and set(pinned) in (set(), {0, 1})
+        out = self._reduced(data, start, pinned, limit, bar) if reduced else None
+        if out is None and reduced and cap is not None and limit > _PROBE_CAP:
+            # a projected solve that failed, while exploring: the seven-parameter solve gets
+            # _PROBE_CAP evaluations first and the rest only if it is then within `bar`
+            # (the runner-up margin of the best so far; worse candidates are never refined;
+            # the projected solves are probed the same way)
+            out = _solve(data, start, pinned, self.method, _PROBE_CAP, self.tol, fallback=False)
+            with np.errstate(all="ignore"):
+                r = _rms(data, out[0])
+            if not out[2] and r <= bar:
+                more = _solve(
+                    data, out[0], pinned, self.method, limit - _PROBE_CAP, self.tol, False
+                )
+                out = (more[0], out[1] + more[1], more[2], more[3])
+        if out is None:
+            out = _solve(data, start, pinned, self.method, limit, self.tol, fallback=cap is None)
+        params, iters, ok, msg = out
         self.total += iters
         self.tried += 1
         with np.errstate(all="ignore"):
@@ -577,6 +608,53 @@ class _Search:
             "capped": cap is not None and limit < self.max_iter,
         }
 
+    def _reduced(self, data, start, pinned, limit, bar=math.inf):
+        """Variable projection (:mod:`._varpro`), then the paper's LM on all seven parameters.
+
+        Returns ``_solve``'s tuple, or None when the reduced solve failed (the caller then
+        runs ``_solve`` from `start`). A reduced optimum that the polish cannot finish within
+        ``_POLISH_CAP`` evaluations stays the result, as converged (its message says so).
+        """
+        anchor = complex(pinned[0], pinned[1]) if pinned else None
+        if math.isfinite(bar) and limit > _PROBE_CAP:  # exploring: _PROBE_CAP first (solve)
+            params, iters, status = _varpro.solve(data, start, anchor, _PROBE_CAP, self.tol)
+            if status == "cap":
+                with np.errstate(all="ignore"):
+                    r = _rms(data, params)
+                if r <= bar:
+                    more = _varpro.solve(data, params, anchor, limit - _PROBE_CAP, self.tol)
+                    if more[0] is not None:
+                        params, status = more[0], more[2]
+                    iters += more[1]
+        else:
+            params, iters, status = _varpro.solve(data, start, anchor, limit, self.tol)
+        if status == "failed":
+            self.total += iters
+            return None
+        if status == "cap":
+            return (
+                params,
+                iters,
+                False,
+                f"Levenberg-Marquardt on (z, q, k) reached max_iter = {limit} evaluations",
+            )
+        polished, more, ok, msg = _solve(
+            data, params, pinned, "lsq", _POLISH_CAP, self.tol, fallback=False
+        )
+        with np.errstate(all="ignore"):
+            better = ok and _rms(data, polished) <= _rms(data, params) * (1 + 1e-9)
+        if better:
+            return polished, iters + more, True, msg
+        return (
+            params,
+            iters + more,
+            True,
+            (
+                "Levenberg-Marquardt (MINPACK lmder) on (z, q, k) with (x0, y0, h, phi) in closed "
+                "form (variable projection): converged"
+            ),
+        )
+
     def explore(self, data, starts, pinned, early):
         """Solve from each start with the exploration cap; stop at the first at the noise level."""
         out = []
@@ -586,7 +664,8 @@ class _Search:
             if key in seen:
                 continue
             seen.add(key)
-            c = self.solve(data, s, pinned, cap=_EXPLORE_CAP)
+            best = min((c["rms"] for c in out if c["ok"]), default=math.inf)
+            c = self.solve(data, s, pinned, cap=_EXPLORE_CAP, bar=_RUNNER_UP * best)
             out.append(c)
             if c["ok"] and c["rms"] <= early:
                 break
@@ -604,6 +683,14 @@ class _Search:
 
 #: Function evaluations (lsq) or iterations (IPOPT) per start while exploring.
 _EXPLORE_CAP = 300
+#: Function evaluations of the seven-parameter LM that polishes a variable-projection optimum.
+_POLISH_CAP = 100
+#: Function evaluations after which an exploring solve that has not converged must be within
+#: the runner-up margin of the best converged start so far to go on.
+_PROBE_CAP = 60
+#: The global search solves by variable projection (:mod:`._varpro`); False gives the
+#: seven-parameter solves throughout (``benchmarks/bench_elastica_global.py`` times both).
+_VARPRO = True
 #: A runner-up of the coarse level is refined only if its rms is within this factor of the best.
 _RUNNER_UP = 1.5
 
@@ -682,7 +769,9 @@ def _global_search(data, pinned, search: _Search, early: float):
             # better in one capped solve, the search ends (it would only crawl to k -> inf)
             deg = _best(finals)
             try:
-                probe = search.solve(data, _initial_guess(data), pinned, cap=_EXPLORE_CAP)
+                probe = search.solve(
+                    data, _initial_guess(data), pinned, cap=_EXPLORE_CAP, reduced=False
+                )
             except CurveError:
                 probe = None
             if probe is None or not (probe["ok"] and probe["rms"] < deg["rms"] - 0.01 * early):
@@ -901,7 +990,7 @@ def fit(
             first = _as_params(start)
             _data_curvature(data)  # the same input checks (collinear data) as without a start
         first = ElasticaParams(*[pinned.get(i, v) for i, v in enumerate(first)])
-        best = search.solve(data, first, pinned)
+        best = search.solve(data, first, pinned, reduced=False)  # the paper's route
         best["stages"] = 1
         how = ""
     else:
@@ -1013,7 +1102,7 @@ def _continuation(data, first, pinned, search: _Search, seg):
                 start = first if which == "first" else params
             if start is None:
                 continue
-            cand = search.solve(prefix, start, pinned)
+            cand = search.solve(prefix, start, pinned, reduced=False)
             if best is None or cand["rms"] < best["rms"]:
                 best = cand
         params = best["params"]
