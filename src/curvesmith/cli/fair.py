@@ -9,7 +9,7 @@ import click
 import numpy as np
 
 from ..errors import CurveError
-from ._common import FORMAT_OPTION, read_curves, write_curves
+from ._common import FORMAT_OPTION, POSITIVE, read_curves, write_curves
 
 __all__ = ["fair_command"]
 
@@ -143,14 +143,14 @@ def _plot(path: str, fits: list[tuple[int, object, np.ndarray]]) -> None:
 )
 @click.option(
     "--step",
-    type=float,
+    type=POSITIVE,
     default=None,
     help="Chord length for resampling (implies --resample; default: the mean edge length "
     "or 20 noise levels, adjusted to end on the last point).",
 )
 @click.option(
     "--tolerance",
-    type=float,
+    type=POSITIVE,
     default=None,
     help="Largest allowed distance of an input point from the fitted curve; exit 1 if a fit "
     "misses it.",
@@ -189,10 +189,6 @@ def fair_command(
     """
     from ..elastica import SPACING_TOL, fit, spacing_spread
 
-    if step is not None and not (np.isfinite(step) and step > 0):
-        raise click.BadParameter(f"must be > 0, got {step}", param_hint="--step")
-    if tolerance is not None and not (np.isfinite(tolerance) and tolerance > 0):
-        raise click.BadParameter(f"must be > 0, got {tolerance}", param_hint="--tolerance")
     if step is not None and resample is False:
         raise click.UsageError("--step needs resampling; drop --no-resample")
     curves = _read(source, fmt)
