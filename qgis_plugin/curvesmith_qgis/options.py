@@ -196,6 +196,30 @@ OPTIONS = (
         minimum=0.0,
     ),
     Option(
+        "MAX_SHIFT",
+        "--max-shift",
+        "float",
+        None,
+        "Largest shift of a boundary (layer units)",
+        "Strength in map units: no feature moves farther than this (fewer or shallower "
+        "passes for the features that would); areas stay exact. Empty: no bound.",
+        optional=True,
+        minimum=0.0,
+        algorithms=("smooth",),
+    ),
+    Option(
+        "MIN_SEGMENT",
+        "--min-segment",
+        "float",
+        None,
+        "Vertex budget: one vertex per (layer units)",
+        "At most one vertex per this length of boundary (fewer passes for the features "
+        "that would be denser); areas stay exact. Empty: no budget.",
+        optional=True,
+        minimum=0.0,
+        algorithms=("smooth",),
+    ),
+    Option(
         "SNAP",
         "--snap",
         "float",

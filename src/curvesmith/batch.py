@@ -205,6 +205,8 @@ def smooth_partitioned(
     progress: bool = False,
     fixed: Any = None,
     keep_angle: float | None = None,
+    max_shift: float | None = None,
+    min_segment: float | None = None,
 ) -> tuple[Any, tuple[FeatureError, ...], int, int]:
     """Smooth features (array, GeoSeries or GeoDataFrame) on Dask, partition by partition.
 
@@ -229,6 +231,8 @@ def smooth_partitioned(
         every partition; a mask over the whole input is not supported here).
     keep_angle : float, optional
         Keep sharp corners (radians), as in :func:`curvesmith.geo.smooth`.
+    max_shift, min_segment : float, optional
+        Strength and vertex budget per feature, as in :func:`curvesmith.geo.smooth`.
 
     Returns
     -------
@@ -251,8 +255,14 @@ def smooth_partitioned(
     options = {"method": method, "iterations": iterations, "alpha": alpha, "make_valid": make_valid}
     if fixed is not None:
         options["fixed"] = fixed
-    if keep_angle is not None:  # corners found partition by partition: per feature anyway
-        options["keep_angle"] = keep_angle
+    # corners and bounds partition by partition: they are per feature anyway
+    for key, value in (
+        ("keep_angle", keep_angle),
+        ("max_shift", max_shift),
+        ("min_segment", min_segment),
+    ):
+        if value is not None:
+            options[key] = value
     starts = list(range(0, len(geoms), partition_size))
     import shapely
 
@@ -300,6 +310,8 @@ def smooth_file(
     progress: bool = True,
     errors_path: str | Path | None = None,
     keep_angle: float | None = None,
+    max_shift: float | None = None,
+    min_segment: float | None = None,
 ) -> BatchReport:
     """Smooth a GIS file on Dask and write the result and an errors report.
 
@@ -336,6 +348,9 @@ def smooth_file(
         Show a progress bar on the terminal.
     keep_angle : float, optional
         Keep sharp corners (radians), as in :func:`curvesmith.geo.smooth`.
+    max_shift, min_segment : float, optional
+        Strength and vertex budget per feature, as in :func:`curvesmith.geo.smooth`
+        (feature mode only).
     errors_path : str or Path, optional
         Where to write the errors report (JSON list of ``{"index", "reason"}``);
         default ``OUT.errors.json`` beside the output. Always written.
@@ -351,6 +366,12 @@ def smooth_file(
     from .geo._io import GeographicCRSWarning, clamp_to_domain, domain_fixed
 
     partition_size = as_int(partition_size, name="partition_size", minimum=1)
+    budget = {k: v for k, v in (("max_shift", max_shift), ("min_segment", min_segment)) if v}
+    if budget and (coverage or network):
+        raise CurveError(
+            "max_shift and min_segment bound each feature on its own; not with coverage or "
+            "network, where features share arcs"
+        )
     if network and (coverage or make_valid or snap is not None):
         what = "coverage" if coverage else ("make_valid" if make_valid else "snap")
         raise CurveError(f"network mode does not take {what} (it smooths lines, not polygons)")
@@ -376,7 +397,8 @@ def smooth_file(
         out, errors, n_tasks, n_red = _equal_area_on_dask(
             df,
             options={"method": method, "iterations": iterations, "alpha": alpha}
-            | ({} if keep_angle is None else {"keep_angle": keep_angle}),
+            | ({} if keep_angle is None else {"keep_angle": keep_angle})
+            | budget,
             make_valid=make_valid,
             partition_size=partition_size,
             workers=workers,
@@ -431,6 +453,7 @@ def smooth_file(
             # lon/lat: the antimeridian and the poles stay put (as in geo's smooth_file)
             fixed=domain_fixed(crs, work.crs) if crs is not None and crs.is_geographic else None,
             keep_angle=keep_angle,
+            **budget,
         )
         valid = None
     seconds = time.perf_counter() - t0

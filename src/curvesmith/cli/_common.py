@@ -22,6 +22,8 @@ __all__ = [
     "FORMAT_OPTION",
     "GAMMA",
     "KEEP_ANGLE_OPTION",
+    "MAX_SHIFT_OPTION",
+    "MIN_SEGMENT_OPTION",
     "POSITIVE",
     "POSITIVE_INT",
     "check_output",
@@ -80,6 +82,23 @@ KEEP_ANGLE_OPTION = click.option(
     default=None,
     metavar="DEG",
     help="cca: keep corners that turn by more than DEG degrees (footprints, parcels).",
+)
+
+
+MAX_SHIFT_OPTION = click.option(
+    "--max-shift",
+    type=POSITIVE,
+    default=None,
+    metavar="D",
+    help="GIS: no feature moves farther than D map units (fewer or shallower passes).",
+)
+
+MIN_SEGMENT_OPTION = click.option(
+    "--min-segment",
+    type=POSITIVE,
+    default=None,
+    metavar="L",
+    help="GIS: at most one vertex per L map units of boundary (fewer passes).",
 )
 
 

@@ -17,6 +17,8 @@ from ._common import (
     FORMAT_OPTION,
     GAMMA,
     KEEP_ANGLE_OPTION,
+    MAX_SHIFT_OPTION,
+    MIN_SEGMENT_OPTION,
     POSITIVE,
     check_output,
     parse_indices,
@@ -195,6 +197,8 @@ def _where(row: dict) -> str:
 )
 @click.option("--tolerance", type=POSITIVE, default=None, help="--curves: max deviation.")
 @KEEP_ANGLE_OPTION
+@MAX_SHIFT_OPTION
+@MIN_SEGMENT_OPTION
 def smooth_command(
     source: str,
     dest: str,
@@ -215,6 +219,8 @@ def smooth_command(
     curve_kind: str | None,
     tolerance: float | None,
     keep_angle: float | None,
+    max_shift: float | None,
+    min_segment: float | None,
 ) -> None:
     """Smooth every curve in IN and write the result to OUT.
 
@@ -231,6 +237,12 @@ def smooth_command(
     from .. import subdivision
     from .geo import check_geo_output, is_geofile, smooth_geofile
 
+    budget = max_shift is not None or min_segment is not None
+    if budget and (network or coverage):
+        raise click.UsageError(
+            "--max-shift and --min-segment bound each feature on its own: not with "
+            f"{'--network' if network else '--coverage'}, where features share arcs"
+        )
     if network:
         from .contours import smooth_network_geofile
 
@@ -249,7 +261,9 @@ def smooth_command(
         return
     geojson_in = Path(source).suffix.lower() in (".geojson", ".json")
     gis_out = dest != "-" and is_geofile(dest)
-    if source != "-" and (is_geofile(source, coverage=coverage) or (geojson_in and gis_out)):
+    if source != "-" and (
+        is_geofile(source, coverage=coverage) or (geojson_in and (gis_out or budget))
+    ):
         if anchors or curve_kind:
             raise CurveError("--anchors and --curves are not available for GIS files")
         check_geo_output(dest, fmt)
@@ -266,13 +280,15 @@ def smooth_command(
             snap=snap,
             allow_null=allow_null,
             keep_angle=keep_angle,
+            max_shift=max_shift,
+            min_segment=min_segment,
         )
         return
     flags = (coverage, layer is not None, equal_area, make_valid, snap is not None, allow_null)
-    if any(flags):
+    if any(flags) or budget:
         raise CurveError(
-            "--coverage, --layer, --equal-area, --make-valid, --snap and --allow-null apply to "
-            "GIS files (.gpkg, .shp, .fgb, or GeoJSON with --coverage)"
+            "--coverage, --layer, --equal-area, --make-valid, --snap, --allow-null, "
+            "--max-shift and --min-segment apply to GIS files (.gpkg, .shp, .fgb, or GeoJSON)"
         )
     if gis_out:
         raise CurveError(

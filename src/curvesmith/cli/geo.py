@@ -15,7 +15,7 @@ from typing import Any
 import click
 
 from ..errors import CurveError
-from ._common import ALPHA, COUNT, KEEP_ANGLE_OPTION
+from ._common import ALPHA, COUNT, KEEP_ANGLE_OPTION, MAX_SHIFT_OPTION, MIN_SEGMENT_OPTION
 
 __all__ = ["GEO_SUFFIXES", "batch_group", "check_geo_output", "is_geofile", "smooth_geofile"]
 
@@ -98,6 +98,8 @@ def smooth_geofile(
     snap: float | None = None,
     allow_null: bool = False,
     keep_angle: float | None = None,
+    max_shift: float | None = None,
+    min_segment: float | None = None,
 ):
     """Smooth a GIS file for ``curvesmith smooth`` and print a one-line summary on stderr.
 
@@ -125,6 +127,8 @@ def smooth_geofile(
         Write features without geometry through (default: an error, the file may be damaged).
     keep_angle : float, optional
         Keep corners turning by more than this many degrees.
+    max_shift, min_segment : float, optional
+        Strength and vertex budget per feature, in map units.
 
     Returns
     -------
@@ -152,6 +156,8 @@ def smooth_geofile(
             snap=snap,
             allow_null=allow_null,
             keep_angle=None if keep_angle is None else math.radians(keep_angle),
+            max_shift=max_shift,
+            min_segment=min_segment,
         )
         if out_path == "-":
             click.echo(Path(target).read_text(encoding="utf-8"), nl=False)
@@ -246,6 +252,8 @@ def batch_group() -> None:
     "--allow-null", is_flag=True, help="Write features without geometry through unchanged."
 )
 @KEEP_ANGLE_OPTION
+@MAX_SHIFT_OPTION
+@MIN_SEGMENT_OPTION
 def batch_smooth_command(
     source: str,
     dest: str,
@@ -265,6 +273,8 @@ def batch_smooth_command(
     progress: bool,
     allow_null: bool,
     keep_angle: float | None,
+    max_shift: float | None,
+    min_segment: float | None,
 ) -> None:
     """Smooth every feature of IN on Dask and write OUT, in the same order.
 
@@ -308,6 +318,8 @@ def batch_smooth_command(
         progress=progress,
         errors_path=errors_path,
         keep_angle=None if keep_angle is None else math.radians(keep_angle),
+        max_shift=max_shift,
+        min_segment=min_segment,
     )
     click.echo(
         f"{report.n_features} features in {report.n_partitions} task(s), "

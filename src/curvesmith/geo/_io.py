@@ -804,6 +804,8 @@ def smooth_file(
     snap: float | None = None,
     allow_null: bool = False,
     keep_angle: float | None = None,
+    max_shift: float | None = None,
+    min_segment: float | None = None,
 ) -> FileSmoothReport:
     """Smooth every feature of a GIS file and write the result (same features, same order).
 
@@ -830,6 +832,9 @@ def smooth_file(
         error: a damaged file reads as NULL geometries without any error from GDAL.
     keep_angle : float, optional
         Keep sharp corners (radians), as in :func:`curvesmith.geo.smooth`.
+    max_shift, min_segment : float, optional
+        Strength and vertex budget in the smoothing CRS's units, feature by feature, as in
+        :func:`curvesmith.geo.smooth` (not in coverage mode, where neighbours share arcs).
 
     Returns
     -------
@@ -874,6 +879,11 @@ def smooth_file(
     # lon/lat data: vertices on the antimeridian and the poles stay put (Fiji, Chukotka and
     # Antarctica keep meeting there) and the output stays inside the domain
     edges = {"fixed": domain_fixed(crs)} if geographic and not equal_area else {}
+    if coverage and (max_shift is not None or min_segment is not None):
+        raise CurveError(
+            "max_shift and min_segment bound each feature on its own; in coverage mode "
+            "neighbours share their arcs: use iterations (or smooth feature by feature)"
+        )
     if coverage:
         work = df.to_crs(equal_area_crs(df)) if equal_area else df
         if geographic and equal_area:
@@ -897,8 +907,13 @@ def smooth_file(
         if snap is not None:
             raise CurveError("snap applies to coverage mode only (coverage=True)")
         options = {"method": method, "iterations": iterations, "alpha": alpha}
-        if keep_angle is not None:
-            options["keep_angle"] = keep_angle
+        for key, value in (
+            ("keep_angle", keep_angle),
+            ("max_shift", max_shift),
+            ("min_segment", min_segment),
+        ):
+            if value is not None:
+                options[key] = value
         if equal_area:
             out, n_red, change, planar = _smooth_equal_area(df, make_valid=make_valid, **options)
         else:

@@ -760,6 +760,8 @@ def smooth(
     full_output: bool = False,
     fixed: Any = None,
     keep_angle: float | None = None,
+    max_shift: float | None = None,
+    min_segment: float | None = None,
 ) -> Any:
     """Smooth shapely geometries, GeoSeries or GeoDataFrames, keeping every ring's area.
 
@@ -810,6 +812,17 @@ def smooth(
         Keep sharp corners: every vertex turning by more than this angle (radians; a
         square corner turns by pi/2) is fixed, as with `fixed`
         (:func:`curvesmith.geo.corner_vertices`). Needs ``method="cca"``.
+    max_shift : float, optional
+        Strength in map units: no feature's boundary moves farther than this (the
+        Hausdorff distance between a feature's input and output, GEOS's discrete one,
+        vertices to segments). `iterations` is then the most a feature gets; each
+        feature gets the most iterations, from 0 (unchanged) up, that keep it within.
+    min_segment : float, optional
+        Vertex budget in map units: each feature gets the most iterations whose output
+        has at most one vertex per `min_segment` of boundary length (its mean edge is at
+        least `min_segment`); a feature already denser than that is left as it is.
+        Both bounds keep every ring's area exact and the output valid: a feature's
+        output is always that of a whole smoothing at its iteration count.
 
     Returns
     -------
@@ -839,6 +852,21 @@ def smooth(
     (36, 4.0)
     """
     iterations = check_method(method, iterations, alpha)
+    if max_shift is not None or min_segment is not None:
+        return _smooth_within_budget(
+            geometry,
+            max_shift=max_shift,
+            min_segment=min_segment,
+            full_output=full_output,
+            options={
+                "method": method,
+                "iterations": iterations,
+                "alpha": alpha,
+                "make_valid": make_valid,
+                "fixed": fixed,
+                "keep_angle": keep_angle,
+            },
+        )
     geoms, wrap = as_geometry_array(geometry)
     geoms, zm = split_zm(geoms)  # smoothed in XY; Z/M interpolated back (geo._zm)
     if keep_angle is not None and method != "cca":
@@ -861,3 +889,86 @@ def smooth(
     if full_output:
         return SmoothResult(result, tuple(reductions), n, change)
     return result
+
+
+def _smooth_within_budget(
+    geometry: Any,
+    *,
+    max_shift: float | None,
+    min_segment: float | None,
+    full_output: bool,
+    options: dict[str, Any],
+) -> Any:
+    """:func:`smooth` with the strength (`max_shift`) and density (`min_segment`) bounds.
+
+    Every feature is smoothed at every strength (whole runs, so every candidate is a valid
+    output with exact areas): with `max_shift`, one pass at 1/8, 1/4 and 1/2 of the cut
+    ratio, then ``1 .. iterations`` passes; each feature takes the strongest that meets
+    both bounds, or stays as it is.
+    """
+    from .._validate import as_float
+
+    shapely = _shapely()
+    if max_shift is not None:
+        max_shift = as_float(max_shift, name="max_shift", low=0.0)
+    if min_segment is not None:
+        min_segment = as_float(min_segment, name="min_segment", low=0.0)
+    geoms, wrap = as_geometry_array(geometry)
+    geoms = np.asarray(geoms, dtype=object)
+    present = ~(shapely.is_missing(geoms) | shapely.is_empty(geoms))
+    chosen = np.array(geoms, dtype=object, copy=True)
+    level = np.full(len(geoms), -1, dtype=int)  # index into `steps`; -1: unchanged
+    runs = {}
+    flat = shapely.force_2d(geoms[present])
+    top = int(options["iterations"])
+    # the strengths tried, weakest first: with max_shift, one pass at 1/8, 1/4 and 1/2 of
+    # the cut ratio (a shallower cut moves the boundary less), then 1 .. iterations passes
+    steps = [(1, scale) for scale in (0.125, 0.25, 0.5)] if max_shift is not None else []
+    steps += [(k, 1.0) for k in range(1, top + 1)]
+    for j, (k, scale) in enumerate(steps if top else []):
+        alpha = _scaled_alpha(options["alpha"], scale)
+        res = smooth(geoms, **{**options, "iterations": k, "alpha": alpha}, full_output=True)
+        out = np.asarray(res.geometry, dtype=object)
+        ok = np.ones(int(present.sum()), dtype=bool)
+        smoothed = shapely.force_2d(out[present])
+        if max_shift is not None:
+            ok &= shapely.hausdorff_distance(flat, smoothed) <= max_shift
+        if min_segment is not None:
+            # edges of the output: coordinates minus one per ring or line
+            n_edges = shapely.get_num_coordinates(smoothed) - _num_linear(smoothed)
+            ok &= shapely.length(smoothed) >= min_segment * np.maximum(n_edges, 1)
+        idx = np.flatnonzero(present)[ok]
+        chosen[idx] = out[idx]
+        level[idx] = j
+        runs[j] = res
+        if max_shift is None and not ok.any():
+            break  # more passes only add vertices (the shift need not grow monotonically)
+    reductions = tuple(
+        r for j, res in runs.items() for r in res.reductions if level[r.feature] == j
+    )
+    changes = [res.max_area_change for j, res in runs.items() if (level == j).any()]
+    n_curves = next(iter(runs.values())).n_curves if runs else 0
+    result = SmoothResult(wrap(chosen), reductions, n_curves, max(changes, default=0.0))
+    return result if full_output else result.geometry
+
+
+def _scaled_alpha(alpha: Any, scale: float) -> Any:
+    """The CCA cut parameter times `scale` (the regular profile, a constant or a callable)."""
+    if scale == 1.0:
+        return alpha
+    if isinstance(alpha, str):
+        from ..cca._profiles import alpha_profile
+
+        return lambda theta: scale * np.asarray(alpha_profile(theta), dtype=float)
+    if callable(alpha):
+        return lambda theta: scale * np.asarray(alpha(theta), dtype=float)
+    return scale * float(alpha)
+
+
+def _num_linear(geoms: np.ndarray) -> np.ndarray:
+    """Rings plus lines of each geometry (each closes or ends once: one edge less)."""
+    shapely = _shapely()
+    parts, owner = shapely.get_parts(geoms, return_index=True)
+    kind = shapely.get_type_id(parts)
+    per_part = np.where(kind == 3, shapely.get_num_interior_rings(parts) + 1, 1)
+    return np.bincount(owner, weights=per_part, minlength=len(geoms)).astype(int)
