@@ -411,11 +411,13 @@ def test_cli_network_with_z(tmp_path):
     assert shared_runs_identical(back[1], back[0]) == len(xyz(back[1])) - 1
 
 
-def test_m_files_refused_in_one_line(tmp_path):
-    """pyogrio 0.13 drops M when reading and cannot write it: refuse instead of losing M.
+def test_m_files_keep_m_through_the_cli(tmp_path):
+    """XYM GeoPackages: read and written through pyogrio's Arrow path, which keeps M.
 
     The fixture is a GeoPackage written by pyogrio, its geometry then replaced in SQLite by
-    an ISO WKB LINESTRING M and its geometry column flagged m = 1 (GeoPackage 1.4, 2.1.3).
+    an ISO WKB LINESTRING M and its geometry column flagged m = 1 (GeoPackage 1.4, 2.1.3);
+    pyogrio's default reader drops the M (read_info says "LineString"), its Arrow reader
+    keeps it. Before, such files were refused rather than losing M.
     """
     import sqlite3
     import struct
@@ -435,13 +437,28 @@ def test_m_files_refused_in_one_line(tmp_path):
         con.execute("update gpkg_geometry_columns set m = 1 where table_name = 'm'")
     with pytest.warns(UserWarning, match="Measured"):
         assert pyogrio.read_info(src)["geometry_type"] == "LineString"  # M dropped by pyogrio
-    with pytest.raises(CurveError, match=r"has M \(measure\) values"):
-        geo.read_file(src)
+    df = geo.read_file(src)
+    assert shapely.has_m(df.geometry.values).all()
+    np.testing.assert_array_equal(
+        shapely.get_coordinates(df.geometry.values, include_m=True)[:, 2], [5, 6, 7]
+    )
     out = tmp_path / "out.gpkg"
-    r = CliRunner().invoke(main, ["smooth", str(src), "-o", str(out)])
+    r = CliRunner().invoke(main, ["smooth", str(src), "-o", str(out), "--iterations", "2"])
+    assert r.exit_code == 0, r.output
+    back = geo.read_file(out).geometry.values
+    want = geo.smooth(df, iterations=2).geometry.values
+    assert shapely.has_m(back).all()
+    np.testing.assert_array_equal(
+        shapely.get_coordinates(back, include_m=True), shapely.get_coordinates(want, include_m=True)
+    )
+    m = shapely.get_coordinates(back, include_m=True)[:, 2]
+    assert m[0] == 5 and m[-1] == 7 and np.all((m >= 5) & (m <= 7))  # ends kept, interpolated
+    # a Shapefile cannot hold them through pyogrio: one line, exit 1, nothing written
+    shp = tmp_path / "out.shp"
+    r = CliRunner().invoke(main, ["smooth", str(src), "-o", str(shp)])
     assert r.exit_code == 1
     assert r.output.count("\n") == 1 and "M (measure)" in r.output and "Traceback" not in r.output
-    assert not out.exists()
+    assert not shp.exists()
 
 
 def test_equal_area_and_geographic_keep_z(tmp_path):

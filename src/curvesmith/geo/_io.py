@@ -126,7 +126,8 @@ def read_file(path: str | Path, *, layer: str | int | None = None, columns=None)
     ------
     CurveFormatError
         Missing file, unreadable file, or unknown layer (the message lists the layers);
-        a layer with M values (pyogrio drops them on reading and cannot write them).
+        a layer with M values without pyarrow (pyogrio's Arrow reader keeps M, its
+        default reader drops it).
     """
     pyogrio = require("pyogrio", "geo", "reading GIS files")
     path = Path(path)
@@ -169,16 +170,32 @@ def read_file(path: str | Path, *, layer: str | int | None = None, columns=None)
             df = pyogrio.read_dataframe(path, layer=layer, columns=columns)
     except Exception as exc:
         raise CurveFormatError(f"cannot read {str(path)!r}: {exc}") from exc
+    measured = any("Measured (M)" in str(w.message) for w in caught)
     for w in caught:
-        if "Measured (M)" in str(w.message):  # pyogrio drops M on reading, and cannot write it
-            raise CurveFormatError(
-                f"{str(path)!r} has M (measure) values, which pyogrio {pyogrio.__version__} "
-                f"can neither read nor write (they would be lost); drop them first "
-                f"(ogr2ogr -dim XYZ) or smooth the geometries with curvesmith.geo.smooth, "
-                f"which keeps M"
-            )
-        warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+        if "Measured (M)" not in str(w.message):
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+    if measured:  # pyogrio's default reader drops M; its Arrow reader keeps it
+        df = _read_measured(path, layer, columns)
     return df
+
+
+def _read_measured(path: Path, layer: Any, columns: Any) -> Any:
+    """Read a layer with M values through pyogrio's Arrow reader (which keeps M)."""
+    import pyogrio
+
+    try:
+        import pyarrow  # noqa: F401
+    except ImportError:
+        raise CurveFormatError(
+            f"{str(path)!r} has M (measure) values; reading them needs pyarrow (pip install "
+            f"pyarrow, in the 'geo' extra); without it they would be lost"
+        ) from None
+    try:
+        with warnings.catch_warnings():
+            warnings.filterwarnings("ignore", message="Measured \\(M\\) geometry types")
+            return pyogrio.read_dataframe(path, layer=layer, columns=columns, use_arrow=True)
+    except Exception as exc:
+        raise CurveFormatError(f"cannot read {str(path)!r}: {exc}") from exc
 
 
 def _check_shapefile(path: Path) -> None:
@@ -495,6 +512,31 @@ def write_file(df: Any, path: str | Path, *, layer: str | None = None) -> None:
     if driver == "FlatGeobuf":
         # the packed R-tree would reorder the features; the output keeps the input order
         kwargs["layer_options"] = {"SPATIAL_INDEX": "NO"}
+    geoms = np.asarray(df.geometry.values, dtype=object)
+    present = ~shapely.is_missing(geoms)
+    if present.any() and shapely.has_m(geoms[present]).any():
+        if driver != "GPKG":  # pyogrio/GDAL write M through Arrow into GeoPackages only
+            raise CurveFormatError(
+                f"cannot write {str(path)!r}: the geometries have M (measure) values, which "
+                f"pyogrio writes to a GeoPackage only; write .gpkg (or drop M first)"
+            )
+        try:
+            import pyarrow  # noqa: F401
+        except ImportError:
+            raise CurveFormatError(
+                f"cannot write {str(path)!r}: writing M (measure) values needs pyarrow "
+                f"(pip install pyarrow, in the 'geo' extra)"
+            ) from None
+        kwargs["use_arrow"] = True
+        # the layer declared with M (else GDAL warns that it sets the M hint itself)
+        names = {g.geom_type for g in geoms[present]}
+        base = {n.replace("Multi", "") for n in names}
+        if len(base) == 1:  # one type, or a type and its Multi (written as the Multi)
+            name = next(iter(names)) if len(names) == 1 else f"Multi{base.pop()}"
+            if len(names) > 1:
+                kwargs["promote_to_multi"] = True
+            z = "3D " if shapely.has_z(geoms[present]).any() else ""
+            kwargs["geometry_type"] = f"Measured {z}{name}"
     n_null, _ = geometry_counts(df)
     with atomic_path(path, stale=_SHAPEFILE_PARTS if driver == "ESRI Shapefile" else ()) as tmp:
         if driver == "GPKG" and layer is not None and path.is_file():
@@ -515,7 +557,9 @@ def _verify_written(tmp: Path, path: Path, n_features: int, n_null: int, layer) 
     import pyogrio
 
     try:
-        back = pyogrio.read_dataframe(tmp, layer=layer, columns=[])
+        with warnings.catch_warnings():  # an M layer reads back without M here: counts only
+            warnings.filterwarnings("ignore", message="Measured \\(M\\) geometry types")
+            back = pyogrio.read_dataframe(tmp, layer=layer, columns=[])
     except Exception as exc:
         raise CurveFormatError(
             f"cannot write {str(path)!r}: the written file cannot be read back ({exc}); "
