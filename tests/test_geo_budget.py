@@ -90,10 +90,8 @@ def test_budget_errors():
     with pytest.raises(CurveError, match="max_shift must be"):
         geo.smooth(cells, max_shift=-1.0)
     runner = CliRunner()
-    res = runner.invoke(
-        main, ["smooth", "x.gpkg", "-o", "y.gpkg", "--coverage", "--max-shift", "1"]
-    )
-    assert res.exit_code == 2 and "where features share arcs" in res.output
+    res = runner.invoke(main, ["smooth", "x.gpkg", "-o", "y.gpkg", "--network", "--max-shift", "1"])
+    assert res.exit_code == 2 and "not available with --network" in res.output
     res = runner.invoke(main, ["smooth", "x.gpkg", "-o", "y.gpkg", "--min-segment", "0"])
     assert res.exit_code == 2 and "Invalid value for '--min-segment'" in res.output
 
@@ -124,3 +122,42 @@ def test_cli_and_batch_agree(tmp_path):
     a, b = gpd.read_file(tmp_path / "a.gpkg"), gpd.read_file(tmp_path / "b.gpkg")
     assert all(x.equals_exact(y, 0.0) for x, y in zip(a.geometry, b.geometry, strict=True))
     assert shapely.hausdorff_distance(_footprints(60).geometry.values, a.geometry.values).max() <= 1
+
+
+def test_coverage_mode_bounds_every_shared_arc():
+    # Iowa counties (plotly-geo) in equal-area metres: every arc gets the strongest level
+    # within the bounds, so neighbours still share their borders (no gaps), every county
+    # keeps its area, and no boundary moves farther than max_shift (measured: 3 passes
+    # unbounded move 507 m; with the bound all counties are still smoothed)
+    df = geo.us_counties(states=["19"]).to_crs("EPSG:5070")
+    g0 = df.geometry.values
+    for max_shift in (50.0, 200.0):
+        res = geo.smooth_coverage(df, iterations=3, max_shift=max_shift, full_output=True)
+        g1 = res.geometry.geometry.values
+        shift = shapely.hausdorff_distance(g0, g1)
+        assert shift.max() <= max_shift and (shift > 0).all()
+        assert res.coverage_valid and shapely.is_valid(g1).all()
+        np.testing.assert_allclose(shapely.area(g1), shapely.area(g0), rtol=1e-12)
+    res = geo.smooth_coverage(df, iterations=3, min_segment=500.0, full_output=True)
+    g1 = res.geometry.geometry.values
+    full = geo.smooth_coverage(df, iterations=3).geometry.values
+    assert res.coverage_valid
+    assert shapely.get_num_coordinates(g1).sum() < 0.2 * shapely.get_num_coordinates(full).sum()
+    np.testing.assert_allclose(shapely.area(g1), shapely.area(g0), rtol=1e-12)
+
+
+@pytest.mark.slow
+def test_cli_and_batch_coverage_bounds_agree(tmp_path):
+    src = tmp_path / "ia.gpkg"
+    geo.us_counties(states=["19"]).to_crs("EPSG:5070").to_file(src)
+    runner = CliRunner()
+    args = ["--coverage", "--iterations", "3", "--max-shift", "100"]
+    res = runner.invoke(main, ["smooth", str(src), "-o", str(tmp_path / "a.gpkg"), *args])
+    assert res.exit_code == 0, res.output
+    argv = ["batch", "smooth", str(src), "-o", str(tmp_path / "b.gpkg"), *args]
+    res = runner.invoke(main, [*argv, "--workers", "1", "--no-progress"])
+    assert res.exit_code == 0, res.output
+    a, b = gpd.read_file(tmp_path / "a.gpkg"), gpd.read_file(tmp_path / "b.gpkg")
+    assert all(x.equals_exact(y, 0.0) for x, y in zip(a.geometry, b.geometry, strict=True))
+    src_geoms = gpd.read_file(src).geometry.values
+    assert shapely.hausdorff_distance(src_geoms, a.geometry.values).max() <= 100

@@ -202,10 +202,11 @@ OPTIONS = (
         None,
         "Largest shift of a boundary (layer units)",
         "Strength in map units: no feature moves farther than this (fewer or shallower "
-        "passes for the features that would); areas stay exact. Empty: no bound.",
+        "passes for the features that would; per shared border in coverage mode); areas stay "
+        "exact. Empty: no bound.",
         optional=True,
         minimum=0.0,
-        algorithms=("smooth",),
+        algorithms=("smooth", "smoothcoverage"),
     ),
     Option(
         "MIN_SEGMENT",
@@ -217,7 +218,7 @@ OPTIONS = (
         "that would be denser); areas stay exact. Empty: no budget.",
         optional=True,
         minimum=0.0,
-        algorithms=("smooth",),
+        algorithms=("smooth", "smoothcoverage"),
     ),
     Option(
         "SNAP",

@@ -349,8 +349,8 @@ def smooth_file(
     keep_angle : float, optional
         Keep sharp corners (radians), as in :func:`curvesmith.geo.smooth`.
     max_shift, min_segment : float, optional
-        Strength and vertex budget per feature, as in :func:`curvesmith.geo.smooth`
-        (feature mode only).
+        Strength and vertex budget, as in :func:`curvesmith.geo.smooth` (per feature) and
+        :func:`curvesmith.geo.smooth_coverage` (per arc); not in network mode.
     errors_path : str or Path, optional
         Where to write the errors report (JSON list of ``{"index", "reason"}``);
         default ``OUT.errors.json`` beside the output. Always written.
@@ -367,10 +367,10 @@ def smooth_file(
 
     partition_size = as_int(partition_size, name="partition_size", minimum=1)
     budget = {k: v for k, v in (("max_shift", max_shift), ("min_segment", min_segment)) if v}
-    if budget and (coverage or network):
+    if budget and network:
         raise CurveError(
-            "max_shift and min_segment bound each feature on its own; not with coverage or "
-            "network, where features share arcs"
+            "max_shift and min_segment are not available in network mode (feature by "
+            "feature and coverage mode have them)"
         )
     if network and (coverage or make_valid or snap is not None):
         what = "coverage" if coverage else ("make_valid" if make_valid else "snap")
@@ -430,6 +430,7 @@ def smooth_file(
             make_valid=make_valid,
             snap=snap,
             keep_angle=keep_angle,
+            budget=budget,
             chunk=partition_size,
             workers=workers,
             scheduler=scheduler,
@@ -554,6 +555,7 @@ def _coverage_on_dask(
     client,
     progress,
     keep_angle=None,
+    budget=None,
 ):
     from . import geo
 
@@ -601,6 +603,7 @@ def _coverage_on_dask(
             full_output=True,
             map_arcs=map_arcs,
             keep_angle=keep_angle,
+            **(budget or {}),
         )
     finally:
         if own is not None:

@@ -238,10 +238,10 @@ def smooth_command(
     from .geo import check_geo_output, is_geofile, smooth_geofile
 
     budget = max_shift is not None or min_segment is not None
-    if budget and (network or coverage):
+    if budget and network:
         raise click.UsageError(
-            "--max-shift and --min-segment bound each feature on its own: not with "
-            f"{'--network' if network else '--coverage'}, where features share arcs"
+            "--max-shift and --min-segment are not available with --network (they are per "
+            "feature, and per shared arc with --coverage)"
         )
     if network:
         from .contours import smooth_network_geofile

@@ -325,6 +325,8 @@ def smooth_coverage(
     map_arcs: Callable[[Topology], list[np.ndarray]] | None = None,
     fixed: Any = None,
     keep_angle: float | None = None,
+    max_shift: float | None = None,
+    min_segment: float | None = None,
 ) -> Any:
     """Smooth a polygonal coverage so that every polygon keeps its area and no gap opens.
 
@@ -377,6 +379,13 @@ def smooth_coverage(
         Keep sharp corners: every vertex turning by more than this angle (radians; a
         square corner turns by pi/2) is fixed (:func:`curvesmith.geo.corner_vertices`).
         Needs ``method="cca"``.
+    max_shift, min_segment : float, optional
+        Strength and vertex budget in map units, arc by arc: every shared arc gets the
+        strongest level (1 .. iterations passes, then shallower cuts) whose Hausdorff
+        distance from its input is at most `max_shift` and that has at most one vertex per
+        `min_segment` of its length; an arc with no such level keeps its input. A polygon's
+        boundary is a union of arcs, so it moves no farther than `max_shift`; areas stay
+        exact and the coverage gap-free.
 
     Returns
     -------
@@ -452,7 +461,14 @@ def smooth_coverage(
     topo = coverage_topology(g, frozen_edges=invalid if bad.any() else None)
     initial = map_arcs(topo) if (map_arcs is not None and iterations > 0) else None
     smoothed, reductions = smooth_arcs(
-        topo, method=method, iterations=iterations, alpha=alpha, initial=initial, fixed=fixed_spec
+        topo,
+        method=method,
+        iterations=iterations,
+        alpha=alpha,
+        initial=initial,
+        fixed=fixed_spec,
+        max_shift=max_shift,
+        min_segment=min_segment,
     )
     new = rebuild(topo, smoothed)
     out[idx] = new
@@ -525,12 +541,32 @@ def smooth_arc_blocks(
     return out, errors
 
 
-def smooth_arcs(topo: Topology, *, method, iterations, alpha, initial=None, fixed=None):
-    """Smooth the arcs of a topology with conflict resolution; returns (arcs, reductions)."""
+def smooth_arcs(
+    topo: Topology,
+    *,
+    method,
+    iterations,
+    alpha,
+    initial=None,
+    fixed=None,
+    max_shift=None,
+    min_segment=None,
+):
+    """Smooth the arcs of a topology with conflict resolution; returns (arcs, reductions).
+
+    With `max_shift` / `min_segment` every arc starts at the strongest level within them
+    (:func:`bounded_levels`); an arc that the resolution then leaves outside them (a piece
+    cut at anchors can move differently) keeps its input vertices, and the resolution runs
+    again.
+    """
     smoother = make_smoother(method, alpha, fixed)
     levels = levels_for(iterations, scalable=(method == "cca"))
     if iterations == 0:
         return list(topo.arcs), []
+    if max_shift is not None or min_segment is not None:
+        return _smooth_arcs_bounded(
+            topo, levels, smoother, method, alpha, fixed, max_shift, min_segment
+        )
     if initial is None:
         initial, errors = smooth_arc_blocks(
             topo.arcs,
@@ -552,4 +588,119 @@ def smooth_arcs(topo: Topology, *, method, iterations, alpha, initial=None, fixe
         smoother=smoother,
         levels=levels,
         initial=initial,
+    )
+
+
+def bounded_levels(
+    arcs,
+    loops,
+    frozen,
+    levels,
+    *,
+    method: str,
+    alpha: Any,
+    fixed: FixedVertices | None = None,
+    max_shift: float | None = None,
+    min_segment: float | None = None,
+) -> tuple[np.ndarray, dict[int, list[np.ndarray]]]:
+    """The strongest level of every arc within the map-unit bounds, and the arcs at them.
+
+    An arc's shift is the Hausdorff distance between its input and output polylines (a
+    feature's boundary is a union of arcs, so it moves no farther than its farthest arc);
+    its density is its length per edge. Every level is computed for all arcs in one ragged
+    call; an arc that meets the bounds at no level keeps its input (the last level).
+    """
+    import shapely
+
+    from ._smooth import _scaled_alpha
+
+    top = len(levels) - 1
+    start = np.full(len(arcs), top, dtype=int)
+
+    def lines(xs, ring):
+        pts = [np.vstack([x, x[:1]]) if r else x for x, r in zip(xs, ring, strict=True)]
+        return shapely.linestrings(
+            np.concatenate(pts), indices=np.repeat(np.arange(len(pts)), [len(x) for x in pts])
+        )
+
+    ring = np.asarray(loops, dtype=bool)
+    before = lines(arcs, ring)
+    seeds: dict[int, list[np.ndarray]] = {}
+    open_ = ~np.asarray(frozen, dtype=bool)
+    for j, lev in enumerate(levels[:-1]):
+        todo = open_ & (start == top)
+        if not todo.any():
+            break
+        out, _ = smooth_arc_blocks(
+            arcs,
+            loops,
+            ~todo,
+            method=method,
+            iterations=lev.iterations,
+            alpha=_scaled_alpha(alpha, lev.alpha_scale),
+            fixed=fixed,
+        )
+        ok = todo.copy()
+        after = lines(out, ring)
+        if max_shift is not None:
+            ok &= shapely.hausdorff_distance(before, after) <= max_shift
+        if min_segment is not None:
+            edges = np.array([len(x) if r else len(x) - 1 for x, r in zip(out, ring, strict=True)])
+            ok &= shapely.length(after) >= min_segment * np.maximum(edges, 1)
+        start[ok] = j
+        seeds[j] = out
+    return start, seeds
+
+
+def _smooth_arcs_bounded(topo, levels, smoother, method, alpha, fixed, max_shift, min_segment):
+    import shapely
+
+    frozen = np.array(topo.frozen, dtype=bool, copy=True)
+    ring = np.asarray(topo.loops, dtype=bool)
+
+    def lines(xs):
+        pts = [np.vstack([x, x[:1]]) if r else x for x, r in zip(xs, ring, strict=True)]
+        return shapely.linestrings(
+            np.concatenate(pts), indices=np.repeat(np.arange(len(pts)), [len(x) for x in pts])
+        )
+
+    before = lines(topo.arcs)
+    for _ in range(4):
+        start, seeds = bounded_levels(
+            topo.arcs,
+            topo.loops,
+            frozen,
+            levels,
+            method=method,
+            alpha=alpha,
+            fixed=fixed,
+            max_shift=max_shift,
+            min_segment=min_segment,
+        )
+        out, reductions = resolve_arcs(
+            topo.arcs,
+            loops=topo.loops,
+            groups=np.zeros(len(topo.arcs), dtype=int),
+            frozen=frozen,
+            smoother=smoother,
+            levels=levels,
+            start=start,
+            seeds=seeds,
+        )
+        after = lines(out)
+        bad = np.zeros(len(out), dtype=bool)
+        if max_shift is not None:
+            bad |= shapely.hausdorff_distance(before, after) > max_shift
+        if min_segment is not None:
+            edges = np.array([len(x) if r else len(x) - 1 for x, r in zip(out, ring, strict=True)])
+            changed = np.array(
+                [not np.array_equal(a, b) for a, b in zip(out, topo.arcs, strict=True)]
+            )
+            bad |= changed & (shapely.length(after) < min_segment * np.maximum(edges, 1))
+        bad &= ~frozen
+        if not bad.any():
+            return out, reductions
+        frozen |= bad  # these arcs keep their input; resolve the others around them again
+    raise CurveError(  # pragma: no cover - each round freezes at least one more arc
+        "the map-unit bounds could not be met by the conflict resolution"
     )

@@ -123,6 +123,8 @@ def resolve_arcs(
     levels: list[Level],
     check_simple: np.ndarray | None = None,
     initial: Sequence[np.ndarray] | None = None,
+    start: Sequence[int] | None = None,
+    seeds: dict[int, Sequence[np.ndarray]] | None = None,
 ) -> tuple[list[np.ndarray], list[Reduction]]:
     """Smooth arcs, reducing locally until no two of them cross.
 
@@ -147,6 +149,11 @@ def resolve_arcs(
         for arcs that are not simple in the input.
     initial : sequence of ndarray, optional
         The arcs already smoothed at full strength (e.g. in parallel), reused as is.
+    start : sequence of int, optional
+        The level each arc starts at (default 0, full strength): the map-unit bounds of
+        :func:`bounded_levels` start an arc at the strongest level within them.
+    seeds : dict of int to sequence of ndarray, optional
+        Arcs already smoothed at a level (level -> one array per arc), reused as is.
 
     Returns
     -------
@@ -164,12 +171,15 @@ def resolve_arcs(
     pieces: list[_Piece] = []
     for i, xy in enumerate(arcs):
         last = len(xy) if loops[i] else len(xy) - 1
-        pieces.append(_Piece(i, 0, last, bool(loops[i]), top if frozen[i] else 0))
+        first = top if frozen[i] else (0 if start is None else min(int(start[i]), top))
+        pieces.append(_Piece(i, 0, last, bool(loops[i]), first))
     cache: dict[tuple[int, int, int, bool, int], np.ndarray] = {}
+    known = dict(seeds or {})
     if initial is not None:
-        for p in pieces:
-            if p.level == 0:
-                cache[(p.arc, p.start, p.stop, p.loop, 0)] = initial[p.arc]
+        known[0] = initial
+    for p in pieces:
+        if p.level in known:
+            cache[(p.arc, p.start, p.stop, p.loop, p.level)] = known[p.level][p.arc]
 
     def smoothed_piece(p: _Piece) -> np.ndarray:
         key = (p.arc, p.start, p.stop, p.loop, p.level)

@@ -877,8 +877,9 @@ def smooth_file(
     keep_angle : float, optional
         Keep sharp corners (radians), as in :func:`curvesmith.geo.smooth`.
     max_shift, min_segment : float, optional
-        Strength and vertex budget in the smoothing CRS's units, feature by feature, as in
-        :func:`curvesmith.geo.smooth` (not in coverage mode, where neighbours share arcs).
+        Strength and vertex budget in the smoothing CRS's units: feature by feature as in
+        :func:`curvesmith.geo.smooth`, arc by arc in coverage mode
+        (:func:`curvesmith.geo.smooth_coverage`).
 
     Returns
     -------
@@ -923,11 +924,6 @@ def smooth_file(
     # lon/lat data: vertices on the antimeridian and the poles stay put (Fiji, Chukotka and
     # Antarctica keep meeting there) and the output stays inside the domain
     edges = {"fixed": domain_fixed(crs)} if geographic and not equal_area else {}
-    if coverage and (max_shift is not None or min_segment is not None):
-        raise CurveError(
-            "max_shift and min_segment bound each feature on its own; in coverage mode "
-            "neighbours share their arcs: use iterations (or smooth feature by feature)"
-        )
     if coverage:
         work = df.to_crs(equal_area_crs(df)) if equal_area else df
         if geographic and equal_area:
@@ -941,6 +937,8 @@ def smooth_file(
             make_valid=make_valid,
             full_output=True,
             keep_angle=keep_angle,
+            max_shift=max_shift,
+            min_segment=min_segment,
             **edges,
         )
         n_red, invalid, valid = len(res.reductions), res.invalid_edges, res.coverage_valid
