@@ -564,8 +564,17 @@ def smooth_arcs(
     if iterations == 0:
         return list(topo.arcs), []
     if max_shift is not None or min_segment is not None:
-        return _smooth_arcs_bounded(
-            topo, levels, smoother, method, alpha, fixed, max_shift, min_segment
+        return smooth_arcs_bounded(
+            topo.arcs,
+            topo.loops,
+            topo.frozen,
+            levels=levels,
+            smoother=smoother,
+            method=method,
+            alpha=alpha,
+            fixed=fixed,
+            max_shift=max_shift,
+            min_segment=min_segment,
         )
     if initial is None:
         initial, errors = smooth_arc_blocks(
@@ -652,11 +661,17 @@ def bounded_levels(
     return start, seeds
 
 
-def _smooth_arcs_bounded(topo, levels, smoother, method, alpha, fixed, max_shift, min_segment):
+def smooth_arcs_bounded(
+    arcs, loops, frozen, *, levels, smoother, method, alpha, fixed, max_shift, min_segment
+):
+    """Arcs smoothed within the map-unit bounds, with conflict resolution (coverage, network).
+
+    Returns ``(arcs, reductions)`` as :func:`curvesmith.geo._engine.resolve_arcs`.
+    """
     import shapely
 
-    frozen = np.array(topo.frozen, dtype=bool, copy=True)
-    ring = np.asarray(topo.loops, dtype=bool)
+    frozen = np.array(frozen, dtype=bool, copy=True)
+    ring = np.asarray(loops, dtype=bool)
 
     def lines(xs):
         pts = [np.vstack([x, x[:1]]) if r else x for x, r in zip(xs, ring, strict=True)]
@@ -664,11 +679,11 @@ def _smooth_arcs_bounded(topo, levels, smoother, method, alpha, fixed, max_shift
             np.concatenate(pts), indices=np.repeat(np.arange(len(pts)), [len(x) for x in pts])
         )
 
-    before = lines(topo.arcs)
+    before = lines(arcs)
     for _ in range(4):
         start, seeds = bounded_levels(
-            topo.arcs,
-            topo.loops,
+            arcs,
+            loops,
             frozen,
             levels,
             method=method,
@@ -678,9 +693,9 @@ def _smooth_arcs_bounded(topo, levels, smoother, method, alpha, fixed, max_shift
             min_segment=min_segment,
         )
         out, reductions = resolve_arcs(
-            topo.arcs,
-            loops=topo.loops,
-            groups=np.zeros(len(topo.arcs), dtype=int),
+            arcs,
+            loops=loops,
+            groups=np.zeros(len(arcs), dtype=int),
             frozen=frozen,
             smoother=smoother,
             levels=levels,
@@ -693,9 +708,7 @@ def _smooth_arcs_bounded(topo, levels, smoother, method, alpha, fixed, max_shift
             bad |= shapely.hausdorff_distance(before, after) > max_shift
         if min_segment is not None:
             edges = np.array([len(x) if r else len(x) - 1 for x, r in zip(out, ring, strict=True)])
-            changed = np.array(
-                [not np.array_equal(a, b) for a, b in zip(out, topo.arcs, strict=True)]
-            )
+            changed = np.array([not np.array_equal(a, b) for a, b in zip(out, arcs, strict=True)])
             bad |= changed & (shapely.length(after) < min_segment * np.maximum(edges, 1))
         bad &= ~frozen
         if not bad.any():
