@@ -600,6 +600,16 @@ def smooth_arcs(
     )
 
 
+def _arc_lines(arcs, ring: np.ndarray):
+    """The arcs as LineStrings (loops closed by repeating their first vertex)."""
+    import shapely
+
+    pts = [np.vstack([x, x[:1]]) if r else x for x, r in zip(arcs, ring, strict=True)]
+    return shapely.linestrings(
+        np.concatenate(pts), indices=np.repeat(np.arange(len(pts)), [len(x) for x in pts])
+    )
+
+
 def bounded_levels(
     arcs,
     loops,
@@ -626,14 +636,8 @@ def bounded_levels(
     top = len(levels) - 1
     start = np.full(len(arcs), top, dtype=int)
 
-    def lines(xs, ring):
-        pts = [np.vstack([x, x[:1]]) if r else x for x, r in zip(xs, ring, strict=True)]
-        return shapely.linestrings(
-            np.concatenate(pts), indices=np.repeat(np.arange(len(pts)), [len(x) for x in pts])
-        )
-
     ring = np.asarray(loops, dtype=bool)
-    before = lines(arcs, ring)
+    before = _arc_lines(arcs, ring)
     seeds: dict[int, list[np.ndarray]] = {}
     open_ = ~np.asarray(frozen, dtype=bool)
     for j, lev in enumerate(levels[:-1]):
@@ -650,7 +654,7 @@ def bounded_levels(
             fixed=fixed,
         )
         ok = todo.copy()
-        after = lines(out, ring)
+        after = _arc_lines(out, ring)
         if max_shift is not None:
             ok &= shapely.hausdorff_distance(before, after) <= max_shift
         if min_segment is not None:
@@ -673,13 +677,7 @@ def smooth_arcs_bounded(
     frozen = np.array(frozen, dtype=bool, copy=True)
     ring = np.asarray(loops, dtype=bool)
 
-    def lines(xs):
-        pts = [np.vstack([x, x[:1]]) if r else x for x, r in zip(xs, ring, strict=True)]
-        return shapely.linestrings(
-            np.concatenate(pts), indices=np.repeat(np.arange(len(pts)), [len(x) for x in pts])
-        )
-
-    before = lines(arcs)
+    before = _arc_lines(arcs, ring)
     for _ in range(4):
         start, seeds = bounded_levels(
             arcs,
@@ -702,7 +700,7 @@ def smooth_arcs_bounded(
             start=start,
             seeds=seeds,
         )
-        after = lines(out)
+        after = _arc_lines(out, ring)
         bad = np.zeros(len(out), dtype=bool)
         if max_shift is not None:
             bad |= shapely.hausdorff_distance(before, after) > max_shift
