@@ -110,22 +110,14 @@ def with_corners(geometry: Any, fixed: Any, keep_angle: float | None) -> Any:
     corners = corner_vertices(geometry, keep_angle)
     if fixed is None:
         return corners
+    from ._smooth import FixedVertices
+
+    # the existing checks of `fixed` (a mask over the coordinates or a callable on them)
+    geoms, _ = as_geometry_array(geometry)
+    geoms = np.asarray(geoms, dtype=object)
+    present = ~shapely.is_missing(geoms)
+    xy = shapely.get_coordinates(geoms[present])
     if callable(fixed):
-        geoms, _ = as_geometry_array(geometry)
-        geoms = np.asarray(geoms, dtype=object)
-        present = np.array([g is not None for g in geoms], dtype=bool)
-        xy = shapely.get_coordinates(geoms[present])
-        other = np.asarray(fixed(np.array(xy, dtype=float)))
-        if other.dtype != np.bool_ or other.shape != corners.shape:
-            raise CurveError(
-                f"fixed callable must return a boolean mask of shape {corners.shape}, got "
-                f"shape {other.shape} and dtype {other.dtype}"
-            )
-        return corners | other
-    other = np.asarray(fixed)
-    if other.shape != corners.shape:
-        raise CurveError(
-            f"fixed must be a boolean mask over shapely.get_coordinates(geometry) (shape "
-            f"{corners.shape}), got shape {other.shape}"
-        )
-    return corners | other.astype(bool)
+        return corners | FixedVertices(fixed, geoms).mask(xy)
+    FixedVertices(fixed, geoms)  # raises for a mask of the wrong shape or type
+    return corners | np.asarray(fixed)

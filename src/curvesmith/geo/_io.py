@@ -767,45 +767,44 @@ def _smooth_equal_area(
         change = max(change, float(res.max_area_change))
         return np.asarray(res.geometry, dtype=object)
 
-    def run(idx: np.ndarray, laea: str) -> None:
+    jobs = []  # per region: the features it smooths there, projected
+    for laea, idx in equal_area_regions(work):
         home = np.asarray(work.geometry.values[idx], dtype=object)
         there = np.asarray(work.iloc[idx].to_crs(laea).geometry.values, dtype=object)
         # valid in degrees but folded by the projection (sparse vertices along a narrow
         # neck, Sudan): smoothed in the data's CRS, where it is valid
         folded = shapely.is_valid(home) & ~shapely.is_valid(there)
-        keep = ~folded
-        if keep.any():
-            names = [owners[j][0] for j in idx[keep]]
-            out = smooth_piece(
-                there[keep], lambda: f"in the equal-area projection, features {names}", laea
-            )
-            back = geopandas.GeoSeries(out, crs=laea).to_crs(crs).values
-            back = np.array([_unwrap(g) for g in back], dtype=object) if geographic else back
-            done[idx[keep]] = back
         planar.update(int(j) for j in idx[folded])
-
+        if (~folded).any():
+            jobs.append((idx[~folded], laea, there[~folded]))
+    labels = [np.array([owners[j][0] for j in idx]) for idx, _, _ in jobs]
     if smoother is None:
-        for laea, idx in equal_area_regions(work):
-            run(idx, laea)
+        results = [
+            (
+                smooth_piece(
+                    g,
+                    lambda lab=lab: f"in the equal-area projection, features {lab.tolist()}",
+                    laea,
+                ),
+                0,  # smooth_piece counts the reductions itself
+                [],
+            )
+            for (_, laea, g), lab in zip(jobs, labels, strict=True)
+        ]
     else:
-        jobs = []
-        for laea, idx in equal_area_regions(work):
-            home = np.asarray(work.geometry.values[idx], dtype=object)
-            there = np.asarray(work.iloc[idx].to_crs(laea).geometry.values, dtype=object)
-            folded = shapely.is_valid(home) & ~shapely.is_valid(there)
-            planar.update(int(j) for j in idx[folded])
-            if (~folded).any():
-                edges = {"fixed": domain_fixed(crs, laea)} if geographic else {}
-                jobs.append((idx[~folded], laea, there[~folded], edges))
-        labels = [np.array([owners[j][0] for j in idx]) for idx, *_ in jobs]
-        results = smoother([(g, lab, e) for (_, _, g, e), lab in zip(jobs, labels, strict=True)])
-        for (idx, laea, _, _), lab, (out, nr, errs) in zip(jobs, labels, results, strict=True):
-            n_red += nr
-            if errors is not None:
-                errors.extend((int(lab[k]), reason) for k, reason in errs)
-            back = geopandas.GeoSeries(out, crs=laea).to_crs(crs).values
-            back = np.array([_unwrap(g) for g in back], dtype=object) if geographic else back
-            done[idx] = back
+        results = smoother(
+            [
+                (g, lab, {"fixed": domain_fixed(crs, laea)} if geographic else {})
+                for (_, laea, g), lab in zip(jobs, labels, strict=True)
+            ]
+        )
+    for (idx, laea, _), lab, (out, nr, errs) in zip(jobs, labels, results, strict=True):
+        n_red += nr
+        if errors is not None:
+            errors.extend((int(lab[k]), reason) for k, reason in errs)
+        back = geopandas.GeoSeries(out, crs=laea).to_crs(crs).values
+        back = np.array([_unwrap(g) for g in back], dtype=object) if geographic else back
+        done[idx] = back
     present = ~(shapely.is_missing(done) | shapely.is_empty(done))
     planar.update(int(j) for j in np.flatnonzero(present & ~shapely.is_valid(done)))
     for j in sorted(planar):  # folded there, or invalid back home: smooth in the data's CRS
