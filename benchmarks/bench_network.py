@@ -4,7 +4,8 @@ Peers, run in the same process: cca line by line (``geo.smooth``), Chaikin line 
 (PostGIS ``ST_ChaikinSmoothing`` / QGIS "Smooth"), and ``shapely.simplify`` (GEOS
 Douglas-Peucker, what users reach for to "clean up" lines). For each: the pairs of lines
 whose contact changed (new, lost, or moved), for contours the pairs of different levels
-that touch or cross, the largest area error and the time.
+that touch or cross, the largest shift (Hausdorff distance), the largest area error and
+the time; ``smooth_network`` also with ``max_shift`` set to the simplification tolerance.
 
 Run: ``python benchmarks/bench_network.py [--quick]``.
 """
@@ -44,6 +45,10 @@ def max_area_error(before, after) -> float:
 
 def peers(df, iterations, tol):
     yield "cca network (smooth_network)", lambda: geo.smooth_network(df, iterations=iterations)
+    yield (
+        f"cca network, max_shift={tol:g}",
+        lambda: geo.smooth_network(df, iterations=iterations, max_shift=tol),
+    )
     yield "cca line by line", lambda: geo.smooth(df, iterations=iterations)
     yield "Chaikin line by line", lambda: geo.smooth(df, method="chaikin", iterations=iterations)
     yield (
@@ -59,7 +64,7 @@ def run(name, df, iterations, tol, levels=None):
     head = f"{'method':<32} {'changed contacts':>16}"
     if levels is not None:
         head += f" {'level contacts':>15}"
-    head += f" {'max area error':>15} {'time (s)':>9} {'vs network':>10}"
+    head += f" {'max shift':>10} {'max area error':>15} {'time (s)':>9} {'vs network':>10}"
     print(head)
     base = None
     for label, fn in peers(df, iterations, tol):
@@ -71,7 +76,9 @@ def run(name, df, iterations, tol, levels=None):
         row = f"{label:<32} {geo.changed_contacts(before, after):>16}"
         if levels is not None:
             row += f" {geo.level_contacts(after, levels):>15}"
-        row += f" {max_area_error(before, after):>15.2e} {secs:>9.3f} {secs / base:>9.2f}x"
+        shift = float(shapely.hausdorff_distance(before, after).max())
+        row += f" {shift:>10.3g} {max_area_error(before, after):>15.2e} {secs:>9.3f}"
+        row += f" {secs / base:>9.2f}x"
         print(row)
 
 

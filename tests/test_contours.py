@@ -329,3 +329,40 @@ def test_cli_contours(tmp_path):
     assert r.exit_code == 1 and "cannot tell the format of 'lines.xyz'" in r.output
     r = CliRunner().invoke(main, ["contours", str(tmp_path / "nope.asc"), "-o", str(out)])
     assert r.exit_code == 1 and r.output.startswith("Error: no such file")
+
+
+def test_cli_contours_max_shift_and_min_segment(tmp_path):
+    """contours --max-shift / --min-segment: lines and band borders bounded, in map units."""
+    z, _, _ = jacksboro()
+    write_asc(tmp_path / "dem.asc", z[:120, :150], cell=90.0)
+    raw = geo.contours(
+        geo.read_grid(tmp_path / "dem.asc"), interval=50.0, iterations=0
+    ).geometry.values
+    out = tmp_path / "lines.gpkg"
+    base = ["contours", str(tmp_path / "dem.asc"), "--crs", "EPSG:32616", "--iterations", "3"]
+    r = CliRunner().invoke(main, [*base, "-o", str(out), "--interval", "50", "--max-shift", "6"])
+    assert r.exit_code == 0, r.output
+    df = gpd.read_file(out)
+    shift = shapely.hausdorff_distance(raw, df.geometry.values)
+    assert shift.max() <= 6 and (shift > 0).mean() > 0.9 and level_contacts(df) == 0
+    r = CliRunner().invoke(main, [*base, "-o", str(out), "--interval", "50", "--min-segment", "40"])
+    assert r.exit_code == 0, r.output
+    thin = gpd.read_file(out).geometry.values
+    full = geo.contours(geo.read_grid(tmp_path / "dem.asc"), interval=50.0, iterations=3)
+    assert (
+        shapely.get_num_coordinates(thin).sum()
+        < 0.3 * shapely.get_num_coordinates(full.geometry.values).sum()
+    )
+    bands = tmp_path / "bands.gpkg"
+    r = CliRunner().invoke(
+        main, [*base, "-o", str(bands), "--levels", "400,600", "--bands", "--max-shift", "6"]
+    )
+    assert r.exit_code == 0, r.output
+    b = gpd.read_file(bands).geometry.values
+    b0 = geo.contours(
+        geo.read_grid(tmp_path / "dem.asc"), levels=[400, 600], bands=True, iterations=0
+    ).geometry.values
+    assert shapely.coverage_is_valid(b) and shapely.hausdorff_distance(b0, b).max() <= 6
+    np.testing.assert_allclose(shapely.area(b), shapely.area(b0), rtol=1e-11)
+    r = CliRunner().invoke(main, [*base, "-o", str(out), "--max-shift", "0"])
+    assert r.exit_code == 2 and "Invalid value for '--max-shift'" in r.output

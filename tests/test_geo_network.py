@@ -1,5 +1,6 @@
 """curvesmith.geo.smooth_network: junctions fixed, shared pieces once, no new contacts, exact areas."""
 
+import itertools
 from fractions import Fraction
 from pathlib import Path
 
@@ -420,3 +421,120 @@ def test_demo_network_section(tmp_path):
     assert num["steep_crossing_points_cca_line_by_line"] > 0
     assert num["steep_crossing_points_chaikin_line_by_line"] > 0
     assert "| cca network (smooth_network) | 0 |" in (tmp_path / "summary.md").read_text()
+
+
+# --- strength and vertex budget in map units (issue 14.5, network mode) --------------------
+
+
+def jacksboro_contours():
+    """Raw 50 m contours of matplotlib's Jacksboro DEM, in its own degrees (766 lines)."""
+    from matplotlib import cbook
+
+    grid = geo.read_grid(cbook.get_sample_data("jacksboro_fault_dem.npz", asfileobj=False))
+    return geo.contours(grid, interval=50.0, iterations=0)
+
+
+def test_max_shift_bounds_every_line_of_a_real_network():
+    """OSM roads (metres): every line moves at most max_shift, still smoothed, nothing else lost.
+
+    Unbounded, 3 passes move the roads up to 4.4 m (19 of the 36 lines move; the others
+    are straight); with the bound each piece between junctions takes the strongest level
+    within it, so the network keeps its junctions, gets no new contact, keeps the exact
+    area balance, and the same 19 lines are still smoothed.
+    """
+    df = osm_roads()
+    before = df.geometry.values
+    free = shapely.hausdorff_distance(before, geo.smooth_network(df, iterations=3).geometry.values)
+    assert free.max() > 4.0
+    for max_shift in (0.5, 2.0):
+        res = geo.smooth_network(df, iterations=3, max_shift=max_shift, full_output=True)
+        after = res.geometry.geometry.values
+        shift = shapely.hausdorff_distance(before, after)
+        assert shift.max() <= max_shift
+        assert ((shift > 0) == (free > 0)).all()
+        assert_no_new_contacts(before, after)
+        assert_areas_exact(before, after)
+        for a, b in zip(before, after, strict=True):
+            assert a.coords[0] == b.coords[0] and a.coords[-1] == b.coords[-1]
+
+
+def test_min_segment_is_a_vertex_budget_per_piece():
+    """With min_segment every piece that was smoothed has a mean edge of at least L."""
+    df = osm_roads()
+    n_free = shapely.get_num_coordinates(geo.smooth_network(df, iterations=3).geometry.values)
+    res = geo.smooth_network(df, iterations=3, min_segment=8.0, full_output=True)
+    after = res.geometry.geometry.values
+    assert shapely.get_num_coordinates(after).sum() < 0.5 * n_free.sum()
+    assert_no_new_contacts(df.geometry.values, after)
+    assert_areas_exact(df.geometry.values, after)
+    # piece by piece: cut both networks at their (shared, fixed) nodes
+    before_lines = [shapely.get_coordinates(g) for g in df.geometry.values]
+    topo = geo.network_topology(before_lines, np.zeros(len(before_lines), dtype=bool))
+    nodes = {tuple(p) for p in topo.nodes.tolist()}
+    for a, b in zip(df.geometry.values, after, strict=True):
+        xy = shapely.get_coordinates(b)
+        cut = [k for k, p in enumerate(xy.tolist()) if tuple(p) in nodes]
+        for s, e in itertools.pairwise(cut):
+            piece = xy[s : e + 1]
+            mean_edge = np.linalg.norm(np.diff(piece, axis=0), axis=1).sum() / (e - s)
+            unchanged = shapely.covers(shapely.buffer(a, 1e-9), shapely.LineString(piece))
+            assert unchanged or mean_edge >= 8.0 * (1 - 1e-12)
+
+
+def test_contours_in_degrees_keep_their_levels_apart_within_max_shift():
+    """Jacksboro's contours in degrees: no line moves more than 1e-4 deg (about 10 m).
+
+    Unbounded, 2 passes move lines up to 1.8e-4 deg; with the bound no two levels touch,
+    every line stays within it and most are still smoothed.
+    """
+    raw = jacksboro_contours()
+    res = geo.smooth_network(raw, iterations=2, max_shift=1e-4, full_output=True)
+    after = res.geometry.geometry.values
+    shift = shapely.hausdorff_distance(raw.geometry.values, after)
+    assert shift.max() <= 1e-4 and (shift > 0).mean() > 0.9
+    assert geo.level_contacts(after, raw["level"].to_numpy()) == 0
+    closed = shapely.is_closed(raw.geometry.values)
+    assert closed.sum() > 500
+    for a, b in zip(raw.geometry.values[closed], after[closed], strict=True):
+        # areas of 1e-13 to 1e-5 deg^2 at longitude -84: shoelace relative to the first vertex
+        p, q = shapely.get_coordinates(a), shapely.get_coordinates(b)
+        p, q = p - p[0], q - p[0]
+        area = [0.5 * np.sum(x[:-1, 0] * x[1:, 1] - x[1:, 0] * x[:-1, 1]) for x in (p, q)]
+        assert abs(area[1] - area[0]) <= roundoff_bound(a)
+
+
+def test_shift_test_is_geos_hausdorff():
+    """geo._coverage.shifts_within decides GEOS' hausdorff_distance <= D, arc by arc."""
+    from curvesmith.geo._coverage import _ragged, shifts_within
+
+    rng = np.random.default_rng(3)
+    arcs = [np.cumsum(rng.normal(size=(int(rng.integers(2, 50)), 2)), axis=0) for _ in range(300)]
+    moved = [a + rng.normal(0, 10 ** rng.uniform(-3, 0), a.shape) for a in arcs]
+    moved = [m[:: int(rng.integers(1, 3))] if len(m) > 4 else m for m in moved]
+    loops = rng.uniform(size=300) < 0.3
+    line = lambda x, r: shapely.LineString(np.vstack([x, x[:1]]) if r else x)  # noqa: E731
+    hd = np.array(
+        [
+            shapely.hausdorff_distance(line(a, r), line(m, r))
+            for a, m, r in zip(arcs, moved, loops, strict=True)
+        ]
+    )
+    for d in (1e-3, 0.05, 0.3, 1.0, 3.0):
+        got = shifts_within(_ragged(arcs, loops), _ragged(moved, loops), d)
+        assert got.tolist() == (hd <= d).tolist()
+    assert 0 < (hd <= 0.3).sum() < 300
+
+
+def test_cli_network_bounds(tmp_path):
+    src = tmp_path / "roads.gpkg"
+    osm_roads().to_file(src)
+    out = tmp_path / "out.gpkg"
+    r = CliRunner().invoke(
+        main,
+        ["smooth", str(src), "-o", str(out), "--network", "--iterations", "3", "--max-shift", "1"],
+    )
+    assert r.exit_code == 0, r.output
+    assert "smoothed less to stay within the bounds" in r.output
+    want = geo.smooth_network(gpd.read_file(src), iterations=3, max_shift=1.0).geometry
+    got = gpd.read_file(out).geometry
+    assert all(a.equals_exact(b, 0.0) for a, b in zip(got, want, strict=True))

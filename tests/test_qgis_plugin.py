@@ -121,6 +121,11 @@ def test_build_argv():
         "batch smooth a.gpkg -o b.fgb --network --method cca --iterations 1 --alpha regular "
         "--workers 2 --partition-size 600"
     )
+    # the map-unit bounds hold per piece between junctions in network mode
+    assert argv("smoothnetwork", {"MAX_SHIFT": 2.5, "MIN_SEGMENT": 4.0}) == (
+        "smooth a.gpkg -o b.fgb --network --method cca --iterations 1 --alpha regular "
+        "--max-shift 2.5 --min-segment 4.0"
+    )
     assert options.build_argv(exe, "smooth", {}, "a", "b")[0] == exe
 
 

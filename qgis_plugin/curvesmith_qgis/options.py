@@ -202,11 +202,11 @@ OPTIONS = (
         None,
         "Largest shift of a boundary (layer units)",
         "Strength in map units: no feature moves farther than this (fewer or shallower "
-        "passes for the features that would; per shared border in coverage mode); areas stay "
-        "exact. Empty: no bound.",
+        "passes for the features that would; per shared border in coverage mode, per piece "
+        "between junctions in network mode); areas stay exact. Empty: no bound.",
         optional=True,
         minimum=0.0,
-        algorithms=("smooth", "smoothcoverage"),
+        algorithms=("smooth", "smoothcoverage", "smoothnetwork"),
     ),
     Option(
         "MIN_SEGMENT",
@@ -218,7 +218,7 @@ OPTIONS = (
         "that would be denser); areas stay exact. Empty: no budget.",
         optional=True,
         minimum=0.0,
-        algorithms=("smooth", "smoothcoverage"),
+        algorithms=("smooth", "smoothcoverage", "smoothnetwork"),
     ),
     Option(
         "SNAP",

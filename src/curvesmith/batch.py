@@ -349,8 +349,9 @@ def smooth_file(
     keep_angle : float, optional
         Keep sharp corners (radians), as in :func:`curvesmith.geo.smooth`.
     max_shift, min_segment : float, optional
-        Strength and vertex budget, as in :func:`curvesmith.geo.smooth` (per feature) and
-        :func:`curvesmith.geo.smooth_coverage` (per arc); not in network mode.
+        Strength and vertex budget, as in :func:`curvesmith.geo.smooth` (per feature),
+        :func:`curvesmith.geo.smooth_coverage` and :func:`curvesmith.geo.smooth_network`
+        (per arc; there every level of all arcs is tried in one ragged call on the client).
     errors_path : str or Path, optional
         Where to write the errors report (JSON list of ``{"index", "reason"}``);
         default ``OUT.errors.json`` beside the output. Always written.
@@ -367,11 +368,6 @@ def smooth_file(
 
     partition_size = as_int(partition_size, name="partition_size", minimum=1)
     budget = {k: v for k, v in (("max_shift", max_shift), ("min_segment", min_segment)) if v}
-    if budget and network:
-        raise CurveError(
-            "max_shift and min_segment are not available in network mode (feature by "
-            "feature and coverage mode have them)"
-        )
     if network and (coverage or make_valid or snap is not None):
         what = "coverage" if coverage else ("make_valid" if make_valid else "snap")
         raise CurveError(f"network mode does not take {what} (it smooths lines, not polygons)")
@@ -414,6 +410,7 @@ def smooth_file(
             iterations=iterations,
             alpha=alpha,
             keep_angle=keep_angle,
+            budget=budget,
             chunk=partition_size,
             workers=workers,
             scheduler=scheduler,
@@ -623,7 +620,18 @@ def _coverage_on_dask(
 
 
 def _network_on_dask(
-    df, *, method, iterations, alpha, chunk, workers, scheduler, client, progress, keep_angle=None
+    df,
+    *,
+    method,
+    iterations,
+    alpha,
+    chunk,
+    workers,
+    scheduler,
+    client,
+    progress,
+    keep_angle=None,
+    budget=None,
 ):
     from . import geo
     from .geo._network import ARC_BLOCK
@@ -664,8 +672,9 @@ def _network_on_dask(
             iterations=iterations,
             alpha=alpha,
             full_output=True,
-            map_arcs=map_arcs,
+            map_arcs=None if budget else map_arcs,  # the bounds try every level at once
             keep_angle=keep_angle,
+            **(budget or {}),
         )
     finally:
         if own is not None:

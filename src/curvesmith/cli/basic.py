@@ -238,11 +238,6 @@ def smooth_command(
     from .geo import check_geo_output, is_geofile, smooth_geofile
 
     budget = max_shift is not None or min_segment is not None
-    if budget and network:
-        raise click.UsageError(
-            "--max-shift and --min-segment are not available with --network (they are per "
-            "feature, and per shared arc with --coverage)"
-        )
     if network:
         from .contours import smooth_network_geofile
 
@@ -257,6 +252,8 @@ def smooth_command(
             layer=layer,
             equal_area=equal_area,
             keep_angle=None if keep_angle is None else math.radians(keep_angle),
+            max_shift=max_shift,
+            min_segment=min_segment,
         )
         return
     geojson_in = Path(source).suffix.lower() in (".geojson", ".json")

@@ -14,7 +14,7 @@ from typing import Any
 import click
 
 from ..errors import CurveError
-from ._common import ALPHA, COUNT, POSITIVE, POSITIVE_INT
+from ._common import ALPHA, COUNT, MAX_SHIFT_OPTION, MIN_SEGMENT_OPTION, POSITIVE, POSITIVE_INT
 
 __all__ = ["contours_command", "smooth_network_geofile"]
 
@@ -72,6 +72,8 @@ def smooth_network_geofile(
     layer: str | None = None,
     equal_area: bool = False,
     keep_angle: float | None = None,
+    max_shift: float | None = None,
+    min_segment: float | None = None,
 ):
     """Smooth the lines of a GIS file as one network; one-line summary on stderr.
 
@@ -89,6 +91,11 @@ def smooth_network_geofile(
         Input layer (digits select by index).
     equal_area : bool
         Smooth in an equal-area projection (for data in degrees).
+    keep_angle : float, optional
+        Corners turning by more than this (radians) stay fixed.
+    max_shift, min_segment : float, optional
+        Strength and vertex budget per arc, in the units of the CRS smoothed in (metres
+        with `equal_area`), as in :func:`curvesmith.geo.smooth_network`.
 
     Returns
     -------
@@ -117,6 +124,8 @@ def smooth_network_geofile(
         alpha=_alpha(alpha),
         full_output=True,
         keep_angle=keep_angle,
+        max_shift=max_shift,
+        min_segment=min_segment,
     )
     out = res.geometry.to_crs(crs) if equal_area else res.geometry
     _write(out, out_path)
@@ -127,7 +136,12 @@ def smooth_network_geofile(
     if res.n_inserted:
         parts.append(f"{res.n_inserted} crossing/junction vertices inserted")
     if res.reductions:
-        parts.append(f"{len(res.reductions)} piece(s) smoothed less to avoid new contacts")
+        why = (
+            "to stay within the bounds or avoid new contacts"
+            if (max_shift is not None or min_segment is not None)
+            else "to avoid new contacts"
+        )
+        parts.append(f"{len(res.reductions)} piece(s) smoothed less {why}")
     click.echo("; ".join(parts), err=True)
     return res
 
@@ -166,6 +180,8 @@ def _levels(text: str | None) -> list[float] | None:
     "--band", "raster_band", type=POSITIVE_INT, default=1, show_default=True, help="GeoTIFF band."
 )
 @click.option("--crs", default=None, help="CRS of the output when the grid has none.")
+@MAX_SHIFT_OPTION
+@MIN_SEGMENT_OPTION
 def contours_command(
     grid: str,
     dest: str,
@@ -177,6 +193,8 @@ def contours_command(
     alpha: str,
     raster_band: int,
     crs: str | None,
+    max_shift: float | None,
+    min_segment: float | None,
 ) -> None:
     """Smoothed contour lines (or isobands with --bands) of GRID, written to OUT.
 
@@ -204,6 +222,8 @@ def contours_command(
             alpha=_alpha(alpha),
             crs=g.crs if g.crs is not None else crs,
             full_output=True,
+            max_shift=max_shift,
+            min_segment=min_segment,
         )
     with warnings.catch_warnings():
         if g.crs is None and crs is None:  # said in one line here, not as pyogrio's warning

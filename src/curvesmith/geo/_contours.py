@@ -300,6 +300,8 @@ def contours(
     alpha: Any = "regular",
     crs: Any = None,
     full_output: bool = False,
+    max_shift: float | None = None,
+    min_segment: float | None = None,
 ) -> Any:
     """Contour lines (or isobands) of a grid, smoothed without any two levels touching.
 
@@ -331,6 +333,11 @@ def contours(
         CRS of the output (default: the grid's).
     full_output : bool
         Return a :class:`ContourResult` with the smoothing report.
+    max_shift, min_segment : float, optional
+        Strength and vertex budget in the grid's coordinate units, arc by arc (see
+        :func:`curvesmith.geo.smooth_network`; for bands
+        :func:`curvesmith.geo.smooth_coverage`): no line or band border moves farther than
+        `max_shift`, and smoothing adds at most one vertex per `min_segment`.
 
     Returns
     -------
@@ -408,7 +415,13 @@ def contours(
                 lvl.append(float(level))
         df = gpd.GeoDataFrame({"level": lvl}, geometry=geoms, crs=crs)
         res = smooth_network(
-            df, method=method, iterations=iterations, alpha=alpha, full_output=True
+            df,
+            method=method,
+            iterations=iterations,
+            alpha=alpha,
+            full_output=True,
+            max_shift=max_shift,
+            min_segment=min_segment,
         )
     else:
         edges = np.concatenate([[zmin - delta], lv, [zmax]])
@@ -430,7 +443,14 @@ def contours(
         )
         g = np.concatenate([g, _frame(g, xs, ys, pad=cell)])
         full = smooth_coverage(
-            g, method=method, iterations=iterations, alpha=alpha, make_valid=True, full_output=True
+            g,
+            method=method,
+            iterations=iterations,
+            alpha=alpha,
+            make_valid=True,
+            full_output=True,
+            max_shift=max_shift,
+            min_segment=min_segment,
         )
         nb = len(polys)
         df = gpd.GeoDataFrame(

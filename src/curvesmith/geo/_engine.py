@@ -457,7 +457,7 @@ def _within(geoms, a, b, dist) -> np.ndarray:
     """Per pair: whether ``geoms[a[k]]`` and ``geoms[b[k]]`` come within ``dist[k]``."""
     import shapely
 
-    from ._simple_kernel import polylines_within
+    from ._clearance_kernel import polylines_within
 
     ks, inv = np.unique(np.concatenate([a, b]), return_inverse=True)
     xy, owner = shapely.get_coordinates(geoms[ks], return_index=True)

@@ -39,6 +39,7 @@ import numpy as np
 from ..errors import CurveError
 from . import _zm
 from ._corners import with_corners
+from ._coverage import smooth_arcs_bounded
 from ._engine import Level, levels_for, resolve_arcs
 from ._smooth import _shapely, as_geometry_array, check_method, make_smoother
 
@@ -505,6 +506,8 @@ def smooth_network(
     full_output: bool = False,
     map_arcs: Any = None,
     keep_angle: float | None = None,
+    max_shift: float | None = None,
+    min_segment: float | None = None,
 ) -> Any:
     """Smooth a line network: junctions and ends fixed, shared pieces once, no new contacts.
 
@@ -540,6 +543,12 @@ def smooth_network(
     keep_angle : float, optional
         Keep sharp corners: every vertex turning by more than this angle (radians) becomes
         a node, as a fixed point (:func:`curvesmith.geo.corner_vertices`).
+    max_shift, min_segment : float, optional
+        Strength and vertex budget in map units, arc by arc: every arc gets the strongest
+        level (1 .. iterations passes, then shallower cuts) whose Hausdorff distance from
+        its input is at most `max_shift` and that has at most one vertex per `min_segment`
+        of its length; an arc with no such level keeps its input. A line is a union of
+        arcs, so it moves no farther than `max_shift`; the area balance stays exact.
     full_output : bool
         Return a :class:`NetworkResult`.
     map_arcs : callable, optional
@@ -603,6 +612,19 @@ def smooth_network(
     smoother = make_smoother(method, alpha)
     if iterations == 0:
         new_arcs, red = list(topo.arcs), []
+    elif max_shift is not None or min_segment is not None:
+        new_arcs, red = smooth_arcs_bounded(
+            topo.arcs,
+            topo.loops,
+            frozen,
+            levels=levels_for(iterations, scalable=(method == "cca")),
+            smoother=smoother,
+            method=method,
+            alpha=alpha,
+            fixed=None,
+            max_shift=max_shift,
+            min_segment=min_segment,
+        )
     else:
         if map_arcs is not None:  # e.g. on Dask (curvesmith.batch)
             initial = map_arcs(topo, frozen)

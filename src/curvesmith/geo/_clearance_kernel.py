@@ -1,0 +1,187 @@
+"""numba kernels of the clearance screening and the shift bound (imported only when they run).
+
+The conflict resolution asks, for a few thousand pairs of smoothed pieces, whether the
+two polylines come within a small distance of each other. Nested contour lines, rivers
+winding round each other and long coverage arcs have bounding boxes that contain most of
+the other polyline, so comparing every segment of one with every segment of the other is
+quadratic in the piece length (766 contour lines of Jacksboro's DEM, 2 passes: 23 s).
+Here the segments of the second polyline are sorted once per pair along the axis in which
+its bounding box is longer (x for a line running east-west, y for one running
+north-south), and each segment of the first looks only at those whose range on that axis
+can reach it (a binary search, widened by the longest segment's extent), so the cost is
+about ``n log n`` plus the segment pairs that really are close along that axis.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from ._simple_kernel import _seg_dist2, _segs_within
+
+
+@njit(cache=True, nogil=True)
+def _candidates(X, i0, i1, bx0, bx1, by0, by1, r, out):
+    """Segments ``t`` (``i0 <= t < i1 - 1``) whose box comes within `r` of the given box."""
+    n = 0
+    for t in range(i0, i1 - 1):
+        if (
+            min(X[t, 0], X[t + 1, 0]) <= bx1 + r
+            and max(X[t, 0], X[t + 1, 0]) >= bx0 - r
+            and min(X[t, 1], X[t + 1, 1]) <= by1 + r
+            and max(X[t, 1], X[t + 1, 1]) >= by0 - r
+        ):
+            out[n] = t
+            n += 1
+    return n
+
+
+@njit(cache=True, nogil=True)
+def _box(X, i0, i1):
+    x0, x1, y0, y1 = np.inf, -np.inf, np.inf, -np.inf
+    for t in range(i0, i1):
+        x0, x1 = min(x0, X[t, 0]), max(x1, X[t, 0])
+        y0, y1 = min(y0, X[t, 1]), max(y1, X[t, 1])
+    return x0, x1, y0, y1
+
+
+@njit(cache=True, nogil=True)
+def polylines_within(X, offsets, pa, pb, dist):
+    """Per pair ``k``: whether polylines ``pa[k]`` and ``pb[k]`` come within ``dist[k]``.
+
+    Polyline ``i`` is ``X[offsets[i]:offsets[i + 1]]``. A pair is close when some segment of
+    one and some segment of the other cross or come within the distance (floating point:
+    a screening test for the clearance margin, not a proof). Only the segments of each
+    that lie within the distance of the other's bounding box take part; those of the
+    second are sorted by x and searched, not scanned.
+    """
+    npairs = pa.shape[0]
+    out = np.zeros(npairs, dtype=np.bool_)
+    nmax = 1
+    npoly = offsets.shape[0] - 1
+    boxes = np.empty((npoly, 4))
+    for i in range(npoly):
+        nmax = max(nmax, offsets[i + 1] - offsets[i])
+        boxes[i, 0], boxes[i, 1], boxes[i, 2], boxes[i, 3] = _box(X, offsets[i], offsets[i + 1])
+    sa = np.empty(nmax, dtype=np.int64)
+    sb = np.empty(nmax, dtype=np.int64)
+    keys = np.empty(nmax, dtype=np.float64)
+    for k in range(npairs):
+        r = dist[k]
+        d2 = r * r
+        ia0, ia1 = offsets[pa[k]], offsets[pa[k] + 1]
+        ib0, ib1 = offsets[pb[k]], offsets[pb[k] + 1]
+        ax0, ax1, ay0, ay1 = boxes[pa[k], 0], boxes[pa[k], 1], boxes[pa[k], 2], boxes[pa[k], 3]
+        bx0, bx1, by0, by1 = boxes[pb[k], 0], boxes[pb[k], 1], boxes[pb[k], 2], boxes[pb[k], 3]
+        if ax0 > bx1 + r or bx0 > ax1 + r or ay0 > by1 + r or by0 > ay1 + r:
+            continue  # the boxes are farther apart than r
+        na = _candidates(X, ia0, ia1, bx0, bx1, by0, by1, r, sa)
+        nb = _candidates(X, ib0, ib1, ax0, ax1, ay0, ay1, r, sb)
+        if na == 0 or nb == 0:
+            continue
+        # sort b's candidates along its box's longer axis c (the other axis: e)
+        c = 0 if bx1 - bx0 >= by1 - by0 else 1
+        e = 1 - c
+        wide = 0.0  # the largest extent of b's candidate segments along c
+        for v in range(nb):
+            q = sb[v]
+            lo = min(X[q, c], X[q + 1, c])
+            keys[v] = lo
+            wide = max(wide, max(X[q, c], X[q + 1, c]) - lo)
+        order = np.argsort(keys[:nb])
+        xs = keys[:nb][order]
+        found = False
+        for u in range(na):
+            t = sa[u]
+            x0, x1 = min(X[t, c], X[t + 1, c]) - r, max(X[t, c], X[t + 1, c]) + r
+            y0, y1 = min(X[t, e], X[t + 1, e]) - r, max(X[t, e], X[t + 1, e]) + r
+            # b's segments with min <= x1 and max >= x0 along c, hence min >= x0 - wide
+            first = np.searchsorted(xs, x0 - wide, side="left")
+            last = np.searchsorted(xs, x1, side="right")
+            for w in range(first, last):
+                q = sb[order[w]]
+                if (
+                    max(X[q, c], X[q + 1, c]) < x0
+                    or min(X[q, e], X[q + 1, e]) > y1
+                    or max(X[q, e], X[q + 1, e]) < y0
+                ):
+                    continue
+                if _segs_within(X[t, 0], X[t, 1], X[t + 1, 0], X[t + 1, 1],
+                                X[q, 0], X[q, 1], X[q + 1, 0], X[q + 1, 1], d2):  # fmt: skip
+                    found = True
+                    break
+            if found:
+                break
+        out[k] = found
+    return out
+
+
+@njit(cache=True, nogil=True)
+def _points_near(P, p0, p1, Q, q0, q1, r, keys):
+    """Whether every vertex ``P[p0:p1]`` lies within `r` of the polyline ``Q[q0:q1]``."""
+    nq = q1 - q0 - 1
+    if nq < 1:  # a single point
+        for i in range(p0, p1):
+            dx, dy = P[i, 0] - Q[q0, 0], P[i, 1] - Q[q0, 1]
+            if dx * dx + dy * dy > r * r:
+                return False
+        return True
+    qx0, qx1, qy0, qy1 = _box(Q, q0, q1)
+    c = 0 if qx1 - qx0 >= qy1 - qy0 else 1  # sort along the box's longer axis
+    e = 1 - c
+    wide = 0.0
+    for v in range(nq):
+        q = q0 + v
+        lo = min(Q[q, c], Q[q + 1, c])
+        keys[v] = lo
+        wide = max(wide, max(Q[q, c], Q[q + 1, c]) - lo)
+    order = np.argsort(keys[:nq])
+    xs = keys[:nq][order]
+    d2 = r * r
+    last_hit = 0  # the segment that served the previous vertex: usually serves this one
+    for i in range(p0, p1):
+        px, py = P[i, c], P[i, e]
+        q = q0 + last_hit
+        if _seg_dist2(Q[q, 0], Q[q, 1], Q[q + 1, 0], Q[q + 1, 1], P[i, 0], P[i, 1]) <= d2:
+            continue
+        first = np.searchsorted(xs, px - r - wide, side="left")
+        last = np.searchsorted(xs, px + r, side="right")
+        hit = -1
+        for w in range(first, last):
+            v = order[w]
+            q = q0 + v
+            if (
+                max(Q[q, c], Q[q + 1, c]) < px - r
+                or min(Q[q, e], Q[q + 1, e]) > py + r
+                or max(Q[q, e], Q[q + 1, e]) < py - r
+            ):
+                continue
+            if _seg_dist2(Q[q, 0], Q[q, 1], Q[q + 1, 0], Q[q + 1, 1], P[i, 0], P[i, 1]) <= d2:
+                hit = v
+                break
+        if hit < 0:
+            return False
+        last_hit = hit
+    return True
+
+
+@njit(cache=True, nogil=True)
+def shifts_within(A, offa, B, offb, dist):
+    """Per polyline ``k``: whether the discrete Hausdorff distance of ``A_k``, ``B_k`` is <= dist.
+
+    ``A_k = A[offa[k]:offa[k + 1]]`` (likewise ``B_k``): every vertex of each within `dist`
+    of the other polyline (point-to-segment distance), the measure GEOS'
+    ``hausdorff_distance`` takes, decided without computing it.
+    """
+    n = offa.shape[0] - 1
+    out = np.zeros(n, dtype=np.bool_)
+    nmax = 1
+    for k in range(n):
+        nmax = max(nmax, offa[k + 1] - offa[k], offb[k + 1] - offb[k])
+    keys = np.empty(nmax, dtype=np.float64)
+    for k in range(n):
+        a0, a1, b0, b1 = offa[k], offa[k + 1], offb[k], offb[k + 1]
+        out[k] = _points_near(A, a0, a1, B, b0, b1, dist, keys) and _points_near(
+            B, b0, b1, A, a0, a1, dist, keys
+        )
+    return out
