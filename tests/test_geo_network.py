@@ -538,3 +538,18 @@ def test_cli_network_bounds(tmp_path):
     want = geo.smooth_network(gpd.read_file(src), iterations=3, max_shift=1.0).geometry
     got = gpd.read_file(out).geometry
     assert all(a.equals_exact(b, 0.0) for a, b in zip(got, want, strict=True))
+
+
+@settings(deadline=None, max_examples=40)
+@given(networks(), st.integers(1, 3), st.floats(0.01, 0.5))
+def test_property_max_shift_holds_with_no_new_contacts(lines, iterations, shift):
+    lines = np.array(lines, dtype=object)
+    scale = float(np.median(shapely.length(lines) / (shapely.get_num_coordinates(lines) - 1)))
+    res = geo.smooth_network(lines, iterations=iterations, max_shift=shift * scale)
+    out = np.asarray(res, dtype=object)
+    assert (shapely.hausdorff_distance(lines, out) <= shift * scale).all()
+    top = max(np.abs(shapely.get_coordinates(lines)).max(), 1.0)
+    assert_no_new_contacts(lines, out, tol=1e-9 * top)
+    assert_areas_exact(lines, out)
+    for a, b in zip(lines, out, strict=True):
+        assert a.coords[0] == b.coords[0] and a.coords[-1] == b.coords[-1]
