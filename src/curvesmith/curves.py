@@ -68,6 +68,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.spatial import cKDTree
 
+from ._rich import RichRepr
 from ._validate import as_float, as_int, as_points
 from .errors import CurveError
 
@@ -89,7 +90,7 @@ _LINE_FACTOR = 8.0
 
 
 @dataclass(frozen=True)
-class CurveFit:
+class CurveFit(RichRepr):
     """Result of :func:`fit`: one path of Bézier segments.
 
     Attributes

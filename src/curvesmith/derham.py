@@ -85,6 +85,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ._rich import RichRepr
 from ._validate import as_float, as_int, as_points
 from .errors import CurveError
 from .subdivision import de_rham
@@ -475,7 +476,7 @@ def parabola_length(points) -> float:
 
 
 @dataclass(frozen=True)
-class LengthResult:
+class LengthResult(RichRepr):
     """Certified length of a de Rham curve (see :func:`length`).
 
     Attributes
@@ -747,7 +748,7 @@ def _paper_level(total: float, tol: float) -> int:
 
 
 @dataclass(frozen=True)
-class InterpolationResult:
+class InterpolationResult(RichRepr):
     """A de Rham curve through ``A`` and ``C`` with given tangents and prescribed length.
 
     Attributes
@@ -1260,7 +1261,7 @@ def _accelerated(prob: _Problem, target: float, tol: float, cap: int):
 
 
 @dataclass(frozen=True)
-class ChainResult:
+class ChainResult(RichRepr):
     """G1 chain of de Rham curves with a prescribed length per span (:func:`interpolate_chain`).
 
     Attributes

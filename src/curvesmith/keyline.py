@@ -61,6 +61,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ._rich import RichRepr
 from ._validate import as_float, as_int, as_points
 from .errors import CurveError
 from .geometry import _resample_equilateral as _resample
@@ -644,7 +645,7 @@ DEFAULT_STEPS = 200
 
 
 @dataclass(frozen=True)
-class KeylineFit:
+class KeylineFit(RichRepr):
     """Result of :func:`fit`: the keyline in its frame and one discrete elastica per side.
 
     Attributes

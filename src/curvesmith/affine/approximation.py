@@ -47,6 +47,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.optimize import least_squares, minimize_scalar
 
+from .._rich import RichRepr
 from .._validate import as_float, as_int, as_points
 from ..errors import CurveError
 
@@ -415,7 +416,7 @@ def construct(
 
 
 @dataclass(frozen=True)
-class Approximation:
+class Approximation(RichRepr):
     """Result of :func:`approximate`.
 
     Attributes

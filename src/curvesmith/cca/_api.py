@@ -18,6 +18,7 @@ import numpy as np
 
 from .. import _validate
 from .._ragged import as_anchor_mask, as_ragged, curve_ids
+from .._rich import RichRepr
 from .._validate import as_bool, as_float, as_int, as_points, check_growth
 from ..errors import CurveError
 from . import _stepnd
@@ -34,7 +35,7 @@ _BLOCK = 32768
 
 
 @dataclass(frozen=True)
-class CCAResult:
+class CCAResult(RichRepr):
     """Result of :func:`smooth_with_info`.
 
     Attributes
@@ -353,7 +354,7 @@ def _smooth_one(
 
 
 @dataclass(frozen=True)
-class RaggedCCAResult:
+class RaggedCCAResult(RichRepr):
     """Result of :func:`smooth_ragged_with_info`: a ragged batch and its counts per curve.
 
     Attributes

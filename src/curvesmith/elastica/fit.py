@@ -83,6 +83,7 @@ import numpy as np
 from scipy.optimize import least_squares, leastsq
 from scipy.special import ellipk
 
+from .._rich import RichRepr
 from .._validate import as_float, as_int, as_points
 from ..errors import CurveError, require
 from ..geometry import _resample_walk
@@ -108,7 +109,7 @@ _GROWTH = 1.6
 
 
 @dataclass(frozen=True)
-class FitResult:
+class FitResult(RichRepr):
     """Result of :func:`fit`.
 
     Attributes

@@ -21,6 +21,7 @@ from typing import Any
 
 import numpy as np
 
+from .._rich import RichRepr
 from ..errors import CurveError, CurveFormatError, require
 
 __all__ = ["ContourResult", "Grid", "contours", "read_grid"]
@@ -52,7 +53,7 @@ class Grid:
 
 
 @dataclass(frozen=True)
-class ContourResult:
+class ContourResult(RichRepr):
     """Result of :func:`contours` with ``full_output=True``.
 
     Attributes

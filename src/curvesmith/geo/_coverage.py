@@ -9,6 +9,7 @@ from typing import Any
 
 import numpy as np
 
+from .._rich import RichRepr
 from ..errors import CurveError
 from . import _zm
 from ._corners import with_corners
@@ -99,7 +100,7 @@ class Topology:
 
 
 @dataclass(frozen=True)
-class CoverageResult:
+class CoverageResult(RichRepr):
     """Result of :func:`smooth_coverage` with ``full_output=True``.
 
     Attributes

@@ -36,6 +36,7 @@ from typing import Any
 
 import numpy as np
 
+from .._rich import RichRepr
 from ..errors import CurveError
 from . import _zm
 from ._corners import with_corners
@@ -84,7 +85,7 @@ class NetworkReduction:
 
 
 @dataclass(frozen=True)
-class NetworkResult:
+class NetworkResult(RichRepr):
     """Result of :func:`smooth_network` with ``full_output=True``.
 
     Attributes

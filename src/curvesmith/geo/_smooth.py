@@ -9,6 +9,7 @@ from typing import Any
 
 import numpy as np
 
+from .._rich import RichRepr
 from ..errors import CurveError, require
 from ..geometry import _signed_area
 from ._corners import with_corners
@@ -49,7 +50,7 @@ class GeometryReduction:
 
 
 @dataclass(frozen=True)
-class SmoothResult:
+class SmoothResult(RichRepr):
     """Result of :func:`smooth` with ``full_output=True``.
 
     Attributes
