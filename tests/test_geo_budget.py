@@ -102,31 +102,27 @@ def test_budget_errors():
     assert res.exit_code == 2 and "Invalid value for '--min-segment'" in res.output
 
 
+def _smooth_and_batch(src, tmp_path, args):
+    """``curvesmith smooth`` and ``batch smooth`` (one worker) with `args`: both outputs,
+    after checking that both ran and wrote the same geometries bit for bit."""
+    runner = CliRunner()
+    res = runner.invoke(main, ["smooth", str(src), "-o", str(tmp_path / "a.gpkg"), *args])
+    assert res.exit_code == 0, res.output
+    argv = ["batch", "smooth", str(src), "-o", str(tmp_path / "b.gpkg"), *args]
+    res = runner.invoke(main, [*argv, "--workers", "1", "--no-progress"])
+    assert res.exit_code == 0, res.output
+    a, b = gpd.read_file(tmp_path / "a.gpkg"), gpd.read_file(tmp_path / "b.gpkg")
+    assert all(x.equals_exact(y, 0.0) for x, y in zip(a.geometry, b.geometry, strict=True))
+    return a
+
+
 @pytest.mark.slow
 def test_cli_and_batch_agree(tmp_path):
     src = tmp_path / "fp.gpkg"
     _footprints(60).to_file(src)
-    runner = CliRunner()
-    args = ["--iterations", "3", "--max-shift", "1", "--min-segment", "1"]
-    res = runner.invoke(main, ["smooth", str(src), "-o", str(tmp_path / "a.gpkg"), *args])
-    assert res.exit_code == 0, res.output
-    res = runner.invoke(
-        main,
-        [
-            "batch",
-            "smooth",
-            str(src),
-            "-o",
-            str(tmp_path / "b.gpkg"),
-            *args,
-            "--workers",
-            "1",
-            "--no-progress",
-        ],
+    a = _smooth_and_batch(
+        src, tmp_path, ["--iterations", "3", "--max-shift", "1", "--min-segment", "1"]
     )
-    assert res.exit_code == 0, res.output
-    a, b = gpd.read_file(tmp_path / "a.gpkg"), gpd.read_file(tmp_path / "b.gpkg")
-    assert all(x.equals_exact(y, 0.0) for x, y in zip(a.geometry, b.geometry, strict=True))
     assert shapely.hausdorff_distance(_footprints(60).geometry.values, a.geometry.values).max() <= 1
 
 
@@ -156,15 +152,7 @@ def test_coverage_mode_bounds_every_shared_arc():
 def test_cli_and_batch_coverage_bounds_agree(tmp_path):
     src = tmp_path / "ia.gpkg"
     geo.us_counties(states=["19"]).to_crs("EPSG:5070").to_file(src)
-    runner = CliRunner()
-    args = ["--coverage", "--iterations", "3", "--max-shift", "100"]
-    res = runner.invoke(main, ["smooth", str(src), "-o", str(tmp_path / "a.gpkg"), *args])
-    assert res.exit_code == 0, res.output
-    argv = ["batch", "smooth", str(src), "-o", str(tmp_path / "b.gpkg"), *args]
-    res = runner.invoke(main, [*argv, "--workers", "1", "--no-progress"])
-    assert res.exit_code == 0, res.output
-    a, b = gpd.read_file(tmp_path / "a.gpkg"), gpd.read_file(tmp_path / "b.gpkg")
-    assert all(x.equals_exact(y, 0.0) for x, y in zip(a.geometry, b.geometry, strict=True))
+    a = _smooth_and_batch(src, tmp_path, ["--coverage", "--iterations", "3", "--max-shift", "100"])
     src_geoms = gpd.read_file(src).geometry.values
     assert shapely.hausdorff_distance(src_geoms, a.geometry.values).max() <= 100
 
@@ -184,14 +172,7 @@ def test_cli_and_batch_network_bounds_agree(tmp_path):
     src = tmp_path / "contours.gpkg"
     geo.write_file(lines, src)
     args = ["--network", "--iterations", "2", "--max-shift", "8", "--min-segment", "5"]
-    runner = CliRunner()
-    res = runner.invoke(main, ["smooth", str(src), "-o", str(tmp_path / "a.gpkg"), *args])
-    assert res.exit_code == 0, res.output
-    argv = ["batch", "smooth", str(src), "-o", str(tmp_path / "b.gpkg"), *args]
-    res = runner.invoke(main, [*argv, "--workers", "1", "--no-progress"])
-    assert res.exit_code == 0, res.output
-    a, b = gpd.read_file(tmp_path / "a.gpkg"), gpd.read_file(tmp_path / "b.gpkg")
-    assert all(x.equals_exact(y, 0.0) for x, y in zip(a.geometry, b.geometry, strict=True))
+    a = _smooth_and_batch(src, tmp_path, args)
     shift = shapely.hausdorff_distance(lines.geometry.values, a.geometry.values)
     assert shift.max() <= 8 and (shift > 0).mean() > 0.9
     assert geo.level_contacts(a.geometry.values, a["level"].to_numpy()) == 0
