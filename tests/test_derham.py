@@ -489,7 +489,10 @@ def test_interpolate_chain():
         ({"length": 3.0}, r"\(3.16227766, 4.302775638\) .* got 3"),
         ({"length": 4.5}, r"length must lie in the open interval .*got 4.5"),
         ({"length": math.sqrt(10)}, "open interval"),
-        ({"method": "newton"}, "method must be one of accelerated, regula_falsi, secant"),
+        (
+            {"method": "newton"},
+            "method must be one of 'accelerated', 'regula_falsi', 'secant', got 'newton'",
+        ),
         ({"start": (1.0, float("nan"))}, "start must be finite"),
         ({"start": (1.0, 2.0, 3.0)}, r"start must have shape \(N, 2\)"),
         ({"level": -1}, "level must be an integer"),

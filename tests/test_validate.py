@@ -93,3 +93,20 @@ def test_as_bool_and_growth_limit():
     check_growth(10, 3, lambda n: 3 * n, limit=270)  # 30, 90, 270: at the limit is fine
     with pytest.raises(CurveError, match=r"at most 269 output vertices, got 3 \(step 3 alone"):
         check_growth(10, 3, lambda n: 3 * n, limit=269)
+
+
+def test_as_choice_lists_the_choices_and_keeps_bools_apart():
+    from curvesmith._validate import as_choice
+
+    assert as_choice("secant", ("accelerated", "secant"), name="method") == "secant"
+    assert as_choice(2010, [2010, 2016], name="year") == 2010
+    with pytest.raises(CurveError, match=r"^year must be one of 2010, 2016, got 1999$"):
+        as_choice(1999, [2010, 2016], name="year")
+    # True == 1 in Python; an option that takes "auto", True or False refuses 1
+    assert as_choice(True, ("auto", True, False), name="continuation") is True
+    with pytest.raises(CurveError, match="continuation must be one of 'auto', True, False, got 1"):
+        as_choice(1, ("auto", True, False), name="continuation")
+    with pytest.raises(CurveError, match=r"got array\(\[1, 2\]\)"):
+        as_choice(np.array([1, 2]), (1, 2), name="n")
+    with pytest.raises(CurveError, match=r"got \['cca'\]"):
+        as_choice(["cca"], ("cca", "chaikin"), name="method")

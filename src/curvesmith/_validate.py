@@ -17,6 +17,7 @@ from .errors import CurveError
 __all__ = [
     "MAX_VERTICES",
     "as_bool",
+    "as_choice",
     "as_float",
     "as_int",
     "as_points",
@@ -156,6 +157,34 @@ def as_bool(value, *, name: str) -> bool:
     if not isinstance(value, bool | np.bool_):
         raise CurveError(f"{name} must be True or False, got {value!r}")
     return bool(value)
+
+
+def as_choice(value, choices, *, name: str):
+    """Check that `value` is one of `choices` and return it; the message lists the choices.
+
+    The one check for string (and other enumerated) options, so that every message reads
+    the same: ``method must be one of 'cca', 'chaikin', got 'spline'``.
+
+    Examples
+    --------
+    >>> as_choice("golden", ("brent", "golden"), name="search")
+    'golden'
+    >>> as_choice("gold", ("brent", "golden"), name="search")
+    Traceback (most recent call last):
+    ...
+    curvesmith.errors.CurveError: search must be one of 'brent', 'golden', got 'gold'
+    """
+    options = tuple(choices)
+
+    def same(c) -> bool:  # True is not 1 here
+        try:
+            return bool(c == value) and isinstance(c, bool) == isinstance(value, bool)
+        except (TypeError, ValueError):  # an array's ambiguous truth value
+            return False
+
+    if not any(same(c) for c in options):
+        raise CurveError(f"{name} must be one of {', '.join(map(repr, options))}, got {value!r}")
+    return value
 
 
 def check_growth(n: int, iterations: int, step, *, limit: int = MAX_VERTICES) -> None:

@@ -86,7 +86,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ._rich import RichRepr
-from ._validate import as_float, as_int, as_points
+from ._validate import as_choice, as_float, as_int, as_points
 from .errors import CurveError
 from .subdivision import de_rham
 
@@ -929,8 +929,7 @@ def interpolate(
     tol = math.ldexp(as_float(tol, name="tol", low=0.0), shift)
     level = as_int(level, name="level", minimum=0, maximum=16)
     max_iterations = as_int(max_iterations, name="max_iterations", minimum=1)
-    if method not in METHODS:
-        raise CurveError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
+    as_choice(method, METHODS, name="method")
     prob = _Problem(a, b, c, gamma)
     length = as_float(length, name="length")
     target = math.ldexp(length, shift)

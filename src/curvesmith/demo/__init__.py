@@ -196,10 +196,9 @@ def show_section(name: str, outdir=None) -> DemoContext:
     """
     import tempfile
 
-    from ..errors import CurveError
+    from .._validate import as_choice
 
-    if name not in SECTIONS:
-        raise CurveError(f"name must be one of {SECTIONS}, got {name!r}")
+    as_choice(name, SECTIONS, name="name")
     module = importlib.import_module(f"{__name__}.{name}")
     folder = Path(tempfile.mkdtemp(prefix=f"curvesmith-{name}-")) if outdir is None else outdir
     folder = Path(folder)

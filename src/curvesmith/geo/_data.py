@@ -5,7 +5,8 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-from ..errors import CurveError, require
+from .._validate import as_choice
+from ..errors import require
 
 __all__ = ["us_counties"]
 
@@ -42,8 +43,7 @@ def us_counties(*, year: int = 2016, states: Any = None):
     import _plotly_geo
     import pyogrio
 
-    if year not in _FILES:
-        raise CurveError(f"year must be one of {sorted(_FILES)}, got {year!r}")
+    as_choice(year, sorted(_FILES), name="year")
     path = Path(_plotly_geo.__file__).parent / "package_data" / _FILES[year]
     df = pyogrio.read_dataframe(path)
     df = df.set_crs("EPSG:4269", allow_override=True)

@@ -24,7 +24,7 @@ from typing import Any, TextIO
 import numpy as np
 import orjson
 
-from .._validate import as_points
+from .._validate import as_choice, as_points
 from ..errors import CurveError, CurveFormatError
 
 __all__ = [
@@ -138,8 +138,7 @@ class Curve:
             if isinstance(m, bool) or not isinstance(m, int | np.integer) or m < 0:
                 raise CurveError(f"member must be None or an integer >= 0, got {m!r}")
             object.__setattr__(self, "member", int(m))
-        if self.kind not in KINDS:
-            raise CurveError(f"kind must be one of {', '.join(KINDS)}, got {self.kind!r}")
+        as_choice(self.kind, KINDS, name="kind")
         if self.kind in _POLYGON_KINDS and not closed:
             raise CurveError(f"a {self.kind} ring must be closed, got closed=False")
         if self.kind in ("LineString", "Polygon") and self.part != 0:
