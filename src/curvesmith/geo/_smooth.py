@@ -293,7 +293,7 @@ def as_geometry_array(geometry: Any) -> tuple[np.ndarray, Callable[[np.ndarray],
             f"geometry must be a shapely geometry, a 1-D sequence of them, a GeoSeries or a "
             f"GeoDataFrame, got an array of shape {arr.shape}"
         )
-    ok = np.array([g is None or isinstance(g, shapely.Geometry) for g in arr], dtype=bool)
+    ok = shapely.is_valid_input(arr)  # a geometry or None
     if not ok.all():
         k = int(np.nonzero(~ok)[0][0])
         raise CurveError(
@@ -539,17 +539,36 @@ def _chunks(counts: np.ndarray) -> list[slice]:
     return [slice(int(a), int(b)) for a, b in itertools.pairwise(bounds)]
 
 
-def _smooth_polygonal(g, feat_index, smoother, levels, batch):
+def _polygon_ragged(g: np.ndarray, was_polygon: np.ndarray):
+    """``shapely.to_ragged_array`` of (Multi)Polygons: coordinates, ring, polygon, geometry offsets.
+
+    The ring offsets are int64.
+    Polygons without holes (a layer of footprints) skip ``to_ragged_array``'s copies of
+    every ring (``shapely.get_rings``): their coordinates are ``get_coordinates`` and each
+    one is a ring, the same arrays bit for bit.
+    """
     shapely = _shapely()
-    method, alpha, fixed = batch
     T = shapely.GeometryType
-    was_polygon = shapely.get_type_id(g) == T.POLYGON
+    if was_polygon.all() and not shapely.get_num_interior_rings(g).any():
+        coords, owner = shapely.get_coordinates(g, return_index=True)
+        ring_off = np.zeros(len(g) + 1, dtype=np.int64)
+        np.cumsum(np.bincount(owner, minlength=len(g)), out=ring_off[1:])
+        ids = np.arange(len(g) + 1, dtype=np.int64)
+        return coords, ring_off, ids, ids
     gtype, coords, offsets = shapely.to_ragged_array(g)
     if gtype == T.POLYGON:
         (ring_off, poly_off), geom_off = offsets, np.arange(len(g) + 1)
     else:
         ring_off, poly_off, geom_off = offsets
-    ring_off = ring_off.astype(np.int64)
+    return coords, ring_off.astype(np.int64), poly_off, geom_off
+
+
+def _smooth_polygonal(g, feat_index, smoother, levels, batch):
+    shapely = _shapely()
+    method, alpha, fixed = batch
+    T = shapely.GeometryType
+    was_polygon = shapely.get_type_id(g) == T.POLYGON
+    coords, ring_off, poly_off, geom_off = _polygon_ragged(g, was_polygon)
     n_rings = len(ring_off) - 1
     ring_poly = np.searchsorted(poly_off, np.arange(n_rings), side="right") - 1
     ring_geom = np.searchsorted(geom_off, ring_poly, side="right") - 1
