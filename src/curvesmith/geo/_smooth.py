@@ -440,6 +440,50 @@ def _put(
     return out, new_off
 
 
+def _expand(off: np.ndarray, idx: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Rows ``off[i] .. off[i + 1] - 1`` of every ``i`` in `idx`, and their new offsets."""
+    lens = (off[1:] - off[:-1])[idx]
+    new_off = np.zeros(idx.size + 1, dtype=np.int64)
+    np.cumsum(lens, out=new_off[1:])
+    rows = np.repeat(off[idx] - new_off[:-1], lens) + np.arange(new_off[-1])
+    return rows, new_off
+
+
+def assemble_polygons(
+    xy: np.ndarray,
+    ring_off: np.ndarray,
+    poly_off: np.ndarray,
+    geom_off: np.ndarray,
+    was_polygon: np.ndarray,
+) -> np.ndarray:
+    """(Multi)Polygons from closed ragged rings, in ``shapely.to_ragged_array``'s layout.
+
+    ``was_polygon`` (per geometry): build a Polygon (the geometry has one polygon), else a
+    MultiPolygon. Polygons are made as Polygons directly, not as MultiPolygons whose part
+    is then copied out.
+    """
+    shapely = _shapely()
+    T = shapely.GeometryType
+    ring_off = np.asarray(ring_off, dtype=np.int64)
+    poly_off = np.asarray(poly_off, dtype=np.int64)
+    geom_off = np.asarray(geom_off, dtype=np.int64)
+    if was_polygon.all():  # one polygon per geometry: its rings are the polygon's
+        return shapely.from_ragged_array(T.POLYGON, xy, (ring_off, poly_off))
+    out = np.empty(len(was_polygon), dtype=object)
+    for sel in (was_polygon, ~was_polygon):
+        gi = np.flatnonzero(sel)
+        if gi.size == 0:
+            continue
+        polys, g_off = _expand(geom_off, gi)
+        rings, p_off = _expand(poly_off, polys)
+        rows, r_off = _expand(ring_off, rings)
+        if sel is was_polygon:
+            out[gi] = shapely.from_ragged_array(T.POLYGON, xy[rows], (r_off, p_off))
+        else:
+            out[gi] = shapely.from_ragged_array(T.MULTIPOLYGON, xy[rows], (r_off, p_off, g_off))
+    return out
+
+
 def _close_rings(xy: np.ndarray, off: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Ragged rings with their first vertex repeated at the end (shapely's ring layout)."""
     lens = np.diff(off)
@@ -581,14 +625,7 @@ def _smooth_polygonal(g, feat_index, smoother, levels, batch):
     )
     a1 = _ring_areas(new_xy, new_off)
 
-    def build(cxy, coff, p_off, g_off, was_poly):
-        if was_poly.all() and len(coff) == len(g_off):  # Polygons, one part each
-            return shapely.from_ragged_array(T.POLYGON, cxy, (coff, g_off))
-        mp = shapely.from_ragged_array(T.MULTIPOLYGON, cxy, (coff, p_off, g_off))
-        res = mp.copy()
-        res[was_poly] = shapely.get_geometry(mp[was_poly], 0)
-        return res
-
+    build = assemble_polygons
     res = build(new_xy, new_off, poly_off, geom_off, was_polygon)
     rings_per_geom = np.bincount(ring_geom, minlength=len(g))
     hard = rings_per_geom > 1  # holes or parts: checked for conflicts anyway
