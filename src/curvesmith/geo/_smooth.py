@@ -84,7 +84,9 @@ def make_smoother(
     """Return ``f(points, closed, level)`` smoothing one ring (closed) or piece (fixed ends).
 
     With `fixed`, the vertices of the piece that are fixed (matched by their
-    coordinates) are CCA anchors.
+    coordinates) are CCA anchors. The CCA smoother has ``f.batch(pieces, closed, level)``,
+    the same curves for a list of pieces in one call of the ragged engine (used by
+    :func:`curvesmith.geo._engine.resolve_arcs`).
     """
     if method == "cca":
         from .. import cca
@@ -103,6 +105,17 @@ def make_smoother(
             )
             return out if closed else _pin_ends(out, pts)
 
+        def many(pieces: list[np.ndarray], closed: bool, level: Level) -> list[np.ndarray]:
+            # the same curves as f, piece by piece, in one call of the ragged engine
+            lens = np.array([len(x) for x in pieces], dtype=np.int64)
+            off = np.zeros(len(pieces) + 1, dtype=np.int64)
+            np.cumsum(lens, out=off[1:])
+            xy = np.concatenate(pieces)
+            mask = fixed.mask(xy) if fixed is not None else None
+            out, oo = smooth_batch("cca", alpha, xy, off, closed, level, mask)
+            return [out[a:b] for a, b in itertools.pairwise(oo.tolist())]
+
+        f.batch = many
         return f
     from .. import subdivision
 
