@@ -472,10 +472,16 @@ def _restrict(
                 mv = j if minor2 else i
                 th = tq[mv]
                 if th < 0.0:
-                    th = math.tan(0.5 * C * math.atan2(scross[mv], dot[mv]))
-                    tq[mv] = th
+                    # a lower bound of th first (tan(phi) >= phi; atan(t) >= t / (1 + t)
+                    # for t = |cr| / dot >= 0; the angle is >= pi / 2 when dot <= 0): an
+                    # edge well inside it cannot violate the rule, and needs no atan2, tan
+                    sm, dm = scross[mv], dot[mv]
+                    low = 0.5 * C * (sm / (dm + sm) if dm > 0.0 else 1.5707963267948966)
+                    if not net <= 2.0 * w2 * low * (1.0 - 1e-9):
+                        th = math.tan(0.5 * C * math.atan2(sm, dm))
+                        tq[mv] = th
                 s2 = 2.0 * w2 * th
-                if net > s2 * (1.0 + 1e-12):
+                if th >= 0.0 and net > s2 * (1.0 + 1e-12):
                     pending[i] = True
                     nviol += 1
                     mag_d = m1 if minor2 else m2
