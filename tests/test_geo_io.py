@@ -71,6 +71,71 @@ def test_layers_select_and_unknown(tmp_path):
         geo.read_file(path, layer=5)
 
 
+@pytest.mark.parametrize("kind", ["polygons", "mixed", "lines_z", "unknown"])
+def test_geopackage_written_in_slices_equals_one_write(tmp_path, monkeypatch, kind):
+    """A large GeoPackage is written in slices (append) and read back in slices: the file
+    holds the same layer type, features, order, attributes and NULLs as one write."""
+    from curvesmith.geo import _io
+
+    rng = np.random.default_rng(5)
+    n = 40
+    boxes = [
+        shapely.box(x, 0, x + rng.uniform(1, 3), rng.uniform(1, 4)) for x in range(0, 5 * n, 5)
+    ]
+    if kind == "polygons":
+        geoms = boxes
+    elif kind == "mixed":  # Polygons first, the MultiPolygons only in later slices
+        geoms = boxes[:30] + [
+            shapely.MultiPolygon([b, shapely.box(-9, -9, -8, -8)]) for b in boxes[30:]
+        ]
+    elif kind == "lines_z":
+        geoms = [
+            shapely.LineString([(x, 0, 1.5), (x + 1, 2, 2.5), (x + 3, 1, 0)]) for x in range(n)
+        ]
+    else:  # lines and polygons: "Unknown"
+        geoms = boxes[:20] + [shapely.LineString([(x, 0), (x + 1, 2)]) for x in range(20)]
+    geoms = list(geoms)
+    geoms[3] = None  # a NULL geometry in the first slice
+    df = gpd.GeoDataFrame(
+        {"k": np.arange(n), "name": [f"f{i}" for i in range(n)]}, geometry=geoms, crs="EPSG:32633"
+    )
+    one = tmp_path / "one.gpkg"
+    geo.write_file(df, one)
+    monkeypatch.setattr(_io, "WRITE_CHUNK_VERTICES", 37)
+    assert len(_io._slices(np.asarray(df.geometry.values, dtype=object))) > 3
+    reads = []
+    real_read = pyogrio.read_dataframe
+
+    def counting_read(*args, **kwargs):
+        reads.append(kwargs.get("max_features"))
+        return real_read(*args, **kwargs)
+
+    monkeypatch.setattr(pyogrio, "read_dataframe", counting_read)
+    many = tmp_path / "many.gpkg"
+    geo.write_file(df, many)
+    assert len(reads) > 3 and None not in reads  # read back slice by slice
+    monkeypatch.undo()
+    a, b = pyogrio.read_info(one), pyogrio.read_info(many)
+    assert a["geometry_type"] == b["geometry_type"]
+    assert a["features"] == b["features"] == n
+    assert list(a["fields"]) == list(b["fields"]) and list(a["dtypes"]) == list(b["dtypes"])
+    ra, rb = geo.read_file(one), geo.read_file(many)
+    assert list(ra["k"]) == list(rb["k"]) == list(range(n))
+    assert list(ra["name"]) == list(rb["name"])
+    ga, gb = np.asarray(ra.geometry.values), np.asarray(rb.geometry.values)
+    assert ga[3] is None and gb[3] is None and rb.crs == df.crs
+    keep = np.arange(n) != 3
+    assert shapely.equals_identical(ga[keep], gb[keep]).all()
+    # a named layer added to an existing GeoPackage keeps the other layers
+    geo.write_file(df.iloc[:5], many, layer="small")
+    monkeypatch.setattr(_io, "WRITE_CHUNK_VERTICES", 37)
+    geo.write_file(df, many, layer="big")
+    layers = {str(x) for x in pyogrio.list_layers(many)[:, 0]}
+    assert layers == {"many", "small", "big"}
+    assert len(geo.read_file(many, layer="big")) == n
+    assert len(geo.read_file(many, layer="small")) == 5
+
+
 def test_missing_file_and_unknown_suffix(tmp_path):
     with pytest.raises(CurveFormatError, match="no such file"):
         geo.read_file(tmp_path / "nope.gpkg")

@@ -256,6 +256,7 @@ def step_ragged(
     cand = np.empty(2 * m1, dtype=np.int64)
     edges = np.empty(m1, dtype=np.int64)
     edges2 = np.empty(m1, dtype=np.int64)
+    tq = np.empty(m1)
     fv[:] = 1.0
     check[:] = False
     pos = 0
@@ -330,7 +331,7 @@ def step_ragged(
             r = _restrict(
                 n, cl, anyfix, alpha, alpha0, half, cr, scross, dot, short, length, fx, c, C,
                 max_passes, min_factor, a, K, tanb, fv, turning, endish, pending, check,
-                cand, edges, edges2, lo, hi,
+                cand, edges, edges2, lo, hi, tq,
             )  # fmt: skip
             nred[k], nunsat[k] = r
         # emit: vertex i -> [L_i, R_i] or [V_i]; edge i -> [G_i] or the Fig. 11 pair
@@ -418,7 +419,7 @@ def step_ragged(
 @njit(cache=True, nogil=True)
 def _restrict(
     n, cl, anyfix, alpha, alpha0, half, cr, scross, dot, short, length, fx, c, C, max_passes,
-    min_factor, a, K, tanb, fv, turning, endish, pending, check, cand, edges, edges2, lo, hi,
+    min_factor, a, K, tanb, fv, turning, endish, pending, check, cand, edges, edges2, lo, hi, tq,
 ):  # fmt: skip
     """Local alpha decrease of one curve; the rules and schedule of ``restrict_passes``.
 
@@ -426,10 +427,14 @@ def _restrict(
 
     On entry ``alpha0 = alpha``, ``a``, ``K``, ``turning`` and ``tanb`` hold the
     profile's values, ``fv`` is all 1 and ``check`` all False (both are left so).
-    ``alpha``, ``a`` and ``K`` are decreased in place. Returns ``(nred, nunsat)``.
+    ``alpha``, ``a`` and ``K`` are decreased in place. ``tq`` (scratch) keeps, per vertex,
+    ``tan(C / 2 * tau)`` of its turn ``tau`` once computed (a vertex is the minor one
+    of up to two edges, in several passes; the value does not change). Returns
+    ``(nred, nunsat)``.
     """
     for i in range(n):
         pending[i] = False
+        tq[i] = -1.0
         if anyfix:
             j = i + 1 if i + 1 < n else 0
             endish[i] = (fx[i] and turning[j]) or (fx[j] and turning[i])
@@ -465,9 +470,18 @@ def _restrict(
                 m1, m2 = abs(K1), abs(K2)
                 minor2 = m2 <= m1
                 mv = j if minor2 else i
-                tau_m = math.atan2(scross[mv], dot[mv])
-                s2 = 2.0 * w2 * math.tan(0.5 * C * tau_m)
-                if net > s2 * (1.0 + 1e-12):
+                th = tq[mv]
+                if th < 0.0:
+                    # a lower bound of th first (tan(phi) >= phi; atan(t) >= t / (1 + t)
+                    # for t = |cr| / dot >= 0; the angle is >= pi / 2 when dot <= 0): an
+                    # edge well inside it cannot violate the rule, and needs no atan2, tan
+                    sm, dm = scross[mv], dot[mv]
+                    low = 0.5 * C * (sm / (dm + sm) if dm > 0.0 else 1.5707963267948966)
+                    if not net <= 2.0 * w2 * low * (1.0 - 1e-9):
+                        th = math.tan(0.5 * C * math.atan2(sm, dm))
+                        tq[mv] = th
+                s2 = 2.0 * w2 * th
+                if th >= 0.0 and net > s2 * (1.0 + 1e-12):
                     pending[i] = True
                     nviol += 1
                     mag_d = m1 if minor2 else m2
@@ -554,7 +568,7 @@ def restrict_curve(alpha, half, cr, scross, dot, short, length, fixed, closed, c
     nred, nunsat = _restrict(
         n, closed, bool(fixed.any()), alpha, alpha.copy(), half, cr, scross, dot, short,
         length, fixed, c, C, limits[0], limits[1], a, K, tanb, fv, np.append(turning, False),
-        *flags, *ints, 0, n,
+        *flags, *ints, 0, n, np.empty(n + 1),
     )  # fmt: skip
     return alpha, int(nred), int(nunsat)
 

@@ -18,6 +18,7 @@ from ._smooth import (
     FixedVertices,
     _shapely,
     as_geometry_array,
+    assemble_polygons,
     check_method,
     make_smoother,
     prepare,
@@ -288,8 +289,6 @@ def coverage_topology(polygons: Any, *, frozen_edges: Any = None) -> Topology:
 
 def rebuild(topo: Topology, arcs: list[np.ndarray]) -> np.ndarray:
     """Polygons from (smoothed) arcs, in the topology's ring order."""
-    shapely = _shapely()
-    T = shapely.GeometryType
     ring_xy = []
     for runs in topo.rings:
         parts = []
@@ -304,12 +303,7 @@ def rebuild(topo: Topology, arcs: list[np.ndarray]) -> np.ndarray:
     lens = np.array([len(x) for x in ring_xy], dtype=np.int64)
     offs = np.concatenate([[0], np.cumsum(lens)])
     poly_off, geom_off = topo.ring_offsets
-    mp = shapely.from_ragged_array(
-        T.MULTIPOLYGON, np.concatenate(ring_xy), (offs, poly_off, geom_off)
-    )
-    out = mp.copy()
-    out[topo.was_polygon] = shapely.get_geometry(mp[topo.was_polygon], 0)
-    return out
+    return assemble_polygons(np.concatenate(ring_xy), offs, poly_off, geom_off, topo.was_polygon)
 
 
 def smooth_coverage(

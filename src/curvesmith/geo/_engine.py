@@ -141,7 +141,9 @@ def resolve_arcs(
         Arcs that must keep their original vertices.
     smoother : callable ``(points, closed, level) -> points``
         Smooths one piece (closed pieces without repeated vertex, open pieces with fixed
-        ends) at a level.
+        ends) at a level. When it has a ``batch(list_of_points, closed, level) -> list``
+        attribute giving the same curves, the pieces of a round are smoothed through it,
+        many at once.
     levels : list of Level
         From full strength to unchanged (the last one must have ``iterations == 0``).
     check_simple : (M,) bool ndarray, optional
@@ -191,7 +193,23 @@ def resolve_arcs(
             cache[key] = out
         return out
 
+    batch = getattr(smoother, "batch", None)
+
+    def smooth_missing(plist: list[_Piece]) -> None:
+        """The pieces of `plist` not smoothed yet, one ragged call per level and kind."""
+        todo: dict[tuple[int, bool], dict[tuple, _Piece]] = {}
+        for p in plist:
+            key = (p.arc, p.start, p.stop, p.loop, p.level)
+            if key not in cache and levels[p.level].iterations > 0:
+                todo.setdefault((p.level, p.loop), {})[key] = p
+        for (lev, loop), group in todo.items():
+            pts = [_piece_points(arcs[p.arc], p, bool(loops[p.arc])) for p in group.values()]
+            for key, out in zip(group, batch(pts, loop, levels[lev]), strict=True):
+                cache[key] = out
+
     def geoms_of(plist: list[_Piece]) -> np.ndarray:
+        if batch is not None:
+            smooth_missing(plist)
         pts = []
         for p in plist:
             xy = smoothed_piece(p)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import itertools
 import math
 import shutil
 import warnings
@@ -538,37 +539,115 @@ def write_file(df: Any, path: str | Path, *, layer: str | None = None) -> None:
             z = "3D " if shapely.has_z(geoms[present]).any() else ""
             kwargs["geometry_type"] = f"Measured {z}{name}"
     n_null, _ = geometry_counts(df)
+    # a large GeoPackage goes in slices (the first creates the layer, the others append),
+    # with the layer's type fixed for the whole frame, so that the WKB of the whole layer
+    # is never held at once; every other file is written in one call
+    slices = _slices(geoms) if driver == "GPKG" and not kwargs else [slice(0, len(df))]
+    if len(slices) > 1:
+        kwargs["geometry_type"], kwargs["promote_to_multi"] = _layer_type(geoms)
     with atomic_path(path, stale=_SHAPEFILE_PARTS if driver == "ESRI Shapefile" else ()) as tmp:
         if driver == "GPKG" and layer is not None and path.is_file():
             shutil.copy2(path, tmp)  # a named layer replaces that layer only: keep the others
         try:
-            pyogrio.write_dataframe(df, tmp, layer=layer, driver=driver, **kwargs)
+            for k, part in enumerate(slices):
+                piece = df if len(slices) == 1 else df.iloc[part]
+                pyogrio.write_dataframe(
+                    piece, tmp, layer=layer, driver=driver, append=k > 0, **kwargs
+                )
+                del piece
         except Exception as exc:
             raise CurveFormatError(f"cannot write {str(path)!r}: {exc}") from exc
-        _verify_written(tmp, path, len(df), n_null, layer if driver == "GPKG" else None)
+        _verify_written(tmp, path, len(df), n_null, layer if driver == "GPKG" else None, slices)
+
+
+#: A GeoPackage is written and read back in slices of about this many vertices (16 bytes
+#: each in WKB), so that the WKB of a whole large layer is never held in memory at once.
+WRITE_CHUNK_VERTICES = 1 << 22
+
+
+def _slices(geoms: np.ndarray) -> list[slice]:
+    """Consecutive slices of the features with about WRITE_CHUNK_VERTICES vertices each."""
+    shapely = require("shapely", "geo", "writing GIS files")
+    if len(geoms) == 0:
+        return [slice(0, 0)]
+    ends = np.cumsum(shapely.get_num_coordinates(geoms))
+    cuts = np.searchsorted(
+        ends, np.arange(WRITE_CHUNK_VERTICES, ends[-1], WRITE_CHUNK_VERTICES), "right"
+    )
+    bounds = np.unique(np.concatenate([[0], cuts, [len(geoms)]]))
+    return [slice(int(a), int(b)) for a, b in itertools.pairwise(bounds)]
+
+
+def _layer_type(geoms: np.ndarray) -> tuple[str, bool]:
+    """The GeoPackage layer type and ``promote_to_multi`` that pyogrio infers for `geoms`.
+
+    pyogrio's ``write_dataframe`` rules for a GeoPackage, for the whole column (a slice
+    alone could give another type): one geometry type, or a type and its Multi (then
+    promoted to the Multi), else ``"Unknown"``; with ``" Z"`` when some non-empty
+    geometry has Z.
+    """
+    shapely = require("shapely", "geo", "writing GIS files")
+    present = geoms[~shapely.is_missing(geoms)]
+    kinds = sorted({_TYPE_NAMES[t] for t in shapely.get_type_id(present).tolist()}, key=len)
+    promote = False
+    if len(kinds) == 1:
+        name = kinds[0]
+    elif len(kinds) == 2 and kinds[1] == f"Multi{kinds[0]}":  # e.g. Polygon, MultiPolygon
+        name, promote = kinds[1], True
+    else:
+        name = "Unknown"
+    if name != "Unknown" and shapely.has_z(present[~shapely.is_empty(present)]).any():
+        name += " Z"
+    return name, promote
+
+
+_TYPE_NAMES = {
+    0: "Point",
+    1: "LineString",
+    2: "LinearRing",
+    3: "Polygon",
+    4: "MultiPoint",
+    5: "MultiLineString",
+    6: "MultiPolygon",
+    7: "GeometryCollection",
+}
 
 
 #: Sidecar files of a Shapefile that an older output may have and a new one not.
 _SHAPEFILE_PARTS = (".shx", ".dbf", ".prj", ".cpg", ".qix", ".sbn", ".sbx")
 
 
-def _verify_written(tmp: Path, path: Path, n_features: int, n_null: int, layer) -> None:
-    """Read the written file back (geometries only) before it replaces anything."""
+def _verify_written(
+    tmp: Path, path: Path, n_features: int, n_null: int, layer, slices: list[slice] | None = None
+) -> None:
+    """Read the written file back (geometries only) before it replaces anything.
+
+    ``slices``: a GeoPackage written in several slices is read back slice by slice, and
+    then once more past the last one (which must find nothing).
+    """
     import pyogrio
 
+    parts: list[dict[str, int]] = [{}]
+    if slices is not None and len(slices) > 1:
+        parts = [{"skip_features": p.start, "max_features": p.stop - p.start} for p in slices]
+        parts.append({"skip_features": n_features, "max_features": 1})
+    got, got_null = 0, 0
     try:
         with warnings.catch_warnings():  # an M layer reads back without M here: counts only
             warnings.filterwarnings("ignore", message="Measured \\(M\\) geometry types")
-            back = pyogrio.read_dataframe(tmp, layer=layer, columns=[])
+            for part in parts:
+                back = pyogrio.read_dataframe(tmp, layer=layer, columns=[], **part)
+                got += len(back)
+                got_null += geometry_counts(back)[0]
+                del back
     except Exception as exc:
         raise CurveFormatError(
             f"cannot write {str(path)!r}: the written file cannot be read back ({exc}); "
             f"the disk may be full"
         ) from exc
-    got_null, _ = geometry_counts(back)
-    if len(back) != n_features or got_null != n_null:
+    if got != n_features or got_null != n_null:
         raise CurveFormatError(
-            f"cannot write {str(path)!r}: the written file reads back as {len(back)} features "
+            f"cannot write {str(path)!r}: the written file reads back as {got} features "
             f"({got_null} without geometry) instead of {n_features} ({n_null}); the disk may "
             f"be full"
         )
@@ -969,6 +1048,7 @@ def smooth_file(
         out.geometry = np.where(points, kept, np.asarray(out.geometry.values, dtype=object))
     if out_layer is None and layer is not None and not isinstance(layer, int | np.integer):
         out_layer = str(layer)
+    df = kept = None  # the input's geometries are not needed while the output is written
     write_file(out, out_path, layer=out_layer)
     return FileSmoothReport(
         n_features=len(out),

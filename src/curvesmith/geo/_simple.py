@@ -11,15 +11,19 @@ A strictly x-monotone chain cannot meet itself. Two chains are the graphs of two
 piecewise linear functions over the overlap of their x ranges; their difference is
 linear between the x of their vertices, so the chains do not meet iff it has one strict
 sign at every vertex of either chain inside the overlap -- except at a turning vertex
-the two chains share, where it is zero by construction. Each sign is that of an
-orientation determinant, accepted only beyond Shewchuk's forward error bound for
-``orient2d`` (J. R. Shewchuk, Adaptive precision floating-point arithmetic and fast
-robust geometric predicates, DCG 18 (1997), ``ccwerrboundA``), so rounding can never
-turn a touch or a crossing into a proof. NaN and infinite coordinates, products near
-underflow and rings with more than ``MAX_CHAINS`` chains are doubtful.
+the two chains share, where it is zero by construction. A vertex above or below both
+ends of the other chain's edge over its x has that sign exactly (two comparisons);
+every other sign is that of an orientation determinant, accepted only beyond
+Shewchuk's forward error bound for ``orient2d`` (J. R. Shewchuk, Adaptive precision
+floating-point arithmetic and fast robust geometric predicates, DCG 18 (1997),
+``ccwerrboundA``), so rounding can never turn a touch or a crossing into a proof. NaN
+and infinite coordinates, coordinates of 2**500 and more (their products could
+overflow), products near underflow and rings with more than ``MAX_CHAINS`` chains are
+doubtful.
 
-The chains of a pair are compared only when their bounding boxes overlap; smoothed
-footprints have 2-6 chains, so a ring costs a few passes over its vertices.
+The chains of a pair are compared only when their bounding boxes overlap, in one merged
+walk over their vertices in x order; smoothed footprints have 2-6 chains, so a ring
+costs a few passes over its vertices.
 """
 
 from __future__ import annotations

@@ -9,6 +9,9 @@ from numba import njit
 _CCW_ERR = (3.0 + 16.0 * 2.0**-53) * 2.0**-53
 # below this the products may have lost relative accuracy (subnormal range)
 _TINY = 1e-280
+# coordinates at least this large are doubtful: the products of their differences could
+# overflow (the exact comparisons of the y shortcut would not see it)
+_BIG = 2.0**500
 
 
 @njit(cache=True, nogil=True)
@@ -29,52 +32,75 @@ def _orient(ax, ay, bx, by, cx, cy):
 
 
 @njit(cache=True, nogil=True)
-def _side(cx, cy, cid, oa, la, ea0, ea1, ob, lb, xlo, xhi, sign):
-    """Signs of chain b's vertices in [xlo, xhi] against chain a: the common sign or 2.
+def _pair(cx, cy, cid, oa, la, ob, lb, xlo, xhi):
+    """Sign of ``y_b - y_a`` over ``[xlo, xhi]``, the x-overlap of chains a and b.
 
     Chains are stored in increasing x: vertices ``oa .. oa + la`` (``la`` edges) of the
-    scratch arrays ``cx, cy`` with their ring positions ``cid``. Returns the sign found
-    (``sign`` on entry, 0 = none yet) or 2 when a vertex of b is on or across chain a,
-    or its sign is not certain. ``ea0, ea1``: chain a's end vertices (ring positions),
-    skipped (shared turning vertices of adjacent chains).
+    scratch arrays ``cx, cy`` with their ring positions ``cid``. The vertices of both
+    chains inside the overlap are visited in x order (ties: a first), each against the
+    other chain's edge over its x; a vertex that is an end of the other chain (a shared
+    turning vertex) is skipped. Returns +1 / -1 (one strict sign), 0 (no vertex
+    compared) or 2 (a vertex on or across the other chain, or a sign not certain).
+    A vertex above or below both ends of the edge has that sign exactly, with no
+    arithmetic; the others take the filtered orientation determinant.
     """
-    # first vertex of b at or after xlo (binary search)
-    lo, hi = ob, ob + lb + 1
-    while lo < hi:
-        mid = (lo + hi) >> 1
-        if cx[mid] < xlo:
-            lo = mid + 1
+    pa = oa  # next vertex of a (and b) to visit; qa, qb: the last ones in the overlap
+    while cx[pa] < xlo:
+        pa += 1
+    pb = ob
+    while cx[pb] < xlo:
+        pb += 1
+    qa = oa + la
+    while cx[qa] > xhi:
+        qa -= 1
+    qb = ob + lb
+    while cx[qb] > xhi:
+        qb -= 1
+    ea0, ea1, eb0, eb1 = cid[oa], cid[oa + la], cid[ob], cid[ob + lb]
+    pos = False
+    neg = False
+    while pa <= qa or pb <= qb:
+        if pa <= qa and (pb > qb or cx[pa] <= cx[pb]):
+            t = pa
+            pa += 1
+            r = cid[t]
+            if r == eb0 or r == eb1:  # noqa: SIM109
+                continue
+            j = min(max(pb - 1, ob), ob + lb - 1)
+            flip = True
         else:
-            hi = mid
-    i = oa  # segment of a: vertices i, i + 1
-    last = oa + la - 1
-    for t in range(lo, ob + lb + 1):
-        x = cx[t]
-        if x > xhi:
-            break
-        r = cid[t]
-        if r == ea0 or r == ea1:  # noqa: SIM109 (plain compares in numba)
-            continue
-        while i < last and cx[i + 1] < x:
-            i += 1
-        o = _orient(cx[i], cy[i], cx[i + 1], cy[i + 1], x, cy[t])
-        if o == 0:
-            return 2
-        if sign == 0:
-            sign = o
-        elif o != sign:
-            return 2
-    return sign
+            t = pb
+            pb += 1
+            r = cid[t]
+            if r == ea0 or r == ea1:  # noqa: SIM109
+                continue
+            j = min(max(pa - 1, oa), oa + la - 1)
+            flip = False
+        y = cy[t]
+        y0, y1 = cy[j], cy[j + 1]
+        if y > y0 and y > y1:
+            o = 1
+        elif y < y0 and y < y1:
+            o = -1
+        else:
+            o = _orient(cx[j], y0, cx[j + 1], y1, cx[t], y)
+            if o == 0:
+                return 2
+        if flip:
+            o = -o
+        if o > 0:
+            pos = True
+        else:
+            neg = True
+    if pos and neg:
+        return 2
+    return 1 if pos else (-1 if neg else 0)
 
 
 @njit(cache=True, nogil=True)
 def _ring_simple(X, s, n, max_chains, starts, lens, ups, bb, co, cx, cy, cid):
     if n < 3:
         return False
-    for i in range(n):
-        if not (abs(X[s + i, 0]) < np.inf and abs(X[s + i, 1]) < np.inf):
-            return False  # NaN or infinite: doubtful
-    # direction of every edge; a vertical edge or a repeated vertex: doubtful
     e = X[s, 0] - X[s + n - 1, 0]
     if e > 0.0:
         d_prev = 1
@@ -84,8 +110,11 @@ def _ring_simple(X, s, n, max_chains, starts, lens, ups, bb, co, cx, cy, cid):
         return False
     nch = 0
     for i in range(n):
+        xi, yi = X[s + i, 0], X[s + i, 1]
+        if not (abs(xi) < _BIG and abs(yi) < _BIG):
+            return False  # NaN, infinite or near overflow: doubtful
         j = s + i + 1 if i + 1 < n else s
-        e = X[j, 0] - X[s + i, 0]
+        e = X[j, 0] - xi
         if e > 0.0:
             d = 1
         elif e < 0.0:
@@ -104,20 +133,34 @@ def _ring_simple(X, s, n, max_chains, starts, lens, ups, bb, co, cx, cy, cid):
     # every chain in increasing x into the scratch arrays, with its bounding box
     pos = 0
     for c in range(nch):
+        st = starts[c]
         nxt = starts[c + 1] if c + 1 < nch else starts[0] + n
-        ln = nxt - starts[c]
+        ln = nxt - st
         lens[c] = ln
         co[c] = pos
         y0, y1 = np.inf, -np.inf
-        for t in range(ln + 1):
-            u = starts[c] + (t if ups[c] else ln - t)
-            if u >= n:
-                u -= n
-            cx[pos + t] = X[s + u, 0]
-            cy[pos + t] = X[s + u, 1]
-            cid[pos + t] = u
-            y0 = min(y0, X[s + u, 1])
-            y1 = max(y1, X[s + u, 1])
+        if ups[c]:
+            for t in range(ln + 1):
+                u = st + t
+                if u >= n:
+                    u -= n
+                yv = X[s + u, 1]
+                cx[pos + t] = X[s + u, 0]
+                cy[pos + t] = yv
+                cid[pos + t] = u
+                y0 = min(y0, yv)
+                y1 = max(y1, yv)
+        else:
+            for t in range(ln + 1):
+                u = nxt - t
+                if u >= n:
+                    u -= n
+                yv = X[s + u, 1]
+                cx[pos + t] = X[s + u, 0]
+                cy[pos + t] = yv
+                cid[pos + t] = u
+                y0 = min(y0, yv)
+                y1 = max(y1, yv)
         bb[c, 0], bb[c, 1], bb[c, 2], bb[c, 3] = cx[pos], cx[pos + ln], y0, y1
         pos += ln + 1
     for a in range(nch):
@@ -126,15 +169,10 @@ def _ring_simple(X, s, n, max_chains, starts, lens, ups, bb, co, cx, cy, cid):
             xhi = min(bb[a, 1], bb[b, 1])
             if xlo > xhi or max(bb[a, 2], bb[b, 2]) > min(bb[a, 3], bb[b, 3]):
                 continue  # boxes apart (touching boxes are compared)
-            oa, la, ob, lb = co[a], lens[a], co[b], lens[b]
-            sg = _side(cx, cy, cid, oa, la, cid[oa], cid[oa + la], ob, lb, xlo, xhi, 0)
+            sg = _pair(cx, cy, cid, co[a], lens[a], co[b], lens[b], xlo, xhi)
             if sg == 2:
                 return False
-            # chain a's vertices against chain b give the sign of y_a - y_b: flip
-            sg2 = _side(cx, cy, cid, ob, lb, cid[ob], cid[ob + lb], oa, la, xlo, xhi, -sg)
-            if sg2 == 2:
-                return False
-            if sg == 0 and sg2 == 0 and xlo != xhi:
+            if sg == 0 and xlo != xhi:
                 return False  # nothing compared over an overlap of positive length
     return True
 

@@ -85,7 +85,9 @@ def make_smoother(
     """Return ``f(points, closed, level)`` smoothing one ring (closed) or piece (fixed ends).
 
     With `fixed`, the vertices of the piece that are fixed (matched by their
-    coordinates) are CCA anchors.
+    coordinates) are CCA anchors. The CCA smoother has ``f.batch(pieces, closed, level)``,
+    the same curves for a list of pieces in one call of the ragged engine (used by
+    :func:`curvesmith.geo._engine.resolve_arcs`).
     """
     if method == "cca":
         from .. import cca
@@ -104,6 +106,17 @@ def make_smoother(
             )
             return out if closed else _pin_ends(out, pts)
 
+        def many(pieces: list[np.ndarray], closed: bool, level: Level) -> list[np.ndarray]:
+            # the same curves as f, piece by piece, in one call of the ragged engine
+            lens = np.array([len(x) for x in pieces], dtype=np.int64)
+            off = np.zeros(len(pieces) + 1, dtype=np.int64)
+            np.cumsum(lens, out=off[1:])
+            xy = np.concatenate(pieces)
+            mask = fixed.mask(xy) if fixed is not None else None
+            out, oo = smooth_batch("cca", alpha, xy, off, closed, level, mask)
+            return [out[a:b] for a, b in itertools.pairwise(oo.tolist())]
+
+        f.batch = many
         return f
     from .. import subdivision
 
@@ -294,7 +307,7 @@ def as_geometry_array(geometry: Any) -> tuple[np.ndarray, Callable[[np.ndarray],
             f"geometry must be a shapely geometry, a 1-D sequence of them, a GeoSeries or a "
             f"GeoDataFrame, got an array of shape {arr.shape}"
         )
-    ok = np.array([g is None or isinstance(g, shapely.Geometry) for g in arr], dtype=bool)
+    ok = shapely.is_valid_input(arr)  # a geometry or None
     if not ok.all():
         k = int(np.nonzero(~ok)[0][0])
         raise CurveError(
@@ -441,6 +454,50 @@ def _put(
     return out, new_off
 
 
+def _expand(off: np.ndarray, idx: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Rows ``off[i] .. off[i + 1] - 1`` of every ``i`` in `idx`, and their new offsets."""
+    lens = (off[1:] - off[:-1])[idx]
+    new_off = np.zeros(idx.size + 1, dtype=np.int64)
+    np.cumsum(lens, out=new_off[1:])
+    rows = np.repeat(off[idx] - new_off[:-1], lens) + np.arange(new_off[-1])
+    return rows, new_off
+
+
+def assemble_polygons(
+    xy: np.ndarray,
+    ring_off: np.ndarray,
+    poly_off: np.ndarray,
+    geom_off: np.ndarray,
+    was_polygon: np.ndarray,
+) -> np.ndarray:
+    """(Multi)Polygons from closed ragged rings, in ``shapely.to_ragged_array``'s layout.
+
+    ``was_polygon`` (per geometry): build a Polygon (the geometry has one polygon), else a
+    MultiPolygon. Polygons are made as Polygons directly, not as MultiPolygons whose part
+    is then copied out.
+    """
+    shapely = _shapely()
+    T = shapely.GeometryType
+    ring_off = np.asarray(ring_off, dtype=np.int64)
+    poly_off = np.asarray(poly_off, dtype=np.int64)
+    geom_off = np.asarray(geom_off, dtype=np.int64)
+    if was_polygon.all():  # one polygon per geometry: its rings are the polygon's
+        return shapely.from_ragged_array(T.POLYGON, xy, (ring_off, poly_off))
+    out = np.empty(len(was_polygon), dtype=object)
+    for sel in (was_polygon, ~was_polygon):
+        gi = np.flatnonzero(sel)
+        if gi.size == 0:
+            continue
+        polys, g_off = _expand(geom_off, gi)
+        rings, p_off = _expand(poly_off, polys)
+        rows, r_off = _expand(ring_off, rings)
+        if sel is was_polygon:
+            out[gi] = shapely.from_ragged_array(T.POLYGON, xy[rows], (r_off, p_off))
+        else:
+            out[gi] = shapely.from_ragged_array(T.MULTIPOLYGON, xy[rows], (r_off, p_off, g_off))
+    return out
+
+
 def _close_rings(xy: np.ndarray, off: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Ragged rings with their first vertex repeated at the end (shapely's ring layout)."""
     lens = np.diff(off)
@@ -540,17 +597,36 @@ def _chunks(counts: np.ndarray) -> list[slice]:
     return [slice(int(a), int(b)) for a, b in itertools.pairwise(bounds)]
 
 
-def _smooth_polygonal(g, feat_index, smoother, levels, batch):
+def _polygon_ragged(g: np.ndarray, was_polygon: np.ndarray):
+    """``shapely.to_ragged_array`` of (Multi)Polygons: coordinates, ring, polygon, geometry offsets.
+
+    The ring offsets are int64.
+    Polygons without holes (a layer of footprints) skip ``to_ragged_array``'s copies of
+    every ring (``shapely.get_rings``): their coordinates are ``get_coordinates`` and each
+    one is a ring, the same arrays bit for bit.
+    """
     shapely = _shapely()
-    method, alpha, fixed = batch
     T = shapely.GeometryType
-    was_polygon = shapely.get_type_id(g) == T.POLYGON
+    if was_polygon.all() and not shapely.get_num_interior_rings(g).any():
+        coords, owner = shapely.get_coordinates(g, return_index=True)
+        ring_off = np.zeros(len(g) + 1, dtype=np.int64)
+        np.cumsum(np.bincount(owner, minlength=len(g)), out=ring_off[1:])
+        ids = np.arange(len(g) + 1, dtype=np.int64)
+        return coords, ring_off, ids, ids
     gtype, coords, offsets = shapely.to_ragged_array(g)
     if gtype == T.POLYGON:
         (ring_off, poly_off), geom_off = offsets, np.arange(len(g) + 1)
     else:
         ring_off, poly_off, geom_off = offsets
-    ring_off = ring_off.astype(np.int64)
+    return coords, ring_off.astype(np.int64), poly_off, geom_off
+
+
+def _smooth_polygonal(g, feat_index, smoother, levels, batch):
+    shapely = _shapely()
+    method, alpha, fixed = batch
+    T = shapely.GeometryType
+    was_polygon = shapely.get_type_id(g) == T.POLYGON
+    coords, ring_off, poly_off, geom_off = _polygon_ragged(g, was_polygon)
     n_rings = len(ring_off) - 1
     ring_poly = np.searchsorted(poly_off, np.arange(n_rings), side="right") - 1
     ring_geom = np.searchsorted(geom_off, ring_poly, side="right") - 1
@@ -563,14 +639,7 @@ def _smooth_polygonal(g, feat_index, smoother, levels, batch):
     )
     a1 = _ring_areas(new_xy, new_off)
 
-    def build(cxy, coff, p_off, g_off, was_poly):
-        if was_poly.all() and len(coff) == len(g_off):  # Polygons, one part each
-            return shapely.from_ragged_array(T.POLYGON, cxy, (coff, g_off))
-        mp = shapely.from_ragged_array(T.MULTIPOLYGON, cxy, (coff, p_off, g_off))
-        res = mp.copy()
-        res[was_poly] = shapely.get_geometry(mp[was_poly], 0)
-        return res
-
+    build = assemble_polygons
     res = build(new_xy, new_off, poly_off, geom_off, was_polygon)
     rings_per_geom = np.bincount(ring_geom, minlength=len(g))
     hard = rings_per_geom > 1  # holes or parts: checked for conflicts anyway
