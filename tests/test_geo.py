@@ -258,7 +258,7 @@ def test_invalid_polygon_needs_make_valid():
 def test_z_and_bad_options_rejected():
     z = geo.smooth(shapely.LineString([(0, 0, 1), (1, 1, 1), (2, 0, 1)]))  # Z: kept (issue 14.3)
     assert z.has_z and set(shapely.get_coordinates(z, include_z=True)[:, 2]) == {1.0}
-    with pytest.raises(CurveError, match="method must be one of cca, chaikin, got 'spline'"):
+    with pytest.raises(CurveError, match="method must be one of 'cca', 'chaikin', got 'spline'"):
         geo.smooth(shapely.box(0, 0, 1, 1), method="spline")
     with pytest.raises(CurveError, match="iterations"):
         geo.smooth(shapely.box(0, 0, 1, 1), iterations=-1)

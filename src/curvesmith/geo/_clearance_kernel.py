@@ -17,7 +17,35 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from ._simple_kernel import _seg_dist2, _segs_within
+
+@njit(cache=True, nogil=True)
+def _seg_dist2(ax, ay, bx, by, px, py):
+    """Squared distance from point p to segment a-b."""
+    dx, dy = bx - ax, by - ay
+    ll = dx * dx + dy * dy
+    t = 0.0
+    if ll > 0.0:
+        t = ((px - ax) * dx + (py - ay) * dy) / ll
+        t = min(1.0, max(0.0, t))
+    ex, ey = ax + t * dx - px, ay + t * dy - py
+    return ex * ex + ey * ey
+
+
+@njit(cache=True, nogil=True)
+def _segs_within(ax, ay, bx, by, cx, cy, dx, dy, d2):
+    """Whether segments a-b and c-d cross or come within sqrt(d2) (floating point)."""
+    o1 = (bx - ax) * (cy - ay) - (by - ay) * (cx - ax)
+    o2 = (bx - ax) * (dy - ay) - (by - ay) * (dx - ax)
+    o3 = (dx - cx) * (ay - cy) - (dy - cy) * (ax - cx)
+    o4 = (dx - cx) * (by - cy) - (dy - cy) * (bx - cx)
+    if o1 * o2 <= 0.0 and o3 * o4 <= 0.0:
+        return True
+    return (
+        _seg_dist2(ax, ay, bx, by, cx, cy) < d2
+        or _seg_dist2(ax, ay, bx, by, dx, dy) < d2
+        or _seg_dist2(cx, cy, dx, dy, ax, ay) < d2
+        or _seg_dist2(cx, cy, dx, dy, bx, by) < d2
+    )
 
 
 @njit(cache=True, nogil=True)

@@ -454,7 +454,8 @@ def smooth_coverage(
         bad = ~shapely.is_empty(invalid)
     invalid_report = {int(idx[k]): float(shapely.length(invalid[k])) for k in np.nonzero(bad)[0]}
     topo = coverage_topology(g, frozen_edges=invalid if bad.any() else None)
-    initial = map_arcs(topo) if (map_arcs is not None and iterations > 0) else None
+    bounded = max_shift is not None or min_segment is not None  # every level tried at once
+    initial = map_arcs(topo) if (map_arcs is not None and iterations > 0 and not bounded) else None
     smoothed, reductions = smooth_arcs(
         topo,
         method=method,

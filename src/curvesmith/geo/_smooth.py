@@ -254,10 +254,9 @@ def scale_alpha(alpha: Any, scale: float) -> Any:
 
 def check_method(method: str, iterations: int, alpha: Any) -> int:
     """Validate the common smoothing options; return iterations as int."""
-    from .._validate import as_int
+    from .._validate import as_choice, as_int
 
-    if method not in METHODS:
-        raise CurveError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
+    as_choice(method, METHODS, name="method")
     iterations = as_int(iterations, name="iterations", minimum=0)
     if method == "cca" and isinstance(alpha, str) and alpha != "regular":
         raise CurveError(f"alpha must be 'regular', a float or a callable, got {alpha!r}")
