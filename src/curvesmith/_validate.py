@@ -217,7 +217,7 @@ def as_int(value, *, name: str, minimum: int | None = None, maximum: int | None 
         raise CurveError(f"{name} must be an integer, got {value!r}")
     if not isinstance(value, Integral):
         if isinstance(value, Real) and float(value).is_integer():
-            value = int(value)
+            value = int(float(value))
         else:
             raise CurveError(f"{name} must be an integer, got {value!r}")
     value = int(value)

@@ -56,6 +56,7 @@ from __future__ import annotations
 
 import itertools
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -503,10 +504,10 @@ def _inflections(p: np.ndarray, lo: int, hi: int, floor: float) -> list[int]:
     """
     if hi - lo < 4 or _concavity_depth(p, lo, hi) <= floor:
         return []
-    i = _rdp_index(p, lo, hi)
-    estimate = i is not None
-    if not estimate:  # the estimate fell on an end: split at point 3 of step (1) instead
-        i = _farthest(p, lo, hi)[0]
+    rdp = _rdp_index(p, lo, hi)
+    estimate = rdp is not None
+    # the estimate fell on an end: split at point 3 of step (1) instead
+    i = rdp if rdp is not None else _farthest(p, lo, hi)[0]
     left = _inflections(p, lo, i, floor)
     right = _inflections(p, i, hi, floor)
     a = left[-1] if left else lo
@@ -703,6 +704,7 @@ class KeylineFit(RichRepr):
         if self.pieces:
             middle = [(f"middle{i}", f) for i, f in enumerate(self.pieces[1:-1], start=1)]
             return (("left", self.pieces[0]), *middle, ("right", self.pieces[-1]))
+        assert self.left is not None and self.right is not None  # two sides without whole
         return (("left", self.left), ("right", self.right))
 
     @property
@@ -808,7 +810,7 @@ def fit(
     *,
     step: float | None = None,
     normal_hint=(0.0, 0.0, 1.0),
-    inflection: int | None = None,
+    inflection: int | Sequence[int] | None = None,
     min_side_points: int = 5,
     fit_options: dict | None = None,
     single_if_convex: bool = False,
@@ -935,11 +937,10 @@ def fit(
         if len(found) >= 2:
             several = found
     elif np.ndim(inflection) == 1:
-        idx = [as_int(j, name="inflection", minimum=0, maximum=xy.shape[0] - 1) for j in inflection]
+        given = np.asarray(inflection, dtype=object).tolist()
+        idx = [as_int(j, name="inflection", minimum=0, maximum=xy.shape[0] - 1) for j in given]
         if sorted(set(idx)) != idx or not idx:
-            raise CurveError(
-                f"inflection must be increasing vertex indices, got {list(inflection)}"
-            )
+            raise CurveError(f"inflection must be increasing vertex indices, got {given}")
         if len(idx) == 1:
             inflection = idx[0]
         else:

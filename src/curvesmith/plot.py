@@ -188,7 +188,7 @@ def curvature_comb(
     from matplotlib.collections import LineCollection
 
     ax.add_collection(
-        LineCollection(np.stack([mid, tips], axis=1), colors=color, lw=0.7, alpha=0.8)
+        LineCollection(list(np.stack([mid, tips], axis=1)), colors=color, lw=0.7, alpha=0.8)
     )
     ax.plot(tips[:, 0], tips[:, 1], color=color, lw=0.9, label="curvature comb")
     draw_curve(ax, p, closed=closed, color="k", lw=1.2, label="curve")
@@ -303,7 +303,7 @@ def bezier_comb(
     tips = pts - scale * k[..., None] * nrm
     ax.add_collection(
         LineCollection(
-            np.stack([pts.reshape(-1, 2), tips.reshape(-1, 2)], axis=1),
+            list(np.stack([pts.reshape(-1, 2), tips.reshape(-1, 2)], axis=1)),
             colors=color,
             lw=0.5,
             alpha=0.7,

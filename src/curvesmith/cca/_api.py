@@ -10,11 +10,12 @@ from __future__ import annotations
 
 import itertools
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Callable
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .. import _validate
 from .._ragged import as_anchor_mask, as_ragged, curve_ids
@@ -81,7 +82,7 @@ def smooth(
     closed: bool,
     iterations: int = 1,
     alpha: AlphaSpec = "regular",
-    anchors: Sequence[int] | None = None,
+    anchors: ArrayLike | None = None,
     c: float = 2.0,
     C: float = 0.5,
     restrict: bool = True,
@@ -190,7 +191,7 @@ def smooth_with_info(
     closed: bool,
     iterations: int = 1,
     alpha: AlphaSpec = "regular",
-    anchors: Sequence[int] | None = None,
+    anchors: ArrayLike | None = None,
     c: float = 2.0,
     C: float = 0.5,
     restrict: bool = True,

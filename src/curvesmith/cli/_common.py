@@ -117,9 +117,10 @@ def _read(source, format: str, keep_others: bool = False):
         from ..io.geojson import read_geojson
 
         curves = read_geojson(source, others="keep")
-        if curves.others:
+        others = getattr(curves, "others", {})  # a GeoJSONCurves with others="keep"
+        if others:
             click.echo(
-                f"{len(curves.others)} feature(s) without a curve geometry (NULL, Point, "
+                f"{len(others)} feature(s) without a curve geometry (NULL, Point, "
                 "MultiPoint) passed through unchanged",
                 err=True,
             )

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
 import click
 
@@ -108,7 +109,7 @@ def affine_command(
             "affine_closing_error": res.closing_error,
             "affine_pieces": int(res.piece_areas.size),
         }
-        changes = {}
+        changes: dict[str, Any] = {}
         if not is_closed and curve.kind in ("Polygon", "MultiPolygon"):
             # rings opened into lines: every ring of the feature becomes one line
             opened = sum(1 for c in curves if c.feature == curve.feature)
@@ -121,8 +122,7 @@ def affine_command(
         lo = pmin if lo is None else lo.clip(max=pmin)
         hi = pmax if hi is None else hi.clip(min=pmax)
         click.echo(f"curve {i}: {res.message}", err=True)
-    out = _with_results(out)
-    write_curves(out, dest, fmt)
+    write_curves(_with_results(out), dest, fmt)
     if spline_svg is not None:
         with open_destination(Path(spline_svg)) as fh:  # atomic: no partial file on failure
             fh.write(path_document(paths, (lo, hi)))

@@ -7,6 +7,7 @@ import json
 import math
 import sys
 from pathlib import Path
+from typing import Any
 
 import click
 import numpy as np
@@ -39,7 +40,7 @@ def _rows_for(file: str, name: str, res, out_name: str) -> list[dict]:
     side_message = {side: fit.message for side, fit in res.sides}
     pinned = {side: rng[2] for (side, _), rng in zip(res.sides, res.piece_ranges, strict=True)}
     for row in res.table():
-        full = dict.fromkeys(TABLE_FIELDS, "")
+        full: dict[str, Any] = dict.fromkeys(TABLE_FIELDS, "")
         full.update(row)
         full.update(
             file=file,
@@ -56,7 +57,7 @@ def _rows_for(file: str, name: str, res, out_name: str) -> list[dict]:
 
 
 def _error_row(file: str, name: str, message: str) -> dict:
-    row = dict.fromkeys(TABLE_FIELDS, "")
+    row: dict[str, Any] = dict.fromkeys(TABLE_FIELDS, "")
     row.update(file=file, curve=name, success=False, error=message)
     return row
 

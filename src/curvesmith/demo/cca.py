@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 
 from .. import cca, data, geometry, plot, subdivision
@@ -70,7 +72,7 @@ def _polygon_figure(ctx) -> None:
         title="Three iterations (cf. Fig. 14 right)",
         ax=axes[0],
     )
-    variants = {
+    variants: dict[str, tuple[dict[str, Any], dict[str, Any]]] = {
         "restrictions (default)": ({}, {"lw": 2.4}),
         "alpha floor min_factor=0.8": ({"min_factor": 0.8}, {"lw": 1.4, "ls": "--"}),
         "no restrictions": ({"restrict": False}, {"lw": 1.2, "ls": ":", "color": "k"}),

@@ -32,7 +32,7 @@ def run(ctx) -> None:
         ax.plot(*poly.T, ":", lw=0.8, color=ax.lines[-1].get_color())
     ax.plot(*np.array([A, B, C]).T, "ko", ms=4)
     for name, p in zip("ABC", (A, B, C), strict=True):
-        ax.annotate(name, p, textcoords="offset points", xytext=(6, 4))
+        ax.annotate(name, (p[0], p[1]), textcoords="offset points", xytext=(6, 4))
     ax.set_aspect("equal")
     ax.set_xlabel("x")
     ax.set_ylabel("y")

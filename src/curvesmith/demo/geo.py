@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import time
+from typing import Any
 
 import numpy as np
 
@@ -206,7 +207,7 @@ def _footprints(ctx) -> None:
     from .. import geo
 
     rng = np.random.default_rng(11)
-    polys = []
+    polys: Any = []  # then an object array
     for k in range(6):  # L-shaped and notched buildings, 12-30 m, UTM metres
         w, h = rng.uniform(12, 30, 2)
         pts = np.array(
@@ -264,7 +265,7 @@ def _z_profile(ctx) -> None:
 
     from .. import geo
 
-    d = cbook.get_sample_data("jacksboro_fault_dem.npz")
+    d: Any = cbook.get_sample_data("jacksboro_fault_dem.npz")  # an NpzFile
     dem = d["elevation"].astype(float)
     ny, nx = dem.shape
     x, y = np.arange(nx) * 74.5, np.arange(ny) * 92.6  # 3 arc-seconds in metres

@@ -107,15 +107,15 @@ def run(ctx) -> None:
     ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     ax = axes[1]
     ax.plot(xy[:, 0], xy[:, 1], "s", color="k", ms=2, label="keyline vertices")
-    ax.plot(*res.left.points.T, "-", color="C2", lw=1.6, label="elastica fit, left side")
-    ax.plot(*res.right.points.T, "-", color="C3", lw=1.6, label="elastica fit, right side")
+    ax.plot(*res.sides[0][1].points.T, "-", color="C2", lw=1.6, label="elastica fit, left side")
+    ax.plot(*res.sides[-1][1].points.T, "-", color="C3", lw=1.6, label="elastica fit, right side")
     ax.plot(*xy[est.index], "o", color="C0", ms=7, label="pinned (x0, y0)")
     ax.set_aspect("equal")
     ax.set_xlabel("x'' [mm]")
     ax.set_ylabel("y'' [mm]")
     ax.set_title(
-        f"Discrete elasticae on both sides (rms {res.left.rms:.3g} / {res.right.rms:.3g} mm; "
-        "Fig. 16)"
+        f"Discrete elasticae on both sides (rms {res.sides[0][1].rms:.3g} / "
+        f"{res.sides[-1][1].rms:.3g} mm; Fig. 16)"
     )
     ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     ctx.figure(
@@ -127,14 +127,14 @@ def run(ctx) -> None:
     # --- all sides with the inflection at the origin (Fig. 18)
     fig, axes = plt.subplots(2, 1, figsize=(10.0, 5.5), layout="constrained")
     for (name, *_), r in zip(_FAMILY, fits, strict=True):
-        for ax, side in zip(axes, (r.left, r.right), strict=True):
+        for ax, side in zip(axes, (r.sides[0][1], r.sides[-1][1]), strict=True):
             pts = side.points - side.points[0]
             ax.plot(pts[:, 0], pts[:, 1], lw=1.2, label=name)
-    for ax, side in zip(axes, ("left", "right"), strict=True):
+    for ax, side_name in zip(axes, ("left", "right"), strict=True):
         ax.set_aspect("equal")
         ax.set_xlabel("x'' - x0 [mm]")
         ax.set_ylabel("y'' - y0 [mm]")
-        ax.set_title(f"Fitted {side} sides, inflection at the origin")
+        ax.set_title(f"Fitted {side_name} sides, inflection at the origin")
         ax.grid(alpha=0.3)
         ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     ctx.figure(
@@ -181,16 +181,16 @@ def run(ctx) -> None:
         "| side | statistic | h [mm] | phi [rad] | phi [deg] | z | q | k |",
         "|---|---|---|---|---|---|---|---|",
     ]
-    for s, side in enumerate(("left", "right")):
+    for s, side_name in enumerate(("left", "right")):
         vals = np.array([[rows[s][c] for c in _PARAMS] for rows in family])
         for stat, fn in (("mean", np.mean), ("std. dev.", np.std)):
             v = fn(vals, axis=0)
             cells = [_fmt(v[0]), _fmt(v[1]), f"{math.degrees(v[1]):.3f}", *map(_fmt, v[2:])]
-            summary.append(f"| {side} | {stat} | " + " | ".join(cells) + " |")
+            summary.append(f"| {side_name} | {stat} | " + " | ".join(cells) + " |")
         row = fits[5].table()[s]
         cells = [_fmt(row["h"]), _fmt(row["phi"]), f"{row['phi_deg']:.3f}"]
         cells += [_fmt(row[c]) for c in ("z", "q", "k")]
-        summary.append(f"| {side} | K06 | " + " | ".join(cells) + " |")
+        summary.append(f"| {side_name} | K06 | " + " | ".join(cells) + " |")
     ctx.text("\n".join(summary))
 
     k_err = [
@@ -207,7 +207,7 @@ def run(ctx) -> None:
     )
     ctx.number(
         "keyline_max_rms",
-        float(max(max(r.left.rms, r.right.rms) for r in fits)),
+        float(max(f.rms for r in fits for _, f in r.sides)),
         "largest fit rms [mm] (scan noise 0.01-0.02 mm)",
     )
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import time
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -106,7 +107,7 @@ def run(ctx) -> None:
     )
 
     # ---- contours over a hillshade of matplotlib's Jacksboro fault DEM
-    d = cbook.get_sample_data("jacksboro_fault_dem.npz")
+    d: Any = cbook.get_sample_data("jacksboro_fault_dem.npz")  # an NpzFile
     z = d["elevation"].astype(float)
     ny, nx = z.shape
     dx, dy = 74.5, 92.6  # 3 arc-seconds in metres at 36.6° N

@@ -98,6 +98,7 @@ def _npz_grid(data) -> Grid:
         y = np.linspace(float(data["ymin"]), float(data["ymax"]), ny)
     if x is None:
         x, y = np.arange(nx, dtype=float), np.arange(ny, dtype=float)
+    assert y is not None  # set with x
     return Grid(z, x, y, None)
 
 
@@ -284,7 +285,7 @@ def contour_levels(z: np.ndarray, *, levels: Any = None, interval: float | None 
     else:
         from matplotlib.ticker import MaxNLocator
 
-        lv = MaxNLocator(10).tick_values(zmin, zmax)
+        lv = np.asarray(MaxNLocator(10).tick_values(zmin, zmax), dtype=float)
     return lv[(lv > zmin) & (lv < zmax)]
 
 

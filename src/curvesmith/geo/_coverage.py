@@ -452,7 +452,11 @@ def smooth_coverage(
     else:
         invalid = shapely.coverage_invalid_edges(g, gap_width=gap_width)
         bad = ~shapely.is_empty(invalid)
-    invalid_report = {int(idx[k]): float(shapely.length(invalid[k])) for k in np.nonzero(bad)[0]}
+    invalid_report = (
+        {int(idx[k]): float(shapely.length(invalid[k])) for k in np.nonzero(bad)[0]}
+        if invalid is not None
+        else {}
+    )
     topo = coverage_topology(g, frozen_edges=invalid if bad.any() else None)
     bounded = max_shift is not None or min_segment is not None  # every level tried at once
     initial = map_arcs(topo) if (map_arcs is not None and iterations > 0 and not bounded) else None

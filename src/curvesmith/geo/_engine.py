@@ -202,6 +202,7 @@ def resolve_arcs(
             key = (p.arc, p.start, p.stop, p.loop, p.level)
             if key not in cache and levels[p.level].iterations > 0:
                 todo.setdefault((p.level, p.loop), {})[key] = p
+        assert batch is not None  # only called when the smoother has a batch
         for (lev, loop), group in todo.items():
             pts = [_piece_points(arcs[p.arc], p, bool(loops[p.arc])) for p in group.values()]
             for key, out in zip(group, batch(pts, loop, levels[lev]), strict=True):

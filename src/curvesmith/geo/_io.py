@@ -530,11 +530,11 @@ def write_file(df: Any, path: str | Path, *, layer: str | None = None) -> None:
             ) from None
         kwargs["use_arrow"] = True
         # the layer declared with M (else GDAL warns that it sets the M hint itself)
-        names = {g.geom_type for g in geoms[present]}
-        base = {n.replace("Multi", "") for n in names}
+        types = {g.geom_type for g in geoms[present]}
+        base = {n.replace("Multi", "") for n in types}
         if len(base) == 1:  # one type, or a type and its Multi (written as the Multi)
-            name = next(iter(names)) if len(names) == 1 else f"Multi{base.pop()}"
-            if len(names) > 1:
+            name = next(iter(types)) if len(types) == 1 else f"Multi{base.pop()}"
+            if len(types) > 1:
                 kwargs["promote_to_multi"] = True
             z = "3D " if shapely.has_z(geoms[present]).any() else ""
             kwargs["geometry_type"] = f"Measured {z}{name}"
@@ -857,6 +857,7 @@ def _smooth_equal_area(
         if (~folded).any():
             jobs.append((idx[~folded], laea, there[~folded]))
     labels = [np.array([owners[j][0] for j in idx]) for idx, _, _ in jobs]
+    results: list[Any]
     if smoother is None:
         results = [
             (
@@ -902,9 +903,9 @@ def _smooth_equal_area(
         its = {side: iter(h[side][0].geoms) for side in (False, True)}
         geoms[i] = type(source[i])([next(its[s]) for s in sides])
     present = ~(shapely.is_missing(geoms) | shapely.is_empty(geoms))
-    for i in np.flatnonzero(present & ~shapely.is_valid(geoms)):
+    for bad in np.flatnonzero(present & ~shapely.is_valid(geoms)):
         raise CurveError(  # pragma: no cover - geo.smooth's output is valid in its CRS
-            f"feature {i} is not valid after smoothing ({shapely.is_valid_reason(geoms[i])})"
+            f"feature {bad} is not valid after smoothing ({shapely.is_valid_reason(geoms[bad])})"
         )
     out = df.copy()
     out[df.geometry.name] = geopandas.GeoSeries(geoms, index=df.index, crs=crs)
@@ -997,7 +998,7 @@ def smooth_file(
     points = np.isin(shapely.get_type_id(kept), (0, 4))  # Point, MultiPoint
     if points.any():
         df = df.copy()
-        df.geometry = np.where(points, None, kept)
+        df.geometry = np.where(points, np.array(None, dtype=object), kept)
     planar: list[int] = []
     # lon/lat data: vertices on the antimeridian and the poles stay put (Fiji, Chukotka and
     # Antarctica keep meeting there) and the output stays inside the domain
@@ -1048,7 +1049,7 @@ def smooth_file(
         out.geometry = np.where(points, kept, np.asarray(out.geometry.values, dtype=object))
     if out_layer is None and layer is not None and not isinstance(layer, int | np.integer):
         out_layer = str(layer)
-    df = kept = None  # the input's geometries are not needed while the output is written
+    del df, kept  # the input's geometries are not needed while the output is written
     write_file(out, out_path, layer=out_layer)
     return FileSmoothReport(
         n_features=len(out),

@@ -116,7 +116,7 @@ def make_smoother(
             out, oo = smooth_batch("cca", alpha, xy, off, closed, level, mask)
             return [out[a:b] for a, b in itertools.pairwise(oo.tolist())]
 
-        f.batch = many
+        f.batch = many  # type: ignore[attr-defined]  # the CCA smoother's ragged form
         return f
     from .. import subdivision
 
@@ -218,6 +218,7 @@ class FixedVertices:
                     f"got shape {out.shape} and dtype {out.dtype}"
                 )
             return out
+        assert self._points is not None  # set when there is no callable
         if self._points.size == 0:
             return np.zeros(coords.shape[0], dtype=bool)
         return np.isin(_as_complex(coords), self._points)
@@ -361,9 +362,9 @@ def prepare(geoms: np.ndarray, *, make_valid: bool, what: str = "geometry") -> n
     # previous one: the others would come back with the same coordinates
     rep = np.all(xy[1:] == xy[:-1], axis=1) & (owner[1:] == owner[:-1])
     if rep.any():
-        k = np.unique(owner[1:][rep])
+        rows = np.unique(owner[1:][rep])
         g = g.copy()
-        g[k] = shapely.remove_repeated_points(g[k], 0.0)
+        g[rows] = shapely.remove_repeated_points(g[rows], 0.0)
     geoms[present] = g
     return geoms
 

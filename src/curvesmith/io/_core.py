@@ -271,6 +271,7 @@ def _read_text(source: Source) -> tuple[str, str]:
     name = _name_of(source)
     if isinstance(source, str | os.PathLike):
         path = Path(source)
+        data: bytes | str
         try:
             data = path.read_bytes()
         except FileNotFoundError:
@@ -516,7 +517,7 @@ def format_rows(
         if not np.isfinite(block).all():
             raise CurveError("format_rows: cannot write a non-finite coordinate (nan or inf)")
         mag = np.abs(block)
-        odd = ((mag >= _ORJSON_ODD[0]) & (mag < _ORJSON_ODD[1])).any(axis=1)
+        odd = np.asarray(((mag >= _ORJSON_ODD[0]) & (mag < _ORJSON_ODD[1])).any(axis=1))
         if not odd.any():
             if len(block):
                 yield fast(block)

@@ -44,9 +44,9 @@ def _scalar(text: str):
     except ValueError:
         pass
     try:
-        value = float(text)
-        if repr(value) == text:
-            return value
+        number = float(text)
+        if repr(number) == text:
+            return number
     except ValueError:
         pass
     return text

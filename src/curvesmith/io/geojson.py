@@ -478,7 +478,7 @@ def _features(coords: _Coords, curves: list[Curve], orient: bool) -> list[dict]:
         else:
             by_member: dict[int, list[Curve]] = {}
             for c in group:
-                by_member.setdefault(c.member, []).append(c)
+                by_member.setdefault(int(c.member or 0), []).append(c)  # every member an int
             geometry = {
                 "type": "GeometryCollection",
                 "geometries": [

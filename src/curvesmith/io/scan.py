@@ -57,8 +57,8 @@ def read_scan(path: str | Path) -> list[tuple[str, np.ndarray]]:
             raise CurveError(
                 f"{path}: not a text table of numbers ({exc.reason} at byte {exc.start})"
             ) from None
-        numbered = [(n, ln.split("#", 1)[0].strip()) for n, ln in enumerate(text.splitlines(), 1)]
-        numbered = [(n, r.replace(",", " ").split()) for n, r in numbered if r]
+        lines = [(n, ln.split("#", 1)[0].strip()) for n, ln in enumerate(text.splitlines(), 1)]
+        numbered = [(n, r.replace(",", " ").split()) for n, r in lines if r]
         if numbered and not any(_is_float(v) for v in numbered[0][1]):
             numbered = numbered[1:]  # a header row such as "x y z" or "//X //Y //Z"
         if not numbered:

@@ -366,7 +366,7 @@ def read_svg(source: Source, *, tolerance: float | None = None) -> list[Curve]:
     viewport = doc.values.get("viewport_transform", "") or ""
     if not viewport:
         viewport = str(doc.viewbox_transform or "")
-    items = []
+    items: list[Any] = []
     for element in doc.elements():
         if not isinstance(element, se.Shape):
             continue
@@ -437,9 +437,10 @@ def read_svg(source: Source, *, tolerance: float | None = None) -> list[Curve]:
 def _default_tolerance(items) -> float:
     boxes = []
     for _, segments, matrix, linear in items:
-        pts = []
+        pts: Any = []
         if segments and isinstance(segments[0], tuple):  # parsed polyline data
-            segments, pts = (), np.concatenate([sub for sub, _ in segments])
+            parsed: list[tuple[np.ndarray, Any]] = list(segments)
+            segments, pts = (), np.concatenate([piece for piece, _ in parsed])
         for seg in segments:
             for attr in ("start", "end", "control", "control1", "control2"):
                 p = getattr(seg, attr, None)
@@ -588,14 +589,14 @@ def _nested_rings(subpaths, evenodd: bool) -> list[tuple]:
     hole = [False] * n
     owner: list[int] = list(range(n))
     for j in sorted(range(n), key=lambda k: -abs(areas[k])):  # containers first
-        i = parent[j]
-        if i is None:
+        up = parent[j]
+        if up is None:
             continue
         if evenodd:
-            hole[j] = not hole[i]
+            hole[j] = not hole[up]
         else:
-            hole[j] = not hole[i] and (areas[i] > 0) != (areas[j] > 0)
-        owner[j] = owner[i] if hole[j] else j
+            hole[j] = not hole[up] and (areas[up] > 0) != (areas[j] > 0)
+        owner[j] = owner[up] if hole[j] else j
     exteriors = [k for k in range(n) if not hole[k]]
     if len(exteriors) == n:
         return [(None, k, 0, "MultiPolygon") for k in range(n)]
@@ -793,7 +794,7 @@ def _write_document(curves: list[Curve], document, dest: Source) -> None:
             inverse = None
         else:
             inverse = np.linalg.inv(linear)
-        data = []
+        data: list[str] = []
         for c in group:
             pts = c.points if inverse is None else (c.points - offset) @ inverse.T
             if not np.isfinite(pts).all():
