@@ -1,12 +1,18 @@
 """Shared test configuration: a deterministic hypothesis profile, a headless matplotlib, no skips in CI."""
 
 import os
+import sys
+from pathlib import Path
 
 import matplotlib
 import pytest
 from hypothesis import HealthCheck, settings
 
 matplotlib.use("Agg")
+
+# the tests' shared modules (oracles.py, elastica_curves.py, ...) import by name; with
+# --import-mode=importlib pytest does not put this folder on sys.path itself
+sys.path.insert(0, str(Path(__file__).parent))
 
 settings.register_profile(
     "ci",

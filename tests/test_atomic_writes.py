@@ -26,6 +26,7 @@ from curvesmith import io as cio
 from curvesmith.cli import main
 from curvesmith.errors import CurveError, CurveFormatError
 from curvesmith.io import _core
+from oracles import exact_area
 
 FIXTURES = Path(pyogrio.__file__).parent / "tests" / "fixtures"
 NATURAL_EARTH = FIXTURES / "naturalearth_lowres" / "naturalearth_lowres.shp"
@@ -308,11 +309,6 @@ def test_batch_refuses_null_geometries_and_non_gis_inputs(tmp_path):
 # in-place runs
 
 
-def _shoelace(p):
-    x, y = p[:, 0], p[:, 1]
-    return 0.5 * float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y))
-
-
 @pytest.mark.parametrize("suffix", [".csv", ".geojson", ".svg"])
 def test_in_place_smoothing_of_curve_files(tmp_path, suffix):
     path = tmp_path / f"rings{suffix}"
@@ -323,7 +319,7 @@ def test_in_place_smoothing_of_curve_files(tmp_path, suffix):
     after = cio.read_curves(path)
     assert [len(c.points) for c in after] == [3 * len(c.points) for c in before]
     for a, b in zip(before, after, strict=True):
-        assert _shoelace(b.points) == pytest.approx(_shoelace(a.points), rel=1e-12)
+        assert exact_area(b.points) == pytest.approx(exact_area(a.points), rel=1e-12)
     assert _listing(tmp_path) == [path.name]
 
 

@@ -15,32 +15,9 @@ from curvesmith import cca
 from curvesmith.cca import _input, _kernel, _restrict  # noqa: F401  (cca._kernel, ...)
 from curvesmith.errors import CurveError
 from curvesmith.geometry import interior_angles, is_convex
+from oracles import exact_area
 
 # --------------------------------------------------------------------------- helpers
-
-
-def _two_product(a, b):
-    """Dekker's exact product: a*b == p + e exactly (no overflow at the scales used)."""
-    p = a * b
-    split = 134217729.0  # 2**27 + 1
-    ca = split * a
-    ah = ca - (ca - a)
-    al = a - ah
-    cb = split * b
-    bh = cb - (cb - b)
-    bl = b - bh
-    e = ((ah * bh - p) + ah * bl + al * bh) + al * bl
-    return p, e
-
-
-def exact_area(points):
-    """Signed shoelace area, correctly rounded (exact products, math.fsum)."""
-    p = np.asarray(points, dtype=float)
-    x, y = p[:, 0], p[:, 1]
-    xn, yn = np.roll(x, -1), np.roll(y, -1)
-    p1, e1 = _two_product(x, yn)
-    p2, e2 = _two_product(xn, y)
-    return 0.5 * math.fsum(np.concatenate([p1, e1, -p2, -e2]))
 
 
 def area_scale(points):

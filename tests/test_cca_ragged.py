@@ -1,7 +1,5 @@
 """cca.smooth_ragged: many curves in one call give, curve by curve, what smooth gives alone."""
 
-import math
-
 import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
@@ -9,12 +7,7 @@ from hypothesis import strategies as st
 
 from curvesmith import cca
 from curvesmith.errors import CurveError
-
-
-def _exact_area(p):
-    x, y = p[:, 0], p[:, 1]
-    terms = np.concatenate([x * np.roll(y, -1), -np.roll(x, -1) * y])
-    return 0.5 * math.fsum(terms)
+from oracles import exact_area
 
 
 @st.composite
@@ -73,7 +66,7 @@ def test_each_curve_as_in_a_single_call(items, iterations, alpha):
         assert res.fig11_edges[k] == one.fig11_edges
         assert res.unsatisfied[k] == one.unsatisfied
         if cl:  # the ring's area, to rounding of its coordinates
-            a0, a1 = _exact_area(p), _exact_area(res.curve(k))
+            a0, a1 = exact_area(p), exact_area(res.curve(k))
             mag = float(np.abs(p).max())
             assert abs(a1 - a0) <= 1e-11 * abs(a0) + 1e-12 * mag * mag
         else:  # open ends fixed, bit for bit

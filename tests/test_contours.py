@@ -1,7 +1,5 @@
 """curvesmith.geo.contours / read_grid and ``curvesmith contours``: levels never touch, exact areas."""
 
-from fractions import Fraction
-
 import geopandas as gpd
 import numpy as np
 import pytest
@@ -13,6 +11,7 @@ from scipy.ndimage import gaussian_filter
 from curvesmith import geo
 from curvesmith.cli import main
 from curvesmith.errors import CurveError, CurveFormatError
+from oracles import exact_area_fraction
 
 
 def jacksboro():
@@ -30,14 +29,6 @@ def steep_rough_terrain(seed, n=28):
     y, x = np.mgrid[0:n, 0:n] * 25.0
     rough = gaussian_filter(rng.normal(size=(n, n)), 1.0)
     return 1.2 * x + 400 * rough / rough.std(), x[0], y[:, 0]
-
-
-def exact_area(xy):
-    pts = [(Fraction(float(a)), Fraction(float(b))) for a, b in xy]
-    s = Fraction(0)
-    for (x0, y0), (x1, y1) in zip(pts, pts[1:] + pts[:1], strict=True):
-        s += x0 * y1 - x1 * y0
-    return s / 2
 
 
 def level_contacts(df):
@@ -72,8 +63,8 @@ def test_jacksboro_lines_levels_never_touch_areas_exact():
     closed = np.nonzero(raw.geometry.is_ring.to_numpy())[0]
     big = closed[np.argsort(-raw.geometry.length.to_numpy()[closed])[:5]]
     for k in big:
-        a0 = exact_area(shapely.get_coordinates(raw.geometry.iloc[k])[:-1])
-        a1 = exact_area(shapely.get_coordinates(out.geometry.iloc[k])[:-1])
+        a0 = exact_area_fraction(shapely.get_coordinates(raw.geometry.iloc[k])[:-1])
+        a1 = exact_area_fraction(shapely.get_coordinates(out.geometry.iloc[k])[:-1])
         bound = 64 * np.finfo(float).eps * 4e4 * raw.geometry.iloc[k].length
         assert abs(float(a1 - a0)) <= bound
     assert res.smoothing.max_open_area < 1e-12
@@ -120,7 +111,7 @@ def test_bivariate_normal_npy_sample():
     assert level_contacts(out) == 0 and len(out) == len(raw)
     for a, b in zip(raw.geometry.values, out.geometry.values, strict=True):
         if a.is_closed:
-            da = exact_area(shapely.get_coordinates(b)[:-1]) - exact_area(
+            da = exact_area_fraction(shapely.get_coordinates(b)[:-1]) - exact_area_fraction(
                 shapely.get_coordinates(a)[:-1]
             )
             assert abs(float(da)) <= 64 * np.finfo(float).eps * 15 * a.length

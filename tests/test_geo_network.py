@@ -1,7 +1,6 @@
 """curvesmith.geo.smooth_network: junctions fixed, shared pieces once, no new contacts, exact areas."""
 
 import itertools
-from fractions import Fraction
 from pathlib import Path
 
 import geopandas as gpd
@@ -13,9 +12,11 @@ from click.testing import CliRunner
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+import oracles
 from curvesmith import geo
 from curvesmith.cli import main
 from curvesmith.errors import CurveError
+from oracles import exact_area_fraction
 
 OSM = Path(pyogrio.__file__).parent / "tests" / "fixtures" / "sample.osm.pbf"
 
@@ -26,27 +27,17 @@ def osm_roads():
     return pyogrio.read_dataframe(OSM, layer="lines").to_crs("EPSG:27700")
 
 
-def exact_area(xy):
-    """Shoelace area of a closed polygon (no repeated vertex), in exact rational arithmetic."""
-    s = Fraction(0)
-    pts = [(Fraction(float(x)), Fraction(float(y))) for x, y in xy]
-    for (x0, y0), (x1, y1) in zip(pts, pts[1:] + pts[:1], strict=True):
-        s += x0 * y1 - x1 * y0
-    return s / 2
-
-
 def area_between(line_in, line_out):
     """Exact signed area of the closed polygon input line + reversed output line."""
     a = shapely.get_coordinates(line_in)
     b = shapely.get_coordinates(line_out)
     assert np.array_equal(a[0], b[0]) and np.array_equal(a[-1], b[-1])
-    return exact_area(np.vstack([a, b[::-1][1:-1]]))
+    return exact_area_fraction(np.vstack([a, b[::-1][1:-1]]))
 
 
 def roundoff_bound(line):
-    """Area error of float coordinates: 64 eps * coordinate magnitude * length."""
-    xy = shapely.get_coordinates(line)
-    return 64 * np.finfo(float).eps * np.abs(xy).max() * shapely.length(line)
+    """Area error of float coordinates of a shapely line (:func:`oracles.roundoff_bound`)."""
+    return oracles.roundoff_bound(shapely.get_coordinates(line), shapely.length(line))
 
 
 def contacts(geoms):
@@ -80,7 +71,7 @@ def assert_areas_exact(before, after):
     for a, b in zip(before, after, strict=True):
         for pa, pb in zip(shapely.get_parts(a), shapely.get_parts(b), strict=True):
             if pa.is_closed:
-                d = exact_area(shapely.get_coordinates(pb)[:-1]) - exact_area(
+                d = exact_area_fraction(shapely.get_coordinates(pb)[:-1]) - exact_area_fraction(
                     shapely.get_coordinates(pa)[:-1]
                 )
             else:
@@ -172,8 +163,8 @@ def test_closed_line_keeps_its_area_and_touch_point():
     r = res.geometry[0]
     assert r.is_closed and r.coords[0] == (5.0, 3.0)  # starts at its node
     a0, a1 = (
-        exact_area(shapely.get_coordinates(ring)[:-1]),
-        exact_area(shapely.get_coordinates(r)[:-1]),
+        exact_area_fraction(shapely.get_coordinates(ring)[:-1]),
+        exact_area_fraction(shapely.get_coordinates(r)[:-1]),
     )
     assert abs(float(a1 - a0)) <= roundoff_bound(ring)
     assert res.max_area_change < 1e-14
@@ -186,8 +177,10 @@ def test_lone_closed_line_is_smoothed_as_a_ring():
     ring = shapely.LineString(np.vstack([xy, xy[:1]]))
     out = geo.smooth_network([ring], iterations=2)[0]
     assert len(out.coords) - 1 == 8 * 9
-    a0 = exact_area(shapely.get_coordinates(ring)[:-1])
-    assert abs(float(exact_area(shapely.get_coordinates(out)[:-1]) - a0)) <= roundoff_bound(ring)
+    a0 = exact_area_fraction(shapely.get_coordinates(ring)[:-1])
+    assert abs(
+        float(exact_area_fraction(shapely.get_coordinates(out)[:-1]) - a0)
+    ) <= roundoff_bound(ring)
     # no fixed vertex: no original vertex survives (the start is not a junction)
     assert not any(np.all(shapely.get_coordinates(out) == v, axis=1).any() for v in xy)
 
