@@ -366,20 +366,24 @@ def test_rounded_contours_are_within_the_tolerance_and_keep_area_and_direction(r
             # measured geometrically, brute force, on the integer outline in source units
             assert brute_deviation(w / grid, pts) <= 2.048
             assert np.sign(curves.bezier_area(w)) == np.sign(c.area())
-        # the area changes by the rounding only (measured up to 1.3e-3 at grid 1, 2e-4 at 8)
-        assert abs(rep.area_written / rep.area_before - 1) < (2e-3 if grid == 1 else 3e-4)
+        # the area changes by the rounding only (measured up to 2e-3 at grid 1, 3e-4 at 8)
+        assert abs(rep.area_written / rep.area_before - 1) < (3e-3 if grid == 1 else 4e-4)
 
 
 def test_rounding_search_beats_plain_rounding_on_real_glyphs(rounded_reports):
     # the numbers measured on these 12 glyphs of DejaVu Sans and Serif (tolerance 2.048, 1/1000
-    # em): largest jump with plain rounding 2.4-6.2 % (grid 1) and 0.4-0.9 % (grid 8); the
-    # search: <= 1.3 % and <= 0.2 %, at least 2.5 times smaller than plain rounding
+    # em): largest jump with plain rounding 2.8-18 % (grid 1) and 0.4-3.1 % (grid 8); the
+    # search: 1.0-5.1 % and 0.13-0.65 %, 1.4-7.5 times smaller; tangent breaks at explicit
+    # smooth points 0.5-1.8 degrees plain, 0.15-0.8 searched (grid 1), 0.02-0.07 (grid 8)
     for _, name, grid, rep in rounded_reports:
         tc_jumps = rep.jumps_written
         assert tc_jumps.size and rep.g2_written == tc_jumps.max()
-        assert rep.g2_written <= rep.g2_plain / 2.5, (name, grid)
-        assert rep.g2_written <= (0.013 if grid == 1 else 0.002), (name, grid)
-        assert rep.g2_plain > (0.02 if grid == 1 else 0.003), (name, grid)
+        assert rep.g2_written <= rep.g2_plain / 1.4, (name, grid)
+        assert rep.g2_written <= (0.06 if grid == 1 else 0.007), (name, grid)
+        assert rep.g2_plain > (0.025 if grid == 1 else 0.004), (name, grid)
+        # explicit smooth on-curve points: the tangent break, plain 0.5-1.8 degrees (grid 1)
+        assert rep.g1_written <= rep.g1_plain / 1.4 or rep.g1_plain == 0, (name, grid)
+        assert rep.g1_written <= np.radians(0.8 if grid == 1 else 0.07), (name, grid)
 
 
 @pytest.mark.slow
@@ -413,3 +417,27 @@ def test_finer_units_per_em_scales_every_metric(tmp_path):
         main, ["glyphs", SANS, "-o", str(tmp_path / "y.ttf"), "--units-per-em", "20000"]
     )
     assert r.exit_code == 2 and not (tmp_path / "y.ttf").exists()
+
+
+def test_cli_reports_the_written_rounding(tmp_path):
+    runner = CliRunner()
+    rows = {}
+    for rounding in ("search", "plain"):
+        out = tmp_path / f"{rounding}.ttf"
+        r = runner.invoke(
+            main,
+            ["glyphs", SANS, "-o", str(out), "--glyphs", "R", "--rounding", rounding, "--json"],
+        )
+        assert r.exit_code == 0, r.output
+        rows[rounding] = json.loads(r.output)["glyphs"][0]
+        # the report is what the file holds: implied points read back from the font
+        written = glyphs.written_g2_defect(fonts.open_font(out), "R")
+        assert written <= rows[rounding]["g2_defect_written"] + 1e-12
+    s, p = rows["search"], rows["plain"]
+    assert p["g2_defect_written"] == pytest.approx(p["g2_plain_rounding"], rel=1e-12)
+    assert s["g2_plain_rounding"] == p["g2_plain_rounding"]
+    assert s["g2_defect_written"] < p["g2_defect_written"] / 2
+    assert s["g1_written"] < p["g1_written"] / 2
+    assert s["deviation_written"] <= 2.048 and abs(s["area_change_written"]) < 2e-3
+    r = runner.invoke(main, ["glyphs", SANS, "-o", str(tmp_path / "x.ttf"), "--rounding", "best"])
+    assert r.exit_code == 2 and "best" in r.output

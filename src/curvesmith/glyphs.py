@@ -9,10 +9,17 @@ result is written as a TrueType font by :func:`curvesmith.io.fonts.write_truetyp
 (runs of segments whose joints are control midpoints become TrueType's implied
 on-curve points).
 
-TrueType coordinates are integers: the control points are rounded, so the
-written contours are G2 up to that rounding; :class:`GlyphReport` gives the
-curvature jumps measured on the written, rounded outline as well as on the
-exact fit.
+TrueType coordinates are integers, so no written contour is exactly G2: the
+points are rounded by :func:`curvesmith.io.fonts.round_contour` (each to one of
+its 4 integer neighbours, a dynamic programme along the contour minimising the
+largest relative curvature jump ``|k_l - k_r| / max(|k_l|, |k_r|)`` at the
+joints that are G2 in the fit, and the tangent break at explicit on-curve
+points, within the tolerance measured on the rounded outline). DejaVu Sans at
+1/1000 em: the largest jump per glyph falls from a median of 4.6 % with plain
+rounding to 0.6 %; ``grid=8`` (16384 units per em, all metrics scaled) divides
+both by about 8. :class:`GlyphReport` gives the jumps, tangent breaks, deviation
+and area of the written outline next to those of the exact fit. UFO output
+keeps floats and is exactly G2.
 
 Examples
 --------
@@ -72,6 +79,12 @@ class GlyphReport:
         (:func:`curvesmith.io.fonts.joint_jumps`); nan without rounding.
     g2_plain : float
         The same for plain rounding of every point (for comparison).
+    g1_written : float
+        Largest tangent break (radians) at those joints of the written contours
+        (:func:`curvesmith.io.fonts.joint_kinks`: explicit on-curve points between two
+        off-curve points; implied points cannot break); nan without rounding.
+    g1_plain : float
+        The same for plain rounding.
     deviation_written : float
         Largest distance of the written contours from the outline they were fitted to
         (source units); nan without rounding.
@@ -101,6 +114,8 @@ class GlyphReport:
     deviation_written: float = math.nan
     jumps_written: np.ndarray = field(default_factory=lambda: np.zeros(0))
     area_written: float = math.nan
+    g1_written: float = math.nan
+    g1_plain: float = math.nan
 
     @property
     def area_change(self) -> float:
@@ -123,6 +138,8 @@ class GlyphReport:
             "g2_defect": self.g2_defect if self.refitted else None,
             "g2_written": _num(self.g2_written) if self.refitted else None,
             "g2_plain_rounding": _num(self.g2_plain) if self.refitted else None,
+            "g1_written": _num(self.g1_written) if self.refitted else None,
+            "g1_plain_rounding": _num(self.g1_plain) if self.refitted else None,
             "deviation_written": _num(self.deviation_written) if self.refitted else None,
             "area_change_written": (
                 _num((self.area_written - self.area_before) / abs(self.area_before))
@@ -196,6 +213,7 @@ def refit_glyph(
     step = spacing if spacing is not None else min(float(tolerance), upm / 200.0)
     fitted, before, after, devs, g2 = [], 0, 0, [], []
     written, g2w, g2p, devw, jumps = [], [], [], [], []
+    g1w, g1p = [], []
     area0 = area1 = 0.0
     for k, contour in enumerate(outline.contours):
         pts, corners = contour.sample(step)
@@ -224,7 +242,7 @@ def refit_glyph(
                     raise CurveError(f"glyph {name}, contour {k}: {fit.message}")
             if grid is None:
                 break
-            out, jump, plain, dev_w = _round(fit.segments, target, round_tol, grid, rounding)
+            out, jump, plain, dev_w, kinks = _round(fit.segments, target, round_tol, grid, rounding)
             if dev_w <= tolerance * (1 + 1e-9):
                 break
             if attempt == 3:
@@ -241,6 +259,8 @@ def refit_glyph(
             g2w.append(float(jump.max(initial=0.0)))
             g2p.append(plain)
             devw.append(dev_w)
+            g1w.append(kinks[0])
+            g1p.append(kinks[1])
         # deviation from the source outline (the fit is within tolerance of the target)
         devs.append(curves.bezier_deviation(fit.segments, pts, closed=True))
         g2.append(fit.g2_defect)
@@ -264,6 +284,8 @@ def refit_glyph(
         g2_plain=max(g2p, default=0.0) if grid is not None else math.nan,
         deviation_written=max(devw, default=0.0) if grid is not None else math.nan,
         jumps_written=np.concatenate(jumps) if jumps else np.zeros(0),
+        g1_written=max(g1w, default=0.0) if grid is not None else math.nan,
+        g1_plain=max(g1p, default=0.0) if grid is not None else math.nan,
         area_written=(
             sum(curves.bezier_area(w) for w in written) / grid**2 if grid is not None else math.nan
         ),
@@ -271,12 +293,14 @@ def refit_glyph(
 
 
 def _round(segments, target, tolerance, grid, rounding):
-    """Integer TrueType contour of `segments` scaled by `grid`: (written, jumps, plain, dev).
+    """Integer TrueType contour of `segments` scaled by `grid`.
 
-    ``written`` in output units; ``jumps`` at its smooth joints; ``plain`` the largest
-    jump of plain rounding; ``dev`` the deviation of ``written / grid`` from `target`.
+    Returns ``(written, jumps, plain, dev, kinks)``: ``written`` in output units;
+    ``jumps`` at its smooth joints; ``plain`` the largest jump of plain rounding;
+    ``dev`` the deviation of ``written / grid`` from `target`; ``kinks`` the largest
+    tangent break of ``written`` and of plain rounding.
     """
-    from .io.fonts import joint_jumps, round_contour, truetype_contour
+    from .io.fonts import joint_jumps, joint_kinks, round_contour, truetype_contour
 
     seg = np.asarray(segments, float) * grid
     tc = truetype_contour(seg)
@@ -284,9 +308,14 @@ def _round(segments, target, tolerance, grid, rounding):
     q = round_contour(tc, bound=bound, search=rounding == "search").astype(float)
     out = tc.segments(q)
     jumps = joint_jumps(out, tc.smooth)[tc.smooth]
-    plain = joint_jumps(tc.segments(np.floor(tc.points + 0.5)), tc.smooth)
+    plain_seg = tc.segments(np.floor(tc.points + 0.5))
+    plain = joint_jumps(plain_seg, tc.smooth)
     dev = curves.bezier_deviation(out / grid, target, closed=True)
-    return out, jumps, float(plain.max(initial=0.0)), dev
+    kinks = (
+        float(joint_kinks(out, tc.smooth).max(initial=0.0)),
+        float(joint_kinks(plain_seg, tc.smooth).max(initial=0.0)),
+    )
+    return out, jumps, float(plain.max(initial=0.0)), dev, kinks
 
 
 def _tolerance_bound(seg: np.ndarray, target: np.ndarray, tol: float):

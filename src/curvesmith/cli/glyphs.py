@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import math
 import sys
 from pathlib import Path
 
@@ -62,7 +63,8 @@ def glyphs_command(
     their rounding: each point is rounded to the one of its 4 integer neighbours
     that, over the contour, gives the least largest curvature jump within the
     tolerance ("G2 written": the largest relative jump at the smooth on-curve
-    points as written; "plain": that of plain rounding). --units-per-em 16384
+    points as written; "plain": that of plain rounding; "kink deg": the largest
+    tangent break at explicit smooth on-curve points). --units-per-em 16384
     makes the grid finer (every metric scaled). A .ufo keeps floats: exactly G2.
     """
     from .. import glyphs
@@ -121,7 +123,7 @@ def glyphs_command(
 def _table(rows) -> None:
     click.echo(
         f"{'glyph':<16} {'segments':>14} {'area change':>12} {'max dev':>9} "
-        f"{'G2 fit':>9} {'G2 written':>10} {'plain':>9}"
+        f"{'G2 fit':>9} {'G2 written':>10} {'plain':>9} {'kink deg':>8}"
     )
     for row in rows:
         if not row["refitted"]:
@@ -132,4 +134,5 @@ def _table(rows) -> None:
             f"{row['area_change']:>12.2e} {row['max_deviation']:>9.3g} "
             f"{row['g2_defect']:>9.1e} {row['g2_defect_written']:>10.1e} "
             + (f"{p:>9.1e}" if (p := row["g2_plain_rounding"]) is not None else f"{'-':>9}")
+            + (f" {math.degrees(k):>8.3f}" if (k := row["g1_written"]) is not None else "")
         )

@@ -7,8 +7,10 @@ glyph order, names (``post`` format 2), character map, advance widths,
 vertical metrics, names and the layout tables (``GSUB``, ``GPOS``, ``GDEF``,
 ``kern``) are copied from the source; hinting is dropped (no ``fpgm``,
 ``prep``, ``cvt``, no glyph instructions), and left side bearings follow the
-new outlines. TrueType coordinates are integers: control points are rounded
-(``round``), which is the only loss.
+new outlines. TrueType coordinates are integers: :func:`round_contour` chooses
+each point among its 4 integer neighbours so that the curvature jumps (and the
+tangent breaks at explicit on-curve points) stay least, within the tolerance;
+that rounding is the only loss. A UFO keeps floats.
 
 This is not a curve format of :mod:`curvesmith.io` (a font holds glyphs,
 metrics and tables, not features of curves).
@@ -33,6 +35,7 @@ __all__ = [
     "TrueTypeContour",
     "font_glyph_names",
     "joint_jumps",
+    "joint_kinks",
     "open_font",
     "read_glyph",
     "resolve_glyphs",
@@ -673,8 +676,9 @@ class TrueTypeContour:
         Segment ``k``'s explicit end point; -1 when it is implied (the midpoint of
         ``control[k]`` and ``control[k + 1]``).
     smooth : (S,) ndarray of bool
-        The joint at the end of segment ``k`` is G1 with the same sign of the curvature
-        on both sides in the exact (float) contour: a joint whose curvature jump counts.
+        The joint at the end of segment ``k`` is G2 (relative curvature jump at most
+        1e-6, one sign) in the exact (float) contour: a joint whose curvature jump the
+        rounding must keep small.
     """
 
     points: np.ndarray
@@ -724,6 +728,9 @@ def truetype_contour(seg) -> TrueTypeContour:
     a_in = _cross2(seg[:, 1] - seg[:, 0], seg[:, 2] - seg[:, 1])
     a_out = a_in[nxt]
     smooth = g1 & ~straight & ~straight[nxt] & (np.sign(a_in) * np.sign(a_out) > 0)
+    # and G2: the joints next to an inflection of the fit (where its cross area A changes
+    # sign) are G1 with one sign but no G2 quadratic exists there; not a rounding matter
+    smooth &= joint_jumps(seg, smooth) <= 1e-6
     pts: list = []
     on: list = []
     control = np.full(n, -1)
@@ -800,6 +807,52 @@ def joint_jumps(seg, smooth) -> np.ndarray:
     return np.where(np.asarray(smooth, bool) & (big > 0), jump, 0.0)
 
 
+def joint_kinks(seg, smooth) -> np.ndarray:
+    """Tangent break (radians) at the end of every segment; 0 where not `smooth`.
+
+    Zero at implied points (the midpoint of two off-curve points is on their line);
+    an explicit on-curve point between two off-curve points is a kink once
+    rounding takes the three off their line.
+
+    Parameters
+    ----------
+    seg : (..., S, 3, 2) array_like
+    smooth : (S,) array_like of bool
+
+    Returns
+    -------
+    (..., S) ndarray
+    """
+    q = np.asarray(seg, dtype=float)
+    nq = np.roll(q, -1, axis=-3)
+    t_in, t_out = q[..., 2, :] - q[..., 1, :], nq[..., 1, :] - nq[..., 0, :]
+    ang = np.abs(np.arctan2(_cross2(t_in, t_out), np.sum(t_in * t_out, axis=-1)))
+    return np.where(np.asarray(smooth, bool), ang, 0.0)
+
+
+def _joint_defects(seg, smooth) -> np.ndarray:
+    """What the rounding minimises per joint: the curvature jump or the kink, relative.
+
+    A kink ``theta`` is the turning of the curve over ``theta / |k|`` of its length;
+    against the shorter of the joint's two handles ``l`` it is the relative change of
+    the mean curvature over ``l``: ``theta / (|k| l)``, the same scale as the jump.
+    """
+    q = np.asarray(seg, dtype=float)
+    nq = np.roll(q, -1, axis=-3)
+    jump = joint_jumps(q, smooth)
+    kink = joint_kinks(q, smooth)
+    h_in = np.hypot(*np.moveaxis(q[..., 2, :] - q[..., 1, :], -1, 0))
+    h_out = np.hypot(*np.moveaxis(nq[..., 1, :] - nq[..., 0, :], -1, 0))
+    w = q[..., 1, :] - q[..., 0, :]
+    safe = np.where(h_in > 0, h_in, 1.0)
+    area = 0.5 * np.abs(_cross2(w, q[..., 2, :] - q[..., 1, :]))
+    k_left = np.where(h_in > 0, area / safe**3, 0.0)
+    scale = k_left * np.minimum(h_in, h_out)
+    ok = (kink > 0) & (scale > 0)
+    rel = np.where(ok, kink / np.where(ok, scale, 1.0), np.where(kink > 0, 2.0 + kink, 0.0))
+    return np.maximum(jump, rel)
+
+
 _CAND = np.array([[0, 0], [1, 0], [0, 1], [1, 1]])  # floor + offsets: the 4 integer neighbours
 
 
@@ -846,18 +899,23 @@ def round_contour(tc: TrueTypeContour, *, bound=None, search: bool = True) -> np
     Every point is one of its 4 integer neighbours (floor or ceiling of each
     coordinate: it moves by less than 1 unit in x and y, so the outline by less
     than ``sqrt 2``). Each segment's shape depends on at most 3 consecutive
-    points, each smooth joint's two curvatures (:func:`joint_jumps`) on at most
-    5, so a dynamic programme along the contour that keeps the choices of the
-    last 4 points as its state finds the rounding that minimises the largest
-    relative jump exactly (a closed contour: the first 4 choices are fixed per
+    points, each smooth joint's two curvatures (:func:`joint_jumps`) and tangents
+    (:func:`joint_kinks`: an explicit on-curve point between two off-curve
+    points, which plain rounding breaks by up to 2.6 degrees at 2048 units per
+    em) on at most 5, so a dynamic programme along the contour that keeps the
+    choices of the last 4 points as its state finds the rounding that minimises
+    the largest relative defect (the jump, or the kink ``theta / (|k| l)`` against
+    the shorter handle ``l``) exactly (a closed contour: the first 4 choices are fixed per
     run of the programme, all 256 run side by side); a second pass minimises
     the sum of squared jumps among the roundings with that largest jump. Plain
     rounding is one of the candidates, so the largest jump is never worse
     (among the roundings within the bound). The area is not a term: it moves by
-    the rounding, up to 1.3e-3 of a small counter at 2048 units per em (DejaVu
-    Sans' g; plain rounding 2.6e-4), 2e-4 at 16384; moving single points back
-    towards the exact area raises the jumps (a move of 1 unit changes the cross
-    areas by about 1/|e|).
+    the rounding, up to 2e-3 of a glyph at 2048 units per em (DejaVu Sans' e and
+    g; plain rounding about 3e-4), 3e-4 at 16384. Tried and dropped: moving single
+    points back towards the exact area (every move of 1 unit changes the cross
+    areas by about ``|e|``, so no move kept the largest defect), and a second pass
+    minimising the segments' area changes (no better: the roundings with the
+    least largest defect are few).
 
     Parameters
     ----------
@@ -925,7 +983,7 @@ def _term_values(tc, cand, window, combos, kind, k, bound):
     if kind == "joint":
         smooth = np.zeros(len(tc.control), bool)
         smooth[k] = True
-        return joint_jumps(seg, smooth)[:, k]
+        return _joint_defects(seg, smooth)[:, k]
     over = np.asarray(bound(k, seg), dtype=float)
     lim = max(0.0, float(over.min()) * (1 + 1e-9))  # nothing within: the least violation
     return np.where(over <= lim, -1.0, np.inf)
@@ -1012,7 +1070,7 @@ def _round_brute(tc, cand, terms, bound):
         for k in range(len(tc.control)):
             over = np.asarray(bound(k, seg), dtype=float)
             worst[over > max(0.0, float(over.min()) * (1 + 1e-9))] = np.inf
-    jumps = joint_jumps(seg, tc.smooth)
+    jumps = _joint_defects(seg, tc.smooth)
     m = np.maximum(worst, jumps.max(axis=1))
     best = m.min()
     score = np.where(m <= best * (1 + 1e-9) + 1e-15, np.sum(jumps**2, axis=1), np.inf)
