@@ -340,7 +340,7 @@ def _tolerance_bound(seg: np.ndarray, target: np.ndarray, tol: float):
     ll = np.maximum(np.einsum("stej,stej->ste", ab, ab), 1e-300)
 
     def bound(k, candidates):
-        bb = np.einsum("tk,mkj->mtj", w, candidates[:, k])[:, :, None]  # (M, 17, 1, 2)
+        bb = np.einsum("tk,mkj->mtj", w, candidates)[:, :, None]  # (M, 17, 1, 2)
         r = bb - a[k]
         u = np.clip(np.einsum("mtej,tej->mte", r, ab[k]) / ll[k], 0.0, 1.0)
         d = np.hypot(*np.moveaxis(r - u[..., None] * ab[k], -1, 0))

@@ -921,8 +921,8 @@ def round_contour(tc: TrueTypeContour, *, bound=None, search: bool = True) -> np
     ----------
     tc : TrueTypeContour
     bound : callable, optional
-        ``bound(k, segments) -> (M,) float``: how far segment ``k`` of each of the
-        (M, S, 3, 2) candidate contours is outside the tolerance (``<= 0``: within);
+        ``bound(k, segment) -> (M,) float``: how far the (M, 3, 2) candidates of
+        segment ``k`` are outside the tolerance (``<= 0``: within);
         a segment no candidate keeps within admits its candidates of least violation.
     search : bool, optional
         False: plain rounding (``round`` half away from zero, as fontTools' ``otRound``
@@ -962,7 +962,7 @@ def round_contour(tc: TrueTypeContour, *, bound=None, search: bool = True) -> np
     at: dict[int, list] = {}
     for start, length, value in tables:
         at.setdefault(start + length - 1, []).append((length, value))
-    best_max = _dp(count, at, combine=np.maximum)[0]
+    best_max = _dp(count, at, combine=np.maximum, trace=False)[0]
     limit = best_max * (1 + 1e-9) + 1e-15
     squared = {}
     for e, items in at.items():
@@ -979,32 +979,34 @@ def _term_values(tc, cand, window, combos, kind, k, bound):
     pts = np.broadcast_to(tc.points, (len(combos), *tc.points.shape)).copy()
     for j, pi in enumerate(window):
         pts[:, pi] = cand[pi, combos[:, j]]
-    seg = _tt_segments_batch(tc, pts)
-    if kind == "joint":
-        smooth = np.zeros(len(tc.control), bool)
-        smooth[k] = True
-        return _joint_defects(seg, smooth)[:, k]
-    over = np.asarray(bound(k, seg), dtype=float)
+    n = len(tc.control)
+    if kind == "joint":  # segments k and k + 1 only (closed pair: joint 0 is theirs)
+        seg = _tt_segments_batch(tc, pts, [k, (k + 1) % n])
+        return _joint_defects(seg, np.array([True, False]))[:, 0]
+    over = np.asarray(bound(k, _tt_segments_batch(tc, pts, [k])[:, 0]), dtype=float)
     lim = max(0.0, float(over.min()) * (1 + 1e-9))  # nothing within: the least violation
     return np.where(over <= lim, -1.0, np.inf)
 
 
-def _tt_segments_batch(tc, pts):
+def _tt_segments_batch(tc, pts, ks=None):
+    """(M, S, 3, 2) segments of (M, P, 2) candidate points (only segments `ks` if given)."""
     n = len(tc.control)
-    nxt = np.roll(np.arange(n), -1)
+    ks = np.arange(n) if ks is None else np.asarray(ks)
     ctrl = np.maximum(tc.control, 0)
-    c = pts[:, ctrl]
-    e = np.where(
-        (tc.end >= 0)[None, :, None],
-        pts[:, np.maximum(tc.end, 0)],
-        0.5 * (pts[:, ctrl] + pts[:, ctrl[nxt]]),
-    )
-    s = np.roll(e, 1, axis=1)
-    c = np.where((tc.control >= 0)[None, :, None], c, 0.5 * (s + e))
+
+    def end(k):
+        return np.where(
+            (tc.end[k] >= 0)[None, :, None],
+            pts[:, np.maximum(tc.end[k], 0)],
+            0.5 * (pts[:, ctrl[k]] + pts[:, ctrl[(k + 1) % n]]),
+        )
+
+    e, s = end(ks), end((ks - 1) % n)
+    c = np.where((tc.control[ks] >= 0)[None, :, None], pts[:, ctrl[ks]], 0.5 * (s + e))
     return np.stack([s, c, e], axis=2)
 
 
-def _dp(count, at, combine):
+def _dp(count, at, combine, trace=True):
     """Cyclic dynamic programme over `count` points with 4 choices each.
 
     The state after position ``p`` is (the first 4 choices, the last 4 choices);
@@ -1042,11 +1044,13 @@ def _dp(count, at, combine):
         else:
             keep = True
         total = np.where(keep, combine(state[..., None], cost[None]), np.inf)
-        arg = np.argmin(total, axis=1)
-        state = np.take_along_axis(total, arg[:, None], axis=1)[:, 0]
-        back.append(arg.astype(np.int8))
+        state = total.min(axis=1)
+        if trace:
+            back.append(np.argmin(total, axis=1).astype(np.int8))
     flat = int(np.argmin(state))
     best = float(state.flat[flat])
+    if not trace:
+        return best, None
     idx = np.unravel_index(flat, state.shape)
     pfx, last = idx[0], list(idx[1:])  # choices of positions count .. count + 3 (= prefix)
     choice = np.zeros(count + 4, dtype=int)
@@ -1068,7 +1072,7 @@ def _round_brute(tc, cand, terms, bound):
     worst = np.zeros(len(combos))
     if bound is not None:
         for k in range(len(tc.control)):
-            over = np.asarray(bound(k, seg), dtype=float)
+            over = np.asarray(bound(k, seg[:, k]), dtype=float)
             worst[over > max(0.0, float(over.min()) * (1 + 1e-9))] = np.inf
     jumps = _joint_defects(seg, tc.smooth)
     m = np.maximum(worst, jumps.max(axis=1))
