@@ -14,12 +14,14 @@ points are rounded by :func:`curvesmith.io.fonts.round_contour` (each to one of
 its 4 integer neighbours, a dynamic programme along the contour minimising the
 largest relative curvature jump ``|k_l - k_r| / max(|k_l|, |k_r|)`` at the
 joints that are G2 in the fit, and the tangent break at explicit on-curve
-points, within the tolerance measured on the rounded outline). DejaVu Sans at
-1/1000 em: the largest jump per glyph falls from a median of 4.6 % with plain
-rounding to 0.6 %; ``grid=8`` (16384 units per em, all metrics scaled) divides
-both by about 8. :class:`GlyphReport` gives the jumps, tangent breaks, deviation
-and area of the written outline next to those of the exact fit. UFO output
-keeps floats and is exactly G2.
+points, within the tolerance measured on the rounded outline). DejaVu Sans'
+first 400 glyphs at 1/1000 em: the largest jump per glyph falls from a median
+of 4.5 % (95th percentile 15 %) with plain rounding to 1.3 % (4.7 %), the
+largest tangent break from 0.73 to 0.18 degrees; ``grid=8`` (16384 units per
+em, all metrics scaled) divides all of them by about 8 (jumps 0.17 %, 0.7 %).
+:class:`GlyphReport` gives the jumps, tangent breaks, deviation and area of the
+written outline next to those of the exact fit. UFO output keeps floats and is
+exactly G2.
 
 Examples
 --------
