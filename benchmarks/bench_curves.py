@@ -20,6 +20,10 @@ joints that are not inflections), relative area error, deviation and time, and
 the ratios ours / peer. Seeded; the machine may be loaded (ratios are measured in
 the same run).
 
+Then the TrueType rounding of the glyph fits: plain rounding against
+:func:`curvesmith.io.fonts.round_contour` (largest curvature jump and tangent
+break as written, at 2048 and 16384 units per em, and the time of both).
+
 Run ``python benchmarks/bench_curves.py`` (``--quick`` for fewer outlines).
 """
 
@@ -182,6 +186,50 @@ def main() -> None:
     print("\nratios ours / peer: segments, time")
     for label, m, rs, rt in ratios:
         print(f"  {label:<26} vs {m:<6} segments x{rs:.2f}  time x{rt:.1f}")
+    rounding(args.quick)
+
+
+def rounding(quick: bool) -> None:
+    """TrueType rounding of the fits: plain rounding vs the search (round_contour).
+
+    Per glyph contour and grid (output units per font unit: 1 keeps 2048 units per em,
+    8 is 16384): the largest relative curvature jump at the fit's G2 joints and the
+    largest tangent break at explicit smooth on-curve points, written; time of the
+    search against plain rounding (the same steps: bound, measurements), same run.
+    """
+    from curvesmith import glyphs
+
+    print("\nTrueType rounding (largest jump / kink in degrees; plain vs search)")
+    print(
+        f"{'outline':<26} {'grid':>4} {'jump plain':>10} {'search':>8} {'kink plain':>10} "
+        f"{'search':>7} {'dev/T':>6} {'t search s':>10} {'x plain':>8}"
+    )
+    ttf = os.path.join(matplotlib.get_data_path(), "fonts", "ttf")
+    cases = []
+    for fname in ["DejaVuSans.ttf"] if quick else ["DejaVuSans.ttf", "DejaVuSerif.ttf"]:
+        font = fonts.open_font(os.path.join(ttf, fname))
+        for ch in "oS" if quick else "oSaR&":
+            g = fonts.read_glyph(font, font.getBestCmap()[ord(ch)])
+            for k, c in enumerate(g.contours):
+                cases.append((f"{fname[:-4]} {ch}[{k}]", c))
+    tol = 2.048
+    for label, c in cases:
+        pts, corners = c.sample(tol)
+        fit = curves.fit(pts, closed=True, tolerance=tol, anchors=corners or None, area=c.area())
+        for grid in (1.0, 8.0):
+            res = {}
+            for mode in ("plain", "search"):
+                t, out = median_time(
+                    lambda m=mode, g=grid, s=fit.segments, p=pts: glyphs._round(s, p, tol, g, m), 1
+                )
+                res[mode] = (t, *out)
+            tp, _, jp, _, _, kp = res["plain"]
+            ts, _, js, _, dev, ks = res["search"]
+            print(
+                f"{label:<26} {grid:>4g} {jp.max(initial=0):>10.2e} {js.max(initial=0):>8.2e} "
+                f"{np.degrees(kp[0]):>10.3f} {np.degrees(ks[0]):>7.3f} {dev / tol:>6.2f} "
+                f"{ts:>10.3f} {ts / tp:>8.1f}"
+            )
 
 
 if __name__ == "__main__":

@@ -297,3 +297,43 @@ def test_open_curve_with_straight_runs_keeps_its_chord_area():
     assert abs(f.area / f.target_area - 1) < 1e-12
     np.testing.assert_array_equal(f.segments[0, 0], zig[0])
     np.testing.assert_array_equal(f.segments[-1, -1], zig[-1])
+
+
+def brute_distance(query, poly, closed):
+    """Distance of every query point to every edge of the polyline (plain reference)."""
+    a = poly if closed else poly[:-1]
+    b = np.roll(poly, -1, axis=0) if closed else poly[1:]
+    ab = b - a
+    t = np.einsum("qej,ej->qe", query[:, None] - a[None], ab) / np.einsum("ej,ej->e", ab, ab)
+    foot = a[None] + np.clip(t, 0, 1)[..., None] * ab[None]
+    return np.hypot(*(query[:, None] - foot).transpose(2, 0, 1)).min(axis=1)
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(0, 2**31 - 1), st.booleans())
+def test_polyline_distance_is_exact_on_uneven_sampling(seed, closed):
+    # edges from 1e-3 to 1e3 of each other: the nearest vertices of a query point need not
+    # lie on its nearest edge (a dense short side next to a long one)
+    rng = np.random.default_rng(seed)
+    steps = rng.normal(size=(int(rng.integers(3, 40)), 2)) * 10.0 ** rng.uniform(-3, 3, (1, 1))
+    steps *= 10.0 ** rng.uniform(-3, 0, (len(steps), 1))
+    poly = np.cumsum(steps, axis=0) + rng.uniform(-1e4, 1e4, 2)
+    span = np.ptp(poly, axis=0).max()
+    query = poly.mean(axis=0) + rng.uniform(-span, span, (300, 2))
+    query = np.vstack([query, poly[: len(poly) // 2] + 1e-3 * span * rng.normal(size=(1, 2))])
+    ref = brute_distance(query, poly, closed).max()
+    assert curves._to_polyline(query, poly, closed) == pytest.approx(
+        ref, rel=1e-12, abs=1e-9 * span
+    )
+
+
+def test_deviation_next_to_a_corner_of_a_long_and_a_short_line():
+    # Regression: DejaVu Sans' fraction slash (in percent, onehalf, ...) is a parallelogram of
+    # two short and two long sides; its fit is the parallelogram itself, deviation 0, but the
+    # nearest-vertex measurement gave 15.8 font units and the glyph was reported unfittable
+    q = np.array([[1360, 1520], [1520, 1520], [586, -29], [426, -29]], float)
+    seg = np.stack([q, 0.5 * (q + np.roll(q, -1, 0)), np.roll(q, -1, 0)], axis=1)
+    dense = curves.sample_segments(seg, 400)[:-1]
+    assert curves.bezier_deviation(seg, dense, closed=True) < 1e-9
+    fit = curves.fit(dense, closed=True, tolerance=2.048, anchors=[0, 400, 800, 1200])
+    assert fit.success and fit.count == 4 and fit.deviation < 1e-9

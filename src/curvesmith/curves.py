@@ -366,28 +366,60 @@ def bezier_deviation(segments, points, *, closed: bool, per_segment: int = 48) -
 
 
 def _to_polyline(query: np.ndarray, poly: np.ndarray, closed: bool) -> float:
-    """Max over `query` of the distance to the polyline `poly` (nearest vertex's two edges)."""
-    tree = cKDTree(poly)
-    _, k = tree.query(query, k=min(4, len(poly)))
-    k = np.atleast_2d(k.T).T if k.ndim == 1 else k
-    n = len(poly)
+    """Max over `query` of the exact distance to the polyline `poly`.
+
+    The polyline's edges are split into pieces no longer than ``h`` (twice the
+    median edge; the same polyline) and every query point is measured to the
+    edges at its ``k`` nearest vertices. That minimum ``d`` is exact once the
+    ``k``-th nearest vertex is farther than ``d + h / 2`` (every point of a closer
+    edge has an end point within ``h / 2`` of it); the points not yet certified
+    are measured again with twice ``k``. (Nearest vertices alone are not enough
+    on an unevenly sampled path: next to a corner between a short, densely
+    sampled edge and a long one, the nearest vertices all lie on the short edge;
+    a line glyph's corner measured 15.8 units for 0.)
+    """
+    ring = np.vstack([poly, poly[:1]]) if closed else poly
+    e = np.hypot(*np.diff(ring, axis=0).T)
+    if e.size == 0 or not np.any(e > 0):
+        return float(np.max(np.hypot(*(query - poly[0]).T)))
+    h = 2.0 * float(np.median(e[e > 0]))
+    parts = np.maximum(1, np.ceil(e / h).astype(int))
+    if np.any(parts > 1):
+        seg = np.repeat(np.arange(e.size), parts)
+        frac = (np.arange(seg.size) - np.repeat(np.cumsum(parts) - parts, parts)) / parts[seg]
+        dense = ring[seg] + frac[:, None] * (ring[seg + 1] - ring[seg])
+        ring = np.vstack([dense, ring[-1:]])
+        h = float(np.max(np.hypot(*np.diff(ring, axis=0).T)))
+    verts = ring[:-1] if closed else ring
+    n = len(verts)
+    tree = cKDTree(verts)
     best = np.full(len(query), np.inf)
-    for col in range(k.shape[1]):
-        for off in (-1, 0):
-            i = k[:, col] + off
-            if closed:
-                i, j = i % n, (i + 1) % n
-            else:
-                ok = (i >= 0) & (i + 1 < n)
-                i, j = np.clip(i, 0, n - 2), np.clip(i + 1, 1, n - 1)
-            a, b = poly[i], poly[j]
-            ab = b - a
-            ll = np.einsum("ij,ij->i", ab, ab)
-            t = np.clip(np.einsum("ij,ij->i", query - a, ab) / np.where(ll > 0, ll, 1.0), 0, 1)
-            dist = np.hypot(*(query - a - t[:, None] * ab).T)
-            if not closed:
-                dist = np.where(ok, dist, np.hypot(*(query - poly[k[:, col]]).T))
-            best = np.minimum(best, dist)
+    todo = np.arange(len(query))
+    k = min(4, n)
+    while todo.size:
+        dist_v, idx = tree.query(query[todo], k=k)
+        dist_v, idx = dist_v.reshape(len(todo), -1), idx.reshape(len(todo), -1)
+        q = query[todo]
+        d = best[todo]
+        for col in range(idx.shape[1]):
+            for off in (-1, 0):
+                i = idx[:, col] + off
+                if closed:
+                    i, j = i % n, (i + 1) % n
+                else:
+                    i = np.clip(i, 0, n - 2)
+                    j = i + 1
+                a, ab = verts[i], verts[j] - verts[i]
+                ll = np.einsum("ij,ij->i", ab, ab)
+                t = np.einsum("ij,ij->i", q - a, ab) / np.where(ll > 0, ll, 1.0)
+                t = np.clip(t, 0, 1)
+                d = np.minimum(d, np.hypot(*(q - a - t[:, None] * ab).T))
+        best[todo] = d
+        if k >= n:
+            break
+        sure = dist_v[:, -1] > d + 0.5 * h
+        todo = todo[~sure]
+        k = min(2 * k, n)
     return float(best.max())
 
 

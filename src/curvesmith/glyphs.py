@@ -9,10 +9,19 @@ result is written as a TrueType font by :func:`curvesmith.io.fonts.write_truetyp
 (runs of segments whose joints are control midpoints become TrueType's implied
 on-curve points).
 
-TrueType coordinates are integers: the control points are rounded, so the
-written contours are G2 up to that rounding; :class:`GlyphReport` gives the
-curvature jumps measured on the written, rounded outline as well as on the
-exact fit.
+TrueType coordinates are integers, so no written contour is exactly G2: the
+points are rounded by :func:`curvesmith.io.fonts.round_contour` (each to one of
+its 4 integer neighbours, a dynamic programme along the contour minimising the
+largest relative curvature jump ``|k_l - k_r| / max(|k_l|, |k_r|)`` at the
+joints that are G2 in the fit, and the tangent break at explicit on-curve
+points, within the tolerance measured on the rounded outline). DejaVu Sans'
+first 400 glyphs at 1/1000 em: the largest jump per glyph falls from a median
+of 4.5 % (95th percentile 15 %) with plain rounding to 1.3 % (4.7 %), the
+largest tangent break from 0.73 to 0.18 degrees; ``grid=8`` (16384 units per
+em, all metrics scaled) divides all of them by about 8 (jumps 0.17 %, 0.7 %).
+:class:`GlyphReport` gives the jumps, tangent breaks, deviation and area of the
+written outline next to those of the exact fit. UFO output keeps floats and is
+exactly G2.
 
 Examples
 --------
@@ -29,7 +38,7 @@ Examples
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -61,6 +70,32 @@ class GlyphReport:
     refitted : bool
         False when no G2 fit within the tolerance was found: :func:`refit_font` then
         writes the glyph as it was, and `message` says why.
+    written : tuple of (S, 3, 2) ndarray
+        The contours as written to TrueType: integer coordinates in the output's
+        units (``grid`` times the source's); empty without rounding.
+    grid : float
+        Output units per source unit (``unitsPerEm`` out / in); 0 without rounding.
+    g2_written : float
+        Largest relative curvature jump at the smooth joints (implied and explicit
+        on-curve points that are G2 in the exact fit) of the written contours
+        (:func:`curvesmith.io.fonts.joint_jumps`); nan without rounding.
+    g2_plain : float
+        The same for plain rounding of every point (for comparison).
+    g1_written : float
+        Largest tangent break (radians) at those joints of the written contours
+        (:func:`curvesmith.io.fonts.joint_kinks`: explicit on-curve points between two
+        off-curve points; implied points cannot break); nan without rounding.
+    g1_plain : float
+        The same for plain rounding.
+    deviation_written : float
+        Largest distance of the written contours from the outline they were fitted to
+        (source units); nan without rounding.
+    jumps_written : ndarray
+        The relative jump at every smooth joint of the written contours (for
+        distributions).
+    area_written : float
+        Signed area of the written contours (source units squared); nan without
+        rounding.
     """
 
     name: str
@@ -74,6 +109,15 @@ class GlyphReport:
     segments: tuple
     message: str
     refitted: bool = True
+    written: tuple = ()
+    grid: float = 0.0
+    g2_written: float = math.nan
+    g2_plain: float = math.nan
+    deviation_written: float = math.nan
+    jumps_written: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    area_written: float = math.nan
+    g1_written: float = math.nan
+    g1_plain: float = math.nan
 
     @property
     def area_change(self) -> float:
@@ -94,13 +138,34 @@ class GlyphReport:
             "area_change": self.area_change,
             "max_deviation": self.max_deviation,
             "g2_defect": self.g2_defect if self.refitted else None,
+            "g2_written": _num(self.g2_written) if self.refitted else None,
+            "g2_plain_rounding": _num(self.g2_plain) if self.refitted else None,
+            "g1_written": _num(self.g1_written) if self.refitted else None,
+            "g1_plain_rounding": _num(self.g1_plain) if self.refitted else None,
+            "deviation_written": _num(self.deviation_written) if self.refitted else None,
+            "area_change_written": (
+                _num((self.area_written - self.area_before) / abs(self.area_before))
+                if self.refitted and self.area_before
+                else None
+            ),
             "refitted": self.refitted,
             "message": self.message,
         }
 
 
+def _num(x: float):
+    return None if math.isnan(x) else float(x)
+
+
 def refit_glyph(
-    font, name: str, *, tolerance: float, iterations: int = 0, spacing: float | None = None
+    font,
+    name: str,
+    *,
+    tolerance: float,
+    iterations: int = 0,
+    spacing: float | None = None,
+    grid: float | None = None,
+    rounding: str = "search",
 ):
     """Refit the contours of one glyph.
 
@@ -116,6 +181,16 @@ def refit_glyph(
         0 refits the outline as it is.
     spacing : float, optional
         Sample spacing along the outline; default ``tolerance``, at most 1/200 em.
+    grid : float, optional
+        Round for TrueType: output units per source unit (1 keeps the ``unitsPerEm``;
+        8 for 2048 -> 16384). The written contours (``written``) are within
+        `tolerance` of what was fitted, measured on the rounded outline: a contour
+        that rounding takes outside is fitted again with the tolerance reduced by the
+        excess (up to 3 times). None: no rounding (UFO).
+    rounding : {"search", "plain"}, optional
+        How to round: :func:`curvesmith.io.fonts.round_contour` (each point one of its
+        4 integer neighbours, the largest curvature jump minimised, the tolerance
+        kept) or plain rounding.
 
     Returns
     -------
@@ -131,10 +206,16 @@ def refit_glyph(
 
     if not tolerance > 0:
         raise CurveError(f"tolerance must be > 0, got {tolerance}")
+    if grid is not None and not grid > 0:
+        raise CurveError(f"grid must be > 0, got {grid}")
+    if rounding not in ("search", "plain"):
+        raise CurveError(f"rounding must be 'search' or 'plain', got {rounding!r}")
     outline = read_glyph(font, name)
     upm = font.units_per_em if hasattr(font, "units_per_em") else int(font["head"].unitsPerEm)
     step = spacing if spacing is not None else min(float(tolerance), upm / 200.0)
     fitted, before, after, devs, g2 = [], 0, 0, [], []
+    written, g2w, g2p, devw, jumps = [], [], [], [], []
+    g1w, g1p = [], []
     area0 = area1 = 0.0
     for k, contour in enumerate(outline.contours):
         pts, corners = contour.sample(step)
@@ -152,11 +233,36 @@ def refit_glyph(
                 for c in corners
                 if np.any(np.all(target == pts[c], axis=1))
             ]
-        fit = curves.fit(
-            target, closed=True, tolerance=tolerance, anchors=anchors or None, area=exact
-        )
-        if not fit.success:
-            raise CurveError(f"glyph {name}, contour {k}: {fit.message}")
+        fit_tol = round_tol = tolerance
+        fit = None
+        for attempt in range(4):
+            if fit is None or fit.deviation > fit_tol:
+                fit = curves.fit(
+                    target, closed=True, tolerance=fit_tol, anchors=anchors or None, area=exact
+                )
+                if not fit.success:
+                    raise CurveError(f"glyph {name}, contour {k}: {fit.message}")
+            if grid is None:
+                break
+            out, jump, plain, dev_w, kinks = _round(fit.segments, target, round_tol, grid, rounding)
+            if dev_w <= tolerance * (1 + 1e-9):
+                break
+            if attempt == 3:
+                raise CurveError(
+                    f"glyph {name}, contour {k}: rounded to integers, the contour deviates "
+                    f"{dev_w:.3g} > tolerance {tolerance:.3g} (fitted within {fit.deviation:.3g})"
+                )
+            # the rounding's bound is first order: ask it (and, if need be, the fit) for less
+            round_tol -= dev_w - tolerance + 0.01 * tolerance
+            fit_tol = min(fit_tol, round_tol - 0.5 / grid)
+        if grid is not None:
+            written.append(out)
+            jumps.append(jump)
+            g2w.append(float(jump.max(initial=0.0)))
+            g2p.append(plain)
+            devw.append(dev_w)
+            g1w.append(kinks[0])
+            g1p.append(kinks[1])
         # deviation from the source outline (the fit is within tolerance of the target)
         devs.append(curves.bezier_deviation(fit.segments, pts, closed=True))
         g2.append(fit.g2_defect)
@@ -174,7 +280,75 @@ def refit_glyph(
         g2_defect=max(g2, default=0.0),
         segments=tuple(fitted),
         message=f"{name}: {before} -> {after} segments",
+        written=tuple(written),
+        grid=float(grid) if grid is not None else 0.0,
+        g2_written=max(g2w, default=0.0) if grid is not None else math.nan,
+        g2_plain=max(g2p, default=0.0) if grid is not None else math.nan,
+        deviation_written=max(devw, default=0.0) if grid is not None else math.nan,
+        jumps_written=np.concatenate(jumps) if jumps else np.zeros(0),
+        g1_written=max(g1w, default=0.0) if grid is not None else math.nan,
+        g1_plain=max(g1p, default=0.0) if grid is not None else math.nan,
+        area_written=(
+            sum(curves.bezier_area(w) for w in written) / grid**2 if grid is not None else math.nan
+        ),
     )
+
+
+def _round(segments, target, tolerance, grid, rounding):
+    """Integer TrueType contour of `segments` scaled by `grid`.
+
+    Returns ``(written, jumps, plain, dev, kinks)``: ``written`` in output units;
+    ``jumps`` at its smooth joints; ``plain`` the largest jump of plain rounding;
+    ``dev`` the deviation of ``written / grid`` from `target`; ``kinks`` the largest
+    tangent break of ``written`` and of plain rounding.
+    """
+    from .io.fonts import joint_jumps, joint_kinks, round_contour, truetype_contour
+
+    seg = np.asarray(segments, float) * grid
+    tc = truetype_contour(seg)
+    bound = _tolerance_bound(seg, np.asarray(target, float) * grid, tolerance * grid)
+    q = round_contour(tc, bound=bound, search=rounding == "search").astype(float)
+    out = tc.segments(q)
+    jumps = joint_jumps(out, tc.smooth)[tc.smooth]
+    plain_seg = tc.segments(np.floor(tc.points + 0.5))
+    plain = joint_jumps(plain_seg, tc.smooth)
+    dev = curves.bezier_deviation(out / grid, target, closed=True)
+    kinks = (
+        float(joint_kinks(out, tc.smooth).max(initial=0.0)),
+        float(joint_kinks(plain_seg, tc.smooth).max(initial=0.0)),
+    )
+    return out, jumps, float(plain.max(initial=0.0)), dev, kinks
+
+
+def _tolerance_bound(seg: np.ndarray, target: np.ndarray, tol: float):
+    """``bound(k, candidates)`` for :func:`curvesmith.io.fonts.round_contour`.
+
+    Segment ``k`` of a candidate is sampled at 17 parameters; each sample is
+    measured to the 4 edges of the target around the target vertex nearest to
+    the exact segment's sample (the rounding moves it by less than 1.5 units).
+    Returns the largest distance minus `tol`. The written contour's deviation is
+    measured exactly afterwards (both ways, :func:`curvesmith.curves.bezier_deviation`).
+    """
+    from scipy.spatial import cKDTree
+
+    t = np.linspace(0.0, 1.0, 17)
+    w = np.stack([(1 - t) ** 2, 2 * t * (1 - t), t**2], axis=1)  # (17, 3)
+    b = np.einsum("tk,skj->stj", w, seg)
+    n = len(target)
+    _, i = cKDTree(target).query(b)
+    j = (i[..., None] + np.arange(-2, 2)) % n  # (S, 17, 4) edge starts
+    a = target[j]
+    ab = target[(j + 1) % n] - a
+    ll = np.maximum(np.einsum("stej,stej->ste", ab, ab), 1e-300)
+
+    def bound(k, candidates):
+        bb = np.einsum("tk,mkj->mtj", w, candidates)[:, :, None]  # (M, 17, 1, 2)
+        r = bb - a[k]
+        u = np.clip(np.einsum("mtej,tej->mte", r, ab[k]) / ll[k], 0.0, 1.0)
+        d = np.hypot(*np.moveaxis(r - u[..., None] * ab[k], -1, 0))
+        return d.min(axis=2).max(axis=1) - tol
+
+    return bound
 
 
 def refit_font(
@@ -185,6 +359,8 @@ def refit_font(
     tolerance: float = 1.0,
     iterations: int = 0,
     progress=None,
+    units_per_em: int | None = None,
+    rounding: str = "search",
 ):
     """Refit glyphs of a font file and write a TrueType font.
 
@@ -203,6 +379,12 @@ def refit_font(
         cca steps before fitting.
     progress : callable, optional
         Called with each :class:`GlyphReport`.
+    units_per_em : int, optional
+        TrueType output: its ``unitsPerEm`` (up to 16384; default the source's). A
+        larger one makes the integer grid finer (2048 -> 16384: 8 times), so the
+        rounded contours are closer to G2; every metric is scaled with it.
+    rounding : {"search", "plain"}, optional
+        TrueType output: :func:`curvesmith.io.fonts.round_contour` or plain rounding.
 
     Returns
     -------
@@ -215,6 +397,13 @@ def refit_font(
 
     font = open_font(source)
     names = resolve_glyphs(font, glyphs)
+    ufo = str(dest).lower().rstrip("/").endswith(".ufo")
+    upm = font.units_per_em if hasattr(font, "units_per_em") else int(font["head"].unitsPerEm)
+    if units_per_em is not None and not 16 <= int(units_per_em) <= 16384:
+        raise CurveError(f"units_per_em must be in 16 .. 16384, got {units_per_em}")
+    if units_per_em is not None and ufo:
+        raise CurveError("units_per_em applies to TrueType output (a UFO keeps floats)")
+    grid = None if ufo else (int(units_per_em) if units_per_em else upm) / upm
     reports, new = [], {}
     from .io.fonts import read_glyph
 
@@ -222,7 +411,14 @@ def refit_font(
         if glyphs is None and not read_glyph(font, name).contours:
             continue
         try:
-            rep = refit_glyph(font, name, tolerance=tolerance, iterations=iterations)
+            rep = refit_glyph(
+                font,
+                name,
+                tolerance=tolerance,
+                iterations=iterations,
+                grid=grid,
+                rounding=rounding,
+            )
         except CurveError as exc:
             outline = read_glyph(font, name)
             count = sum(c.count for c in outline.contours)
@@ -242,15 +438,15 @@ def refit_font(
             )
         reports.append(rep)
         if rep.refitted:
-            new[name] = list(rep.segments)
+            new[name] = list(rep.segments if grid is None else rep.written)
         if progress is not None:
             progress(rep)
-    if str(dest).lower().rstrip("/").endswith(".ufo"):
+    if ufo:
         from .io.fonts import write_ufo
 
         write_ufo(font, new, dest)
     else:
-        write_truetype(font, new, dest)
+        write_truetype(font, new, dest, units_per_em=units_per_em)
     return reports
 
 

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import math
 import sys
 from pathlib import Path
 
@@ -27,6 +28,20 @@ __all__ = ["glyphs_command"]
     default=None,
     help="Max deviation, font units (default 1/1000 em).",
 )
+@click.option(
+    "--units-per-em",
+    "upem",
+    type=click.IntRange(16, 16384),
+    default=None,
+    help="TrueType output's unitsPerEm (default the source's; 16384 = 8x finer grid for 2048).",
+)
+@click.option(
+    "--rounding",
+    type=click.Choice(["search", "plain"]),
+    default="search",
+    show_default=True,
+    help="Integer rounding: least curvature jump within the tolerance, or plain.",
+)
 @click.option("--json", "as_json", is_flag=True, help="Print the report as JSON.")
 def glyphs_command(
     font_path: str,
@@ -34,6 +49,8 @@ def glyphs_command(
     spec: str | None,
     iterations: int,
     tolerance: float | None,
+    upem: int | None,
+    rounding: str,
     as_json: bool,
 ) -> None:
     """Refit the glyphs of FONT (TrueType, OpenType-CFF or UFO); write a TrueType font or UFO.
@@ -43,8 +60,12 @@ def glyphs_command(
     smoothing with --iterations), enclosed areas kept; corners and lines stay.
     Glyph names, order, advance widths, cmap, names and layout tables are kept;
     hinting is dropped. TrueType coordinates are integers, so a .ttf is G2 up to
-    their rounding (the report gives the curvature jump at the implied on-curve
-    points as written, "G2 written"); a .ufo keeps floats and is exactly G2.
+    their rounding: each point is rounded to the one of its 4 integer neighbours
+    that, over the contour, gives the least largest curvature jump within the
+    tolerance ("G2 written": the largest relative jump at the smooth on-curve
+    points as written; "plain": that of plain rounding; "kink deg": the largest
+    tangent break at explicit smooth on-curve points). --units-per-em 16384
+    makes the grid finer (every metric scaled). A .ufo keeps floats: exactly G2.
     """
     from .. import glyphs
     from ..io.fonts import open_font
@@ -57,18 +78,31 @@ def glyphs_command(
         raise CurveError(f"OUT must be a .ttf file or a .ufo directory, got {dest!r}")
     if Path(dest).suffix.lower() == ".ufo" and Path(dest).exists():
         raise CurveError(f"{dest} exists: remove it first (a UFO is a directory)")
+    if Path(dest).suffix.lower() == ".ufo" and upem is not None:
+        raise CurveError("--units-per-em applies to .ttf output (a .ufo keeps floats)")
     if tolerance is None:
         font = open_font(font_path)
         upm = font.units_per_em if hasattr(font, "units_per_em") else font["head"].unitsPerEm
         tolerance = upm / 1000.0
     reports = glyphs.refit_font(
-        font_path, dest, glyphs=spec, tolerance=tolerance, iterations=iterations
+        font_path,
+        dest,
+        glyphs=spec,
+        tolerance=tolerance,
+        iterations=iterations,
+        units_per_em=upem,
+        rounding=rounding,
     )
     written = open_font(dest)
     rows = []
     for r in reports:
         row = r.row()
-        row["g2_defect_written"] = glyphs.written_g2_defect(written, r.name) if r.refitted else None
+        if not r.refitted:
+            row["g2_defect_written"] = None
+        elif r.grid:  # TrueType: the jumps of the rounded contours, from the report
+            row["g2_defect_written"] = r.g2_written
+        else:  # UFO: the written floats
+            row["g2_defect_written"] = glyphs.written_g2_defect(written, r.name)
         rows.append(row)
     kept = [r for r in reports if not r.refitted]
     if as_json:
@@ -89,7 +123,7 @@ def glyphs_command(
 def _table(rows) -> None:
     click.echo(
         f"{'glyph':<16} {'segments':>14} {'area change':>12} {'max dev':>9} "
-        f"{'G2 fit':>9} {'G2 written':>10}"
+        f"{'G2 fit':>9} {'G2 written':>10} {'plain':>9} {'kink deg':>8}"
     )
     for row in rows:
         if not row["refitted"]:
@@ -98,5 +132,7 @@ def _table(rows) -> None:
         click.echo(
             f"{row['glyph']:<16} {row['segments_before']:>6} -> {row['segments_after']:<5} "
             f"{row['area_change']:>12.2e} {row['max_deviation']:>9.3g} "
-            f"{row['g2_defect']:>9.1e} {row['g2_defect_written']:>10.1e}"
+            f"{row['g2_defect']:>9.1e} {row['g2_defect_written']:>10.1e} "
+            + (f"{p:>9.1e}" if (p := row["g2_plain_rounding"]) is not None else f"{'-':>9}")
+            + (f" {math.degrees(k):>8.3f}" if (k := row["g1_written"]) is not None else "")
         )
