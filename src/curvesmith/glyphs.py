@@ -263,6 +263,7 @@ def refit_glyph(
             devw.append(dev_w)
             g1w.append(kinks[0])
             g1p.append(kinks[1])
+        assert fit is not None  # the first attempt always fits
         # deviation from the source outline (the fit is within tolerance of the target)
         devs.append(curves.bezier_deviation(fit.segments, pts, closed=True))
         g2.append(fit.g2_defect)

@@ -789,7 +789,9 @@ def _approximate_open(
             + (" or smooth the samples (noise makes inflections)" if len(bounds) > 6 else "")
         )
     penalty = 1e6
-    xs_all, ys_all, ts_all = [], [], []
+    xs_all: list[float] = []
+    ys_all: list[float] = []
+    ts_all: list[float] = []
     areas, joins, objective, evaluations = [], [], 0.0, 0
     t0 = 0.0
     ok = True

@@ -583,6 +583,7 @@ def osculating_conic(
     elif kind == "inner":
         m_local = inner
     else:
+        assert outer is not None and inner is not None  # both built for "middle"
         m_local = _middle(outer, inner)
     t = np.array(
         [[1.0 / scale, 0.0, -origin[0] / scale], [0.0, 1.0 / scale, -origin[1] / scale], [0, 0, 1]]

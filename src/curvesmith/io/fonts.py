@@ -82,7 +82,8 @@ class Contour:
         corners : list of int
             Indices into `points`.
         """
-        pts, corners = [], []
+        pts: list[np.ndarray] = []
+        corners: list[int] = []
         n = len(self.segments)
         for i, seg in enumerate(self.segments):
             prev = self.segments[i - 1]
@@ -95,7 +96,7 @@ class Contour:
             k = max(4 if len(seg) > 2 else 1, math.ceil(length / spacing))
             t = np.arange(k) / k
             pts.extend(_bezier(seg, t))
-        p = np.asarray(pts, dtype=float)
+        p = np.array(pts, dtype=np.float64)
         keep = np.ones(len(p), dtype=bool)
         keep[1:] = np.any(np.abs(np.diff(p, axis=0)) > 0, axis=1)
         if len(p) > 1 and np.array_equal(p[0], p[-1]):
@@ -603,8 +604,14 @@ def write_ufo(source, glyphs: dict, path) -> None:
         writer = UFOWriter(os.fspath(tmp))
         gset = writer.getGlyphSet()
 
-        class _Glyph:
-            pass
+        class _Glyph:  # the attribute holder fontTools' UFO writer reads (glyphs and info)
+            width: int
+            unicodes: list[int]
+            unitsPerEm: int
+            familyName: str
+            styleName: str
+            ascender: int
+            descender: int
 
         for name in order:
             g = _Glyph()
