@@ -409,6 +409,7 @@ def test_demo_network_section(tmp_path):
     assert all((tmp_path / f).stat().st_size > 10_000 for f in files)
     num = {k: v["value"] for k, v in section["numbers"].items()}
     assert num["network_roads"] == 36 and num["network_reductions"] == 0
+    assert num["network_max_shift"] > 4.0 and 0.9 < num["network_max_shift_bounded"] <= 1.0
     assert num["contours_level_contacts_network"] == 0
     assert num["steep_crossing_points_cca_network"] == 0
     assert num["steep_crossing_points_cca_line_by_line"] > 0

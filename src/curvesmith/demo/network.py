@@ -34,6 +34,7 @@ def run(ctx) -> None:
     net = geo.smooth_network(roads, iterations=3, full_output=True)
     t_net = time.perf_counter() - t0
     per_cca = geo.smooth(roads, iterations=3).geometry.values
+    bounded = geo.smooth_network(roads, iterations=3, max_shift=1.0).geometry.values
     per_chaikin = geo.smooth(roads, method="chaikin", iterations=3).geometry.values
     after = net.geometry.geometry.values
     rows = [
@@ -53,6 +54,16 @@ def run(ctx) -> None:
         "largest area between an input line and its output, / length²",
     )
     ctx.number("network_seconds", t_net, "smooth_network time, 3 iterations")
+    ctx.number(
+        "network_max_shift",
+        float(shapely.hausdorff_distance(before, after).max()),
+        "largest shift of a road (Hausdorff distance, m), 3 iterations",
+    )
+    ctx.number(
+        "network_max_shift_bounded",
+        float(shapely.hausdorff_distance(before, bounded).max()),
+        "the same with max_shift=1 (--max-shift 1): each piece at the strongest level within it",
+    )
     ctx.text(
         "The 36 OSM ways of pyogrio's test extract (roads, footpaths, cycleways; projected to "
         "the British National Grid) smoothed with 3 iterations. `smooth_network` nodes the "
@@ -90,10 +101,12 @@ def run(ctx) -> None:
         (per_chaikin, "tab:orange", 1.0, "Chaikin line by line"),
         (per_cca, "tab:green", 1.0, "cca line by line"),
         (after, "tab:blue", 1.5, "cca network"),
+        (bounded, "tab:purple", 1.0, "cca network, --max-shift 1 m"),
     ]:
+        ls = "--" if geoms is bounded else "-"
         for k, g in enumerate(geoms):
             xy = shapely.get_coordinates(g)
-            ax.plot(xy[:, 0], xy[:, 1], color=color, lw=lw, label=label if k == 0 else None)
+            ax.plot(xy[:, 0], xy[:, 1], ls, color=color, lw=lw, label=label if k == 0 else None)
     ax.plot(topo_nodes[:, 0], topo_nodes[:, 1], "k.", ms=6)
     ax.set_xlim(cx - half, cx + half)
     ax.set_ylim(cy - half, cy + half)
