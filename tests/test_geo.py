@@ -28,10 +28,10 @@ def chord_area(xy):
     return 0.5 * np.sum(xy[:, 0] * np.roll(xy[:, 1], -1) - np.roll(xy[:, 0], -1) * xy[:, 1])
 
 
-def star(n, r_in, r_out, phase=0.0, center=(0.0, 0.0)):
+def star(n, r_in, r_out, phase=0.0, centre=(0.0, 0.0)):
     t = phase + np.linspace(0, 2 * np.pi, 2 * n, endpoint=False)
     r = np.where(np.arange(2 * n) % 2 == 0, r_out, r_in)
-    return np.column_stack([center[0] + r * np.cos(t), center[1] + r * np.sin(t)])
+    return np.column_stack([centre[0] + r * np.cos(t), centre[1] + r * np.sin(t)])
 
 
 # --- polygons ----------------------------------------------------------------------------
@@ -40,8 +40,8 @@ def star(n, r_in, r_out, phase=0.0, center=(0.0, 0.0)):
 @pytest.mark.parametrize("iterations", [1, 2, 3])
 @pytest.mark.parametrize("ccw", [True, False])
 def test_polygon_with_holes_keeps_every_ring_area_and_orientation(iterations, ccw):
-    hole1 = star(5, 1.0, 2.0, center=(3, 3))[::-1]
-    hole2 = star(4, 0.5, 1.2, center=(7, 6))[::-1]
+    hole1 = star(5, 1.0, 2.0, centre=(3, 3))[::-1]
+    hole2 = star(4, 0.5, 1.2, centre=(7, 6))[::-1]
     poly = shapely.Polygon(SHELL, [hole1, hole2])
     if not ccw:
         poly = shapely.orient_polygons(poly, exterior_cw=True)
@@ -58,7 +58,7 @@ def test_polygon_with_holes_keeps_every_ring_area_and_orientation(iterations, cc
 
 def test_rings_equal_plain_cca_when_nothing_conflicts():
     """Reference: without conflicts every ring is exactly cca.smooth of that ring."""
-    hole = star(6, 1.0, 2.0, center=(5, 5))[::-1]
+    hole = star(6, 1.0, 2.0, centre=(5, 5))[::-1]
     poly = shapely.Polygon(SHELL, [hole])
     res = geo.smooth(poly, iterations=2, full_output=True)
     assert res.reductions == ()

@@ -261,7 +261,7 @@ def test_principal_frame_sign_convention_and_invariance(angle):
     np.testing.assert_allclose(fr.angle, wrapped, atol=1e-12)
     flip = 1.0 if abs(angle + base.angle) < math.pi / 2 else -1.0
     np.testing.assert_allclose(fr.coords, flip * base.coords, atol=1e-12)
-    np.testing.assert_allclose(fr.center, elongated().mean(axis=0) @ rot2(angle).T + [5, -7])
+    np.testing.assert_allclose(fr.centre, elongated().mean(axis=0) @ rot2(angle).T + [5, -7])
     np.testing.assert_allclose(fr.from_frame(fr.coords), moved, atol=1e-12)
     np.testing.assert_allclose(fr.to_frame(moved), fr.coords, atol=1e-12)
     np.testing.assert_allclose(fr.eigenvalues, base.eigenvalues, rtol=1e-12)

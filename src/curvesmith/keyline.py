@@ -212,7 +212,7 @@ class PrincipalFrame:
 
     Attributes
     ----------
-    center : (2,) ndarray
+    centre : (2,) ndarray
         Centre of gravity ``q_bar`` of the points.
     axes : (2, 2) ndarray
         Rows ``f1, f2``: normalised eigenvectors of the covariance matrix ``D``
@@ -224,7 +224,7 @@ class PrincipalFrame:
         ``q'_k = (f1 f2)^t (q_k - q_bar)``.
     """
 
-    center: np.ndarray
+    centre: np.ndarray
     axes: np.ndarray
     eigenvalues: np.ndarray
     coords: np.ndarray
@@ -247,7 +247,7 @@ class PrincipalFrame:
             ``(f1 f2)^t (q - q_bar)``.
         """
         q = as_points(points, min_points=1)
-        return (q - self.center) @ self.axes.T
+        return (q - self.centre) @ self.axes.T
 
     def from_frame(self, coords) -> np.ndarray:
         """Map frame coordinates back: ``q = q_bar + (f1 f2) q'``.
@@ -261,7 +261,7 @@ class PrincipalFrame:
         (M, 2) ndarray
         """
         c = as_points(coords, name="coords", min_points=1)
-        return self.center + c @ self.axes
+        return self.centre + c @ self.axes
 
 
 def principal_frame(points) -> PrincipalFrame:
@@ -299,11 +299,11 @@ def principal_frame(points) -> PrincipalFrame:
 
 
 def _principal_frame(q: np.ndarray) -> PrincipalFrame:
-    center = q.mean(axis=0)
-    c = q - center
+    centre = q.mean(axis=0)
+    c = q - centre
     _, s, vt = np.linalg.svd(c, full_matrices=False)
     if s[0] <= 0.0:
-        raise CurveError(f"points must not all coincide, got every point at {center.tolist()}")
+        raise CurveError(f"points must not all coincide, got every point at {centre.tolist()}")
     f1 = vt[0]
     if f1[0] < 0.0 or (f1[0] == 0.0 and f1[1] < 0.0):
         f1 = -f1
@@ -311,7 +311,7 @@ def _principal_frame(q: np.ndarray) -> PrincipalFrame:
     axes = np.vstack([f1, f2])
     lam = np.zeros(2)
     lam[: s.size] = s**2 / q.shape[0]
-    return PrincipalFrame(center=center, axes=axes, eigenvalues=lam, coords=c @ axes.T)
+    return PrincipalFrame(centre=centre, axes=axes, eigenvalues=lam, coords=c @ axes.T)
 
 
 # --------------------------------------------------------------------------------------
@@ -1171,11 +1171,11 @@ class SyntheticKeyline:
         if result.plane is not None:
             lin = result.frame.axes @ result.plane.axes[:2] @ a
             off = result.frame.axes @ (
-                result.plane.axes[:2] @ (self.offset - result.plane.centroid) - result.frame.center
+                result.plane.axes[:2] @ (self.offset - result.plane.centroid) - result.frame.centre
             )
         else:
             lin = result.frame.axes
-            off = -result.frame.axes @ result.frame.center
+            off = -result.frame.axes @ result.frame.centre
         if np.linalg.det(lin) < 0:
             raise CurveError("result must view the plane from the scan's normal side (mirrored)")
         alpha = math.atan2(lin[1, 0], lin[0, 0])
