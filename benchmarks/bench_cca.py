@@ -94,14 +94,14 @@ def main() -> None:
                 if n * 3**it > MAX_OUTPUT:
                     break
                 run = functools.partial(
-                    cca.smooth, p, closed=True, iterations=it, workers=args.workers
+                    cca.smooth, p, closed=True, iterations=it, threads=args.workers
                 )
                 t_cca, c_cca, out = timed(run, repeats)
                 t_ch, c_ch, ch = timed(
                     lambda p=p, it=it: subdivision.chaikin(p, closed=True, iterations=it), repeats
                 )
                 info = (
-                    cca.smooth_with_info(p, closed=True, iterations=it, workers=args.workers)
+                    cca.smooth_with_info(p, closed=True, iterations=it, threads=args.workers)
                     if n <= 10**5
                     else None
                 )

@@ -431,9 +431,9 @@ def main() -> None:
     )
     rows.append(("cca.smooth_ragged (engine alone)", t, c, nan, None))
     t, c, _ = best_cpu(
-        lambda: cca.smooth_ragged(xy, off, closed=True, iterations=ITER, workers=1), args.repeats
+        lambda: cca.smooth_ragged(xy, off, closed=True, iterations=ITER, threads=1), args.repeats
     )
-    rows.append(("cca.smooth_ragged (engine alone, workers=1)", t, c, nan, None))
+    rows.append(("cca.smooth_ragged (engine alone, threads=1)", t, c, nan, None))
     t, c, _ = best_cpu(
         lambda: subdivision.chaikin_ragged(xy, off, closed=True, iterations=ITER), args.repeats
     )
@@ -479,7 +479,7 @@ def main() -> None:
         print(
             f"\ngeo.smooth / PostGIS per polygon: {ref / peer:.2f} wall, {ref_cpu / peer:.2f} "
             f"cpu (target <= 3, aim 1); the engine alone: {rows[2][1] / peer:.2f} wall, "
-            f"{rows[3][2] / peer:.2f} cpu (workers=1)"
+            f"{rows[3][2] / peer:.2f} cpu (threads=1)"
         )
     if args.ring:
         bench_ring(args.ring, args.repeats)

@@ -116,14 +116,14 @@ def numpy_reference(points, *, closed, iterations=1, libm=False, **kwargs):
     args = {
         "alpha": "regular",
         "anchors": None,
-        "c": 2.0,
-        "C": 0.5,
+        "corner_ratio": 2.0,
+        "inflection_ratio": 0.5,
         "restrict": True,
         "tilt": np.pi / 8,
         "balance_tol": 1e-9,
         "max_passes": 16,
         "min_factor": 0.0,
-        "workers": 1,
+        "threads": 1,
     }
     args.update(kwargs)
     return _api._smooth_one(points, closed=closed, iterations=iterations, engine="numpy", **args)
@@ -347,7 +347,7 @@ def test_convex_stays_convex_and_angles_grow(p, iterations):
 @given(convex_polygons(), st.floats(1.1, 4.0))
 def test_definition2_apex_condition(p, c):
     """tan(gamma) >= c tan(beta_i) at every apex (Definition 2, condition 2)."""
-    out = cca.smooth(p, closed=True, c=c)
+    out = cca.smooth(p, closed=True, corner_ratio=c)
     gamma = _half_angles(out)[2::3]
     beta = _half_angles(p)
     lhs = np.tan(gamma)
@@ -402,7 +402,7 @@ def test_inflection_restriction_fig10():
     p = np.array([[-1, -3], [0, 0], [3, 0], [4, 0.05], [5, 0.05]], dtype=float)
     C = 0.5
     ang0 = interior_angles(p, closed=False)  # angles at vertices 1, 2, 3
-    res = cca.smooth_with_info(p, closed=False, C=C)
+    res = cca.smooth_with_info(p, closed=False, inflection_ratio=C)
     plain = cca.smooth(p, closed=False, restrict=False)
     assert res.reductions >= 1
     # layout: V0, G0, L1, R1, G1, L2, R2, G2, L3, R3, G3, V4 -> the cut point L2 (index 5)
@@ -646,8 +646,8 @@ def test_spike_and_zero_area_polygons():
         ({"anchors": [9]}, r"anchors must be vertex indices in \[0, 4\), got 9"),
         ({"anchors": [1.5]}, "anchors must be integer"),
         ({"iterations": -1}, "iterations must be an integer >= 0, got -1"),
-        ({"c": 1.0}, "c must be > 1, got 1"),
-        ({"C": 1.0}, r"C must be in \(0, 1\), got 1"),
+        ({"corner_ratio": 1.0}, "corner_ratio must be > 1, got 1"),
+        ({"inflection_ratio": 1.0}, r"inflection_ratio must be in \(0, 1\), got 1"),
         ({"tilt": 2.0}, "tilt must be in"),
     ],
 )
@@ -904,7 +904,7 @@ def _noisy_line(n, seed):
 def test_kernel_matches_numpy_step_on_long_curves(points, closed, kwargs):
     # compiled kernel against the numpy reference on long curves with floors, pass limits,
     # anchors and Fig. 11 edges: the same counts and (with the same trig) the same bits
-    res = cca.smooth_with_info(points, closed=closed, iterations=3, workers=1, **kwargs)
+    res = cca.smooth_with_info(points, closed=closed, iterations=3, threads=1, **kwargs)
     ref = numpy_reference(points, closed=closed, iterations=3, libm=True, **kwargs)
     assert res.points.shape == ref.points.shape
     np.testing.assert_array_equal(res.points, ref.points)
@@ -924,31 +924,31 @@ def test_thread_groups_are_bit_identical(monkeypatch):
     curves = [_jagged_ring(300 + 7 * k, 40 + k, spikes=2) for k in range(9)]
     xy = np.concatenate(curves)
     off = np.concatenate([[0], np.cumsum([len(c) for c in curves])])
-    one = cca.smooth_ragged_with_info(xy, off, closed=True, iterations=2, workers=1)
+    one = cca.smooth_ragged_with_info(xy, off, closed=True, iterations=2, threads=1)
     monkeypatch.setattr(_api, "_THREAD_MIN", 100)
     assert len(_api._chunks(off, 3)) == 3
-    three = cca.smooth_ragged_with_info(xy, off, closed=True, iterations=2, workers=3)
+    three = cca.smooth_ragged_with_info(xy, off, closed=True, iterations=2, threads=3)
     np.testing.assert_array_equal(three.coords, one.coords)
     np.testing.assert_array_equal(three.offsets, one.offsets)
     np.testing.assert_array_equal(three.reductions, one.reductions)
     assert one.reductions.sum() > 0
 
 
-def test_workers_is_validated():
-    with pytest.raises(CurveError, match="workers must be an integer >= 1, got 0"):
-        cca.smooth(regular(5), closed=True, workers=0)
-    with pytest.raises(CurveError, match="workers must be an integer"):
-        cca.smooth(regular(5), closed=True, workers=1.5)
-    assert 1 <= cca._input.default_workers() <= 4
+def test_threads_is_validated():
+    with pytest.raises(CurveError, match="threads must be an integer >= 1, got 0"):
+        cca.smooth(regular(5), closed=True, threads=0)
+    with pytest.raises(CurveError, match="threads must be an integer"):
+        cca.smooth(regular(5), closed=True, threads=1.5)
+    assert 1 <= cca._input.default_threads() <= 4
 
 
-def test_default_workers_respects_omp_num_threads(monkeypatch):
+def test_default_threads_respects_omp_num_threads(monkeypatch):
     monkeypatch.setenv("OMP_NUM_THREADS", "1")
-    assert cca._input.default_workers() == 1
+    assert cca._input.default_threads() == 1
     monkeypatch.setenv("OMP_NUM_THREADS", "64")
-    assert cca._input.default_workers() == min(4, len(os.sched_getaffinity(0)))
+    assert cca._input.default_threads() == min(4, len(os.sched_getaffinity(0)))
     monkeypatch.setenv("OMP_NUM_THREADS", "auto")  # not a count: ignored
-    assert cca._input.default_workers() == min(4, len(os.sched_getaffinity(0)))
+    assert cca._input.default_threads() == min(4, len(os.sched_getaffinity(0)))
 
 
 def _restriction_inputs(p):
@@ -1070,7 +1070,7 @@ def test_blocks_of_long_curves_are_bit_identical(monkeypatch, points, closed, kw
     monkeypatch.setattr(_api, "_BLOCK", 128)
     monkeypatch.setattr(_api, "_THREAD_MIN", 100)
     for workers in (1, 3):
-        res = cca.smooth_with_info(points, closed=closed, iterations=3, workers=workers, **kwargs)
+        res = cca.smooth_with_info(points, closed=closed, iterations=3, threads=workers, **kwargs)
         np.testing.assert_array_equal(res.points, whole.points)
         assert res.reductions_per_step == whole.reductions_per_step
         assert res.fig11_edges == whole.fig11_edges

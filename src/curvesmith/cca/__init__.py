@@ -123,7 +123,7 @@ later processes load it from the cache in about a second, from the package's
 ``import curvesmith.cca`` does not load numba. Curves of 65536 or more
 vertices are cut into blocks of 32768 vertices with halos (the step is local,
 so the result is the same to the last bit), and batches of 65536 or more
-vertices run in ``workers`` threads, groups of whole curves and blocks (the
+vertices run in ``threads`` threads, groups of whole curves and blocks (the
 kernel releases the GIL; the result does not depend on the threads).
 
 Vertex count

@@ -23,7 +23,7 @@ from .._rich import RichRepr
 from .._validate import as_bool, as_float, as_int, as_points, check_growth
 from ..errors import CurveError
 from . import _stepnd
-from ._input import anchor_indices, dedupe, dedupe_ragged, default_workers, plane_frame
+from ._input import anchor_indices, dedupe, dedupe_ragged, default_threads, plane_frame
 from ._profiles import _eval_profile as _profiles_eval
 from ._profiles import alpha_function, profile_tables
 
@@ -83,14 +83,14 @@ def smooth(
     iterations: int = 1,
     alpha: AlphaSpec = "regular",
     anchors: ArrayLike | None = None,
-    c: float = 2.0,
-    C: float = 0.5,
+    corner_ratio: float = 2.0,
+    inflection_ratio: float = 0.5,
     restrict: bool = True,
     tilt: float = np.pi / 8,
     balance_tol: float = 1e-9,
     max_passes: int = 16,
     min_factor: float = 0.0,
-    workers: int | None = None,
+    threads: int | None = None,
 ) -> np.ndarray:
     """Area-preserving CCA1 smoothing of a polygon or polyline (Gordon 2010).
 
@@ -110,15 +110,15 @@ def smooth(
         in (0, 1/3), or a function of the interior angle in radians (array in,
         array out; values in [0, 1/3)). The function must act angle by angle:
         long curves are smoothed in blocks, possibly in several threads at once
-        (see `workers`), so it is called on pieces of the angle array.
+        (see `threads`), so it is called on pieces of the angle array.
     anchors : sequence of int, optional
         Indices of input vertices that stay fixed (section 5); the pieces between
         anchors are smoothed as independent polylines, each keeping its area
         against its chord.
-    c : float, optional
-        Constant ``c > 1`` of Definition 2 (``tan(gamma) >= c tan(beta)``).
-    C : float, optional
-        Constant ``0 < C < 1`` of section 3.2 (``epsilon <= C gamma`` at
+    corner_ratio : float, optional
+        The constant ``c > 1`` of Definition 2 (``tan(gamma) >= c tan(beta)``).
+    inflection_ratio : float, optional
+        The constant ``0 < C < 1`` of section 3.2 (``epsilon <= C gamma`` at
         inflection edges).
     restrict : bool, optional
         Apply the restrictions (local alpha decrease). False gives plain CCA1
@@ -139,10 +139,10 @@ def smooth(
         the price of almost uncut corners next to nearly straight vertices
         (Fig. 12); a floor such as 0.5 keeps those corners smoothing, and edges
         where it binds are counted in :attr:`CCAResult.unsatisfied`.
-    workers : int, optional
+    threads : int, optional
         Threads for long 2D curves: a step over at least 65536 vertices runs in
         blocks of 32768 (with halos; the result does not depend on the blocks
-        or the threads), and ``workers`` blocks at a time. Default: the number
+        or the threads), and ``threads`` blocks at a time. Default: the number
         of processors available to this process, at most 4 and at most
         ``OMP_NUM_THREADS`` when that is set (Dask workers set it to 1); 1 for
         no threads.
@@ -174,14 +174,14 @@ def smooth(
         iterations=iterations,
         alpha=alpha,
         anchors=anchors,
-        c=c,
-        C=C,
+        corner_ratio=corner_ratio,
+        inflection_ratio=inflection_ratio,
         restrict=restrict,
         tilt=tilt,
         balance_tol=balance_tol,
         max_passes=max_passes,
         min_factor=min_factor,
-        workers=workers,
+        threads=threads,
     ).points
 
 
@@ -192,22 +192,22 @@ def smooth_with_info(
     iterations: int = 1,
     alpha: AlphaSpec = "regular",
     anchors: ArrayLike | None = None,
-    c: float = 2.0,
-    C: float = 0.5,
+    corner_ratio: float = 2.0,
+    inflection_ratio: float = 0.5,
     restrict: bool = True,
     tilt: float = np.pi / 8,
     balance_tol: float = 1e-9,
     max_passes: int = 16,
     min_factor: float = 0.0,
-    workers: int | None = None,
+    threads: int | None = None,
 ) -> CCAResult:
     """Like :func:`smooth`, returning a :class:`CCAResult` with restriction counts.
 
     Parameters
     ----------
-    points, closed, iterations, alpha, anchors, c, C, restrict, tilt, balance_tol
+    points, closed, iterations, alpha, anchors, corner_ratio, inflection_ratio
         As in :func:`smooth`.
-    max_passes, min_factor, workers
+    restrict, tilt, balance_tol, max_passes, min_factor, threads
         As in :func:`smooth`.
 
     Returns
@@ -229,14 +229,14 @@ def smooth_with_info(
         iterations=iterations,
         alpha=alpha,
         anchors=anchors,
-        c=c,
-        C=C,
+        corner_ratio=corner_ratio,
+        inflection_ratio=inflection_ratio,
         restrict=restrict,
         tilt=tilt,
         balance_tol=balance_tol,
         max_passes=max_passes,
         min_factor=min_factor,
-        workers=workers,
+        threads=threads,
         engine="compiled",
     )
 
@@ -248,26 +248,26 @@ def _smooth_one(
     iterations,
     alpha,
     anchors,
-    c,
-    C,
+    corner_ratio,
+    inflection_ratio,
     restrict,
     tilt,
     balance_tol,
     max_passes,
     min_factor,
-    workers,
+    threads,
     engine,
 ) -> CCAResult:
     """:func:`smooth_with_info` on the compiled engine or (``engine="numpy"``) the reference."""
     closed = as_bool(closed, name="closed")
     iterations = as_int(iterations, name="iterations", minimum=0)
-    c = as_float(c, name="c", low=1.0)
-    C = as_float(C, name="C", low=0.0, high=1.0)
+    c = as_float(corner_ratio, name="corner_ratio", low=1.0)
+    C = as_float(inflection_ratio, name="inflection_ratio", low=0.0, high=1.0)
     tilt = as_float(tilt, name="tilt", low=0.0, high=np.pi / 4, high_open=False)
     balance_tol = as_float(balance_tol, name="balance_tol", low=0.0, high=1.0, low_open=False)
     max_passes = as_int(max_passes, name="max_passes", minimum=1)
     min_factor = as_float(min_factor, name="min_factor", low=0.0, high=1.0, low_open=False)
-    workers = default_workers() if workers is None else as_int(workers, name="workers", minimum=1)
+    threads = default_threads() if threads is None else as_int(threads, name="threads", minimum=1)
     alpha_fn = alpha_function(alpha)
     raw = as_points(points, closed=closed, min_points=1, dim=(2, 3))
     # Coordinates so small or so large that squared edge lengths would underflow or overflow
@@ -318,7 +318,7 @@ def _smooth_one(
         frame = plane_frame(q)
         if frame is not None:
             q = q @ frame.T  # (N, 2) coordinates in the plane
-    prm = _Params(alpha_fn, restrict, c, C, tilt, balance_tol, max_passes, min_factor, workers)
+    prm = _Params(alpha_fn, restrict, c, C, tilt, balance_tol, max_passes, min_factor, threads)
     offsets = np.array([0, q.shape[0]], dtype=np.int64)
     out, fixed, _, steps = _iterate(
         np.ascontiguousarray(q), fixed, offsets, np.array([closed]), iterations, prm, engine
@@ -397,14 +397,14 @@ def smooth_ragged(
     iterations: int = 1,
     alpha: AlphaSpec = "regular",
     anchors=None,
-    c: float = 2.0,
-    C: float = 0.5,
+    corner_ratio: float = 2.0,
+    inflection_ratio: float = 0.5,
     restrict: bool = True,
     tilt: float = np.pi / 8,
     balance_tol: float = 1e-9,
     max_passes: int = 16,
     min_factor: float = 0.0,
-    workers: int | None = None,
+    threads: int | None = None,
     close_rings: bool = False,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Area-preserving CCA1 smoothing of many 2D curves in one call.
@@ -427,14 +427,16 @@ def smooth_ragged(
         ``offsets[-1] == N``, non-decreasing.
     closed : bool or (M,) array_like of bool
         One flag for all curves or one per curve.
-    iterations, alpha, c, C, restrict, tilt, balance_tol, max_passes, min_factor
+    iterations, alpha, corner_ratio, inflection_ratio, restrict, tilt, balance_tol
+        As in :func:`smooth`, the same for every curve.
+    max_passes, min_factor
         As in :func:`smooth`, the same for every curve.
     anchors : (N,) bool array_like or sequence of M sequences of int, optional
         Vertices that stay fixed: a mask over the rows of `coords`, or one
         sequence of vertex indices per curve (indices within the curve, as
         :func:`smooth` takes them).
-    workers : int, optional
-        Threads: a batch of at least 65536 vertices is split into `workers`
+    threads : int, optional
+        Threads: a batch of at least 65536 vertices is split into `threads`
         groups of whole curves (long curves in blocks, as in :func:`smooth`; the
         result does not depend on it). Default as in :func:`smooth`.
     close_rings : bool, optional
@@ -477,14 +479,14 @@ def smooth_ragged(
         iterations=iterations,
         alpha=alpha,
         anchors=anchors,
-        c=c,
-        C=C,
+        corner_ratio=corner_ratio,
+        inflection_ratio=inflection_ratio,
         restrict=restrict,
         tilt=tilt,
         balance_tol=balance_tol,
         max_passes=max_passes,
         min_factor=min_factor,
-        workers=workers,
+        threads=threads,
         close_rings=close_rings,
     )
     return res.coords, res.offsets
@@ -498,23 +500,25 @@ def smooth_ragged_with_info(
     iterations: int = 1,
     alpha: AlphaSpec = "regular",
     anchors=None,
-    c: float = 2.0,
-    C: float = 0.5,
+    corner_ratio: float = 2.0,
+    inflection_ratio: float = 0.5,
     restrict: bool = True,
     tilt: float = np.pi / 8,
     balance_tol: float = 1e-9,
     max_passes: int = 16,
     min_factor: float = 0.0,
-    workers: int | None = None,
+    threads: int | None = None,
     close_rings: bool = False,
 ) -> RaggedCCAResult:
     """Like :func:`smooth_ragged`, returning a :class:`RaggedCCAResult` with counts per curve.
 
     Parameters
     ----------
-    coords, offsets, closed, iterations, alpha, anchors, c, C, restrict, tilt
+    coords, offsets, closed, iterations, alpha, anchors, corner_ratio, inflection_ratio
         As in :func:`smooth_ragged`.
-    balance_tol, max_passes, min_factor, workers, close_rings
+    restrict, tilt
+        As in :func:`smooth_ragged`.
+    balance_tol, max_passes, min_factor, threads, close_rings
         As in :func:`smooth_ragged`.
 
     Returns
@@ -529,15 +533,15 @@ def smooth_ragged_with_info(
     ([3, 0], True)
     """
     iterations = as_int(iterations, name="iterations", minimum=0)
-    c = as_float(c, name="c", low=1.0)
-    C = as_float(C, name="C", low=0.0, high=1.0)
+    c = as_float(corner_ratio, name="corner_ratio", low=1.0)
+    C = as_float(inflection_ratio, name="inflection_ratio", low=0.0, high=1.0)
     tilt = as_float(tilt, name="tilt", low=0.0, high=np.pi / 4, high_open=False)
     balance_tol = as_float(balance_tol, name="balance_tol", low=0.0, high=1.0, low_open=False)
     max_passes = as_int(max_passes, name="max_passes", minimum=1)
     min_factor = as_float(min_factor, name="min_factor", low=0.0, high=1.0, low_open=False)
     restrict = as_bool(restrict, name="restrict")
     close_rings = as_bool(close_rings, name="close_rings")
-    workers = default_workers() if workers is None else as_int(workers, name="workers", minimum=1)
+    threads = default_threads() if threads is None else as_int(threads, name="threads", minimum=1)
     alpha_fn = alpha_function(alpha)
     rag = as_ragged(coords, offsets, closed=closed, dim=2)
     p, off, cl = rag.points, rag.offsets, rag.closed
@@ -591,7 +595,7 @@ def smooth_ragged_with_info(
     fixed_in = fixed
     q = np.empty_like(p)
     origin = kernel.to_local(p, off, q)
-    prm = _Params(alpha_fn, restrict, c, C, tilt, balance_tol, max_passes, min_factor, workers)
+    prm = _Params(alpha_fn, restrict, c, C, tilt, balance_tol, max_passes, min_factor, threads)
     out, fixed, off_out, steps = _iterate(
         q, fixed, off, cl, iterations, prm, "compiled", close_out=close_rings
     )
@@ -655,7 +659,7 @@ class _Params:
     balance_tol: float
     max_passes: int
     min_factor: float
-    workers: int
+    threads: int
 
 
 def _iterate(P, fixed, offsets, closed, iterations, prm: _Params, engine: str, close_out=False):
@@ -770,7 +774,7 @@ def _run_units(kernel, P, fixed, alpha_in, closed, params, close_out, prm, block
         UP = np.concatenate([P[a:b] for a, b in ranges])
         Ufixed = np.concatenate([fixed[a:b] for a, b in ranges])
         Ualpha = np.concatenate([alpha_in[a:b] for a, b in ranges]) if alpha_in.size else alpha_in
-    chunks = _chunks(u_off, prm.workers)
+    chunks = _chunks(u_off, prm.threads)
 
     def step(a, b):
         s, e = u_off[a], u_off[b]
@@ -852,7 +856,7 @@ def _blocks(offsets: np.ndarray, closed: np.ndarray, halo: int):
     smoothed as a closed curve; its own wrap edge, not an edge of the curve, disturbs
     only the halo; the last block of an open curve stays open at the true end). The
     values are computed by the same arithmetic as for the whole curve, so the result
-    is the same to the last bit, and long curves can use ``workers`` threads.
+    is the same to the last bit, and long curves can use ``threads`` threads.
 
     Returns the row ranges of the input that make up the units, one after the other
     (adjacent ranges merged), the units' offsets, closed flags, cores ``(U, 2)`` and
@@ -920,12 +924,12 @@ def _blocks(offsets: np.ndarray, closed: np.ndarray, halo: int):
     )
 
 
-def _chunks(offsets: np.ndarray, workers: int) -> list[tuple[int, int]]:
+def _chunks(offsets: np.ndarray, threads: int) -> list[tuple[int, int]]:
     """Groups of whole curves with about equal vertex counts, one per thread."""
     m = offsets.size - 1
     n = int(offsets[-1])
-    if workers <= 1 or n < _THREAD_MIN or m < 2:
+    if threads <= 1 or n < _THREAD_MIN or m < 2:
         return [(0, m)]
-    cuts = np.searchsorted(offsets, np.linspace(0, n, workers + 1)[1:-1])
+    cuts = np.searchsorted(offsets, np.linspace(0, n, threads + 1)[1:-1])
     bounds = np.unique(np.concatenate([[0], np.clip(cuts, 1, m - 1), [m]]))
     return [(int(a), int(b)) for a, b in itertools.pairwise(bounds)]

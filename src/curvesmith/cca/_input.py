@@ -9,7 +9,7 @@ import numpy as np
 from ..errors import CurveError
 
 
-def default_workers() -> int:
+def default_threads() -> int:
     """Processors available to this process, at most 4 and at most ``OMP_NUM_THREADS``.
 
     The environment cap follows the convention of numerical libraries (Dask's
