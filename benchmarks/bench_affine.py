@@ -64,7 +64,7 @@ def ours(samples, n):
 def ours_metrics(res):
     s = affine.bspline(res.points)
     left, right = affine.joint_curvatures(res.points)
-    _, k = affine.spline_curvature(res.points, samples=32)
+    _, k = affine.spline_curvature(res.points, per_segment=32)
     jump = float(np.max(np.abs(left - right)) / np.max(np.abs(k)))
     dense = s(np.linspace(s.t[2], s.t[-3] - 1e-12, 20000))
     return jump, distance_to_curve(dense)

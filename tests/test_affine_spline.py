@@ -174,7 +174,7 @@ def test_svg_read_rejects_non_bspline_paths():
 
 def test_spline_curvature_matches_formula_on_segments():
     x = np.array([[0, 0], [1, 0], [2, 1], [3, 3]], float)
-    t, k = affine.spline_curvature(x, samples=5)
+    t, k = affine.spline_curvature(x, per_segment=5)
     s = affine.bspline(x)
     d1, d2 = s.derivative(1), s.derivative(2)
     inner = (t > s.t[2]) & (t < s.t[-3]) & (np.abs(t - np.round(t)) > 1e-9)

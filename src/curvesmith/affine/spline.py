@@ -104,7 +104,7 @@ def _ppoly(s: BSpline) -> PPoly:
 
 
 def spline_curvature(
-    points, *, closed: bool = False, samples: int = 16
+    points, *, closed: bool = False, per_segment: int = 16
 ) -> tuple[np.ndarray, np.ndarray]:
     """Euclidean curvature of the uniform quadratic B-spline of a planar control polygon.
 
@@ -117,7 +117,7 @@ def spline_curvature(
         Control polygon.
     closed : bool, optional
         Closed control polygon.
-    samples : int, optional
+    per_segment : int, optional
         Samples per segment (both segment ends included).
 
     Returns
@@ -129,18 +129,18 @@ def spline_curvature(
 
     Examples
     --------
-    >>> t, k = spline_curvature([[0, 0], [1, 0], [2, 1], [3, 3]], samples=2)
+    >>> t, k = spline_curvature([[0, 0], [1, 0], [2, 1], [3, 3]], per_segment=2)
     >>> np.round(k, 6).tolist()
     [1.0, 0.353553, 0.353553, 0.089443]
     """
-    samples = as_int(samples, name="samples", minimum=2)
+    per_segment = as_int(per_segment, name="per_segment", minimum=2)
     s = bspline(points, degree=2, closed=closed)
     t0, t1 = s.t[2], s.t[-3]
     seg = np.arange(t0, t1)
-    t = (seg[:, None] + np.linspace(0.0, 1.0, samples)[None, :]).ravel()
+    t = (seg[:, None] + np.linspace(0.0, 1.0, per_segment)[None, :]).ravel()
     pp = _ppoly(s)
     # evaluate each sample on its own segment (segment ends from the left piece)
-    idx = np.repeat(np.searchsorted(pp.x, seg, side="right") - 1, samples)
+    idx = np.repeat(np.searchsorted(pp.x, seg, side="right") - 1, per_segment)
     d1, d2 = _piece_derivatives(pp, idx, t, 2)
     return t, (d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]) / np.hypot(d1[:, 0], d1[:, 1]) ** 3
 

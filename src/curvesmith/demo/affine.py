@@ -182,7 +182,7 @@ def run(ctx) -> None:
     )
 
     # G2 check: Euclidean curvature of our spline vs a least-squares quadratic B-spline
-    t_ours, k_ours = affine.spline_curvature(res.points, samples=24)
+    t_ours, k_ours = affine.spline_curvature(res.points, per_segment=24)
     u = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(curve, axis=0), axis=1))])
     u /= u[-1]
     inner = np.linspace(0, 1, 59)[1:-1]
