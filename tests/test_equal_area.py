@@ -127,3 +127,49 @@ def test_domain_edge_mask_on_natural_earth(world):
     assert np.array_equal(flat, ref) and flat.sum() == 18  # 16 exact, 2 at 180.00000000000006
     with pytest.raises(CurveError, match="needs a geographic CRS"):
         domain_edge_mask(world.to_crs("EPSG:3857").iloc[:3])
+
+
+@pytest.mark.parametrize(("mode", "flag"), [("coverage", "--coverage"), ("network", "--network")])
+def test_one_projection_modes_refuse_a_layer_the_projection_breaks(tmp_path, mode, flag):
+    """Coverage and network modes smooth in one projection: the world does not fit in it.
+
+    Natural Earth's countries (and their outlines as lines) in one LAEA centred on the
+    data: Fiji, Antarctica and two more fold (not valid / crossing themselves). Before this
+    check the network came back with 16 pairs of lines meeting differently (exit 0) and
+    the coverage with a misleading "repair it first" error; now one line naming the cause,
+    nothing written. The same layer without --equal-area, and a layer that one projection
+    serves (all US counties, across the antimeridian), go through.
+    """
+    df = geo.read_file(NATURAL_EARTH)
+    if mode == "network":
+        df = df.assign(geometry=df.geometry.boundary)
+    src = tmp_path / "world.gpkg"
+    geo.write_file(df, src)
+    out = tmp_path / "out.gpkg"
+    args = ["smooth", str(src), "-o", str(out), flag, "--iterations", "2"]
+    r = CliRunner().invoke(main, [*args, "--equal-area"])
+    assert r.exit_code == 1 and "Traceback" not in r.output
+    assert f"in the one equal-area projection that {mode} mode smooths in" in r.output
+    assert "(4 feature(s) in all)" in r.output and not out.exists()
+    with pytest.raises(CurveError, match="spans too much of the globe"):
+        geo._io.to_one_equal_area(df, mode=mode, name="world")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", geo.GeographicCRSWarning)
+        r = CliRunner().invoke(main, args)
+    assert r.exit_code == 0, r.output
+
+
+def test_one_projection_serves_the_us_across_the_antimeridian(tmp_path):
+    counties = geo.us_counties()
+    assert _lon_0(equal_area_crs(counties)) < -90  # centred west, the Aleutians included
+    geo._io.to_one_equal_area(counties, mode="coverage", name="counties")
+    lines = counties.assign(geometry=counties.geometry.boundary)
+    geo._io.to_one_equal_area(lines, mode="network", name="county outlines")
+
+
+def test_network_back_check_names_changed_contacts():
+    a = shapely.LineString([(0, 0), (10, 0)])
+    b = shapely.LineString([(0, 1), (10, 1)])
+    geo._io.check_network_back([a, b], [a, b], name="x")
+    with pytest.raises(CurveError, match="1 pair"):
+        geo._io.check_network_back([a, b], [a, shapely.LineString([(0, 1), (5, -1)])], name="x")

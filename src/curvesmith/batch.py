@@ -364,7 +364,13 @@ def smooth_file(
     import warnings
 
     from . import geo
-    from .geo._io import GeographicCRSWarning, clamp_to_domain, domain_fixed
+    from .geo._io import (
+        GeographicCRSWarning,
+        check_network_back,
+        clamp_to_domain,
+        domain_fixed,
+        to_one_equal_area,
+    )
 
     partition_size = as_int(partition_size, name="partition_size", minimum=1)
     budget = {k: v for k, v in (("max_shift", max_shift), ("min_segment", min_segment)) if v}
@@ -385,7 +391,9 @@ def smooth_file(
     # feature by feature, equal-area smoothing is per region (geo's smooth_file): one
     # projection for the world folds some features and distorts ground areas far away
     regional = equal_area and not (coverage or network)
-    work = df.to_crs(geo.equal_area_crs(df)) if equal_area and not regional else df
+    work = df
+    if equal_area and not regional:  # one projection for the whole coverage or network
+        work = to_one_equal_area(df, mode="network" if network else "coverage", name=str(in_path))
     t0 = time.perf_counter()
     if regional:
         if snap is not None:
@@ -457,6 +465,8 @@ def smooth_file(
     seconds = time.perf_counter() - t0
     if equal_area and not regional:
         out = out.to_crs(crs)
+        if network:
+            check_network_back(df.geometry, out.geometry, name=str(in_path))
     if crs is not None and crs.is_geographic:
         out = out.copy()
         out.geometry = clamp_to_domain(out.geometry, str(in_path), df.geometry)

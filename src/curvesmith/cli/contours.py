@@ -116,7 +116,9 @@ def smooth_network_geofile(
             f"degrees, not on the ground; use --equal-area",
             err=True,
         )
-    work = df.to_crs(geo.equal_area_crs(df)) if equal_area else df
+    from ..geo._io import check_network_back, to_one_equal_area
+
+    work = to_one_equal_area(df, mode="network", name=in_path) if equal_area else df
     res = geo.smooth_network(
         work,
         method=method,
@@ -128,6 +130,8 @@ def smooth_network_geofile(
         min_segment=min_segment,
     )
     out = res.geometry.to_crs(crs) if equal_area else res.geometry
+    if equal_area:
+        check_network_back(df.geometry, out.geometry, name=in_path)
     _write(out, out_path)
     parts = [
         f"{len(out)} features, {res.n_lines} lines smoothed as one network "

@@ -702,6 +702,74 @@ def equal_area_crs(df: Any) -> str:
     return _laea(lon, lat)
 
 
+def to_one_equal_area(df: Any, *, mode: str, name: str) -> Any:
+    """`df` in the one equal-area projection a coverage or a network is smoothed in, checked.
+
+    Coverage and network modes cannot be cut into regions as feature-by-feature smoothing
+    is (:func:`equal_area_regions`): shared borders and junctions tie the layer together, so
+    it goes into one projection centred on the data (:func:`equal_area_crs`). Far from the
+    centre that projection shears shapes and near the antipode it folds them (Natural Earth's
+    countries: Fiji and Antarctica are not valid in it, four country outlines cross
+    themselves); a layer that the projection breaks is refused here, naming the first
+    feature it breaks, rather than smoothed into something invalid.
+
+    Parameters
+    ----------
+    df : geopandas.GeoDataFrame
+        The layer, in a CRS.
+    mode : {"coverage", "network"}
+        What the layer is smoothed as (polygons must stay valid, lines simple).
+    name : str
+        The input's name, for the message.
+
+    Returns
+    -------
+    geopandas.GeoDataFrame
+        `df` in the projection.
+    """
+    import shapely
+
+    laea = equal_area_crs(df)
+    work = df.to_crs(laea)
+    before = np.asarray(df.geometry.values, dtype=object)
+    after = np.asarray(work.geometry.values, dtype=object)
+    present = ~(shapely.is_missing(before) | shapely.is_empty(before))
+    test = shapely.is_valid if mode == "coverage" else shapely.is_simple
+    broken = np.zeros(len(before), dtype=bool)
+    broken[present] = test(before[present]) & ~test(after[present])
+    if broken.any():
+        k = int(np.flatnonzero(broken)[0])
+        what = "not valid" if mode == "coverage" else "crossing itself"
+        raise CurveError(
+            f"{name}: --equal-area: feature {k} is {what} in the one equal-area projection "
+            f"that {mode} mode smooths in ({int(broken.sum())} feature(s) in all): the layer "
+            f"spans too much of the globe for one projection; reproject it to a projected CRS "
+            f"that suits it, or smooth without --equal-area"
+        )
+    return work
+
+
+def check_network_back(before: Any, after: Any, *, name: str) -> None:
+    """Refuse a network whose smoothed lines meet differently back in the input's CRS.
+
+    The network is smoothed without new contacts in its equal-area projection; projected
+    back, lines that ran close far from the projection's centre can still touch or cross.
+    """
+    from ._network import changed_contacts
+
+    changed = changed_contacts(
+        np.asarray(getattr(before, "values", before), dtype=object),
+        np.asarray(getattr(after, "values", after), dtype=object),
+    )
+    if changed:
+        raise CurveError(
+            f"{name}: --equal-area: {changed} pair(s) of lines meet differently after "
+            f"projecting back from the one equal-area projection the network was smoothed in; "
+            f"reproject the layer to a projected CRS that suits it, or smooth without "
+            f"--equal-area"
+        )
+
+
 def equal_area_regions(df: Any, *, cell: float = 30.0) -> list[tuple[str, np.ndarray]]:
     """Split features into regions that one equal-area projection each serves well.
 
@@ -1004,7 +1072,7 @@ def smooth_file(
     # Antarctica keep meeting there) and the output stays inside the domain
     edges = {"fixed": domain_fixed(crs)} if geographic and not equal_area else {}
     if coverage:
-        work = df.to_crs(equal_area_crs(df)) if equal_area else df
+        work = to_one_equal_area(df, mode="coverage", name=str(in_path)) if equal_area else df
         if geographic and equal_area:
             edges = {"fixed": domain_fixed(crs, work.crs)}
         res = smooth_coverage(
