@@ -17,9 +17,9 @@ import pytest
 from click.testing import CliRunner
 from scipy.special import ellipj
 
-from curvesmith.errors import CurveError
 from curvesmith.elastica import fit_segments, sample
 from curvesmith.elastica.segments import _chain, _ChainProblem
+from curvesmith.errors import CurveError
 
 
 def plain_distance(points, poly):

@@ -78,8 +78,10 @@ MIN_SEGMENT_POINTS = 8
 #: Default largest number of segments.
 DEFAULT_MAX_SEGMENTS = 12
 #: Function evaluations per chain solve (and per trial of the joint search).
-_CHAIN_MAXFEV = 400
-_TRIAL_MAXFEV = 60
+_CHAIN_MAXFEV = 200
+_TRIAL_MAXFEV = 40
+#: Relative reduction of the cost (and step) at which a chain solve has converged.
+_FTOL = 1e-8
 #: A warm-started probe of the greedy that converges this far outside the tolerance is
 #: taken as infeasible without the global search.
 _CLEAR_MISS = 1.5
@@ -322,7 +324,7 @@ def _solve_chain(data, sizes, x0, maxfev, free=None):
 
     with np.errstate(all="ignore"):
         xf, _, _, _, ier = leastsq(
-            res, x0[free], Dfun=jac, full_output=True, ftol=1e-10, xtol=1e-10, maxfev=maxfev
+            res, x0[free], Dfun=jac, full_output=True, ftol=_FTOL, xtol=_FTOL, maxfev=maxfev
         )
     x = full(xf)
     cost = prob.cost(x) if np.all(np.isfinite(x)) else math.inf
@@ -411,7 +413,7 @@ class _PenaltyProblem:
         return self._eval(y, True)[1]
 
 
-def _penalty_path(data, sizes, y, weights=(1e-2, 1e-1, 1.0, 10.0, 100.0, 1e3)):
+def _penalty_path(data, sizes, y, weights=(1e-1, 10.0, 1e3)):
     """Follow the penalty weights up from free segments `y` (7 per segment)."""
     lengths = [0.5 * sizes[i + 1] * float(y[7 * (i + 1) + 2]) for i in range(len(sizes) - 1)]
     for w in weights:
@@ -424,7 +426,7 @@ def _penalty_path(data, sizes, y, weights=(1e-2, 1e-1, 1.0, 10.0, 100.0, 1e3)):
                 full_output=True,
                 ftol=1e-10,
                 xtol=1e-10,
-                maxfev=200,
+                maxfev=100,
             )
         if np.all(np.isfinite(yn)) and np.all(yn[2::7] > 0) and np.all(yn[6::7] > 0):
             y = yn
@@ -498,7 +500,7 @@ class _Search:
         x, cost, ok = _solve_chain(self.data, sizes, x, maxfev, free)
         return x, cost, ok
 
-    def joints(self, x, sizes, cost, which, passes=4):
+    def joints(self, x, sizes, cost, which, passes=3):
         """Search the positions of the joints `which` (the joint after segment ``j``).
 
         Coordinate descent: a pattern search per joint over index shifts halving from
@@ -694,7 +696,7 @@ def fit_segments(
         best = None
         c = (sizes[i] - 1) // 2
         for xs, ss in _split_starts(data, x, sizes, i, c):
-            xs, cs, _ = search.solve(xs, ss)
+            xs, cs, _ = search.solve(xs, ss, _CHAIN_MAXFEV)
             if best is None or cs < best[2]:
                 best = (xs, ss, cs)
         x, sizes, cost = best
