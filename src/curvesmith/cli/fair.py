@@ -83,6 +83,84 @@ def _report_row(index: int, res, resampled: bool, plane) -> dict:
     return row
 
 
+def _segments_row(index: int, res, resampled: bool, plane) -> dict:
+    """The report row of a multi-segment fair (``--max-segments``): one entry per segment."""
+    row = {
+        "index": index,
+        "points": int(res.data.shape[0]),
+        "input_points": int(res.deviation.shape[0]),
+        "resampled": resampled,
+        "case": "segments",
+        "rms": res.rms,
+        "max_deviation": res.max_deviation,
+        "rms_deviation": res.rms_deviation,
+        "tolerance": res.tolerance,
+        "within_tolerance": res.within_tolerance,
+        "success": res.success,
+        "message": res.message,
+        "solves": res.solves,
+        "single_fit": {
+            "case": res.single.case,
+            "rms": res.single.rms,
+            "max_deviation": res.single.max_deviation,
+            "message": res.single.message,
+        },
+        "segments": [
+            {
+                "params": s.params._asdict(),
+                "first": s.first,
+                "last": s.last,
+                "rms": s.rms,
+                "max_deviation": s.max_deviation,
+            }
+            for s in res.segments
+        ],
+        "joints": [
+            {
+                "after_segment": j.index,
+                "vertex": j.vertex,
+                "g1_defect": j.g1_defect,
+                "turning": j.turning,
+                "curvature_before": j.curvature_before,
+                "curvature_after": j.curvature_after,
+                "curvature_jump": j.curvature_jump,
+            }
+            for j in res.joints
+        ],
+    }
+    if plane is not None:
+        row["plane"] = plane
+    return row
+
+
+def _plot_segments(row, index: int, res, raw: np.ndarray) -> None:
+    """Input and chain (joints marked), deviation along the curve, curvature along it."""
+    from ..plot import curvature_along, deviation_along
+
+    ax = row[0]
+    ax.plot(*raw.T, ".", color="black", ms=2, label="input")
+    for i, seg in enumerate(res.segments):
+        ax.plot(*seg.points.T, "-", lw=1.0, label=f"segment {i}" if i < 6 else None)
+    joints = np.array([res.points[j.vertex] for j in res.joints]).reshape(-1, 2)
+    ax.plot(*joints.T, "kx", ms=7, label="joints (G1)")
+    verdict = "within" if res.within_tolerance else "misses"
+    ax.set_title(
+        f"curve {index}: {len(res.segments)} elastica segments ({verdict} {res.tolerance:g})",
+        fontsize="medium",
+    )
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.legend(fontsize="small")
+    deviation_along(row[1], raw, res.deviation, tolerance=res.tolerance)
+    row[1].set_title(
+        f"max deviation {res.max_deviation:.3g}, rms {res.rms_deviation:.3g}", fontsize="medium"
+    )
+    span = max(1, res.data.shape[0] // 60)
+    curvature_along(
+        row[2], res.data, res.points, data_label=f"data (circles over {span} chords)", span=span
+    )
+    row[2].set_title("curvature along the curve", fontsize="medium")
+
+
 def _plot(path: str, fits: list[tuple[int, object, np.ndarray]]) -> None:
     import matplotlib
 
@@ -95,6 +173,9 @@ def _plot(path: str, fits: list[tuple[int, object, np.ndarray]]) -> None:
     n = len(fits)
     fig, axes = plt.subplots(n, 3, figsize=(16.0, 4.2 * n), squeeze=False)
     for row, (index, res, raw) in zip(axes, fits, strict=True):
+        if hasattr(res, "segments"):
+            _plot_segments(row, index, res, raw)
+            continue
         ax = row[0]
         guess = sample(res.start, res.data.shape[0])
         ax.plot(*raw.T, ".", color="black", ms=2, label="input")
@@ -156,6 +237,14 @@ def _plot(path: str, fits: list[tuple[int, object, np.ndarray]]) -> None:
     "misses it.",
 )
 @click.option(
+    "--max-segments",
+    "max_segments",
+    type=click.IntRange(min=1),
+    default=None,
+    help="With --tolerance: fair by the fewest discrete elastica segments (at most this many), "
+    "joined G1, within the tolerance; exit 1 if it takes more.",
+)
+@click.option(
     "--max-iter",
     "max_iter",
     type=click.IntRange(min=1),
@@ -171,6 +260,7 @@ def fair_command(
     resample: bool | None,
     step: float | None,
     tolerance: float | None,
+    max_segments: int | None,
     max_iter: int | None,
     fmt: str | None,
 ) -> None:
@@ -186,11 +276,18 @@ def fair_command(
     --resample, never with --no-resample). Exits with status 1, writing no OUT,
     if a fit does not converge or misses --tolerance; the report and plot are
     still written.
+
+    With --tolerance T --max-segments M, each curve is faired by the fewest
+    discrete elastica segments (at most M) whose union is within T of every input
+    point, consecutive segments sharing the joint vertex and its tangent (G1); the
+    report lists the segments and the G1 defect and curvature jump at each joint.
     """
-    from ..elastica import SPACING_TOL, fit, spacing_spread
+    from ..elastica import SPACING_TOL, fit, fit_segments, spacing_spread
 
     if step is not None and resample is False:
         raise click.UsageError("--step needs resampling; drop --no-resample")
+    if max_segments is not None and tolerance is None:
+        raise click.UsageError("--max-segments needs --tolerance (the deviation to meet)")
     curves = _read(source, fmt)
     out, rows, fits = [], [], []
     for index, curve in enumerate(curves):
@@ -213,7 +310,12 @@ def fair_command(
                     distinct.shape[0] >= 2 and spacing_spread(distinct) > SPACING_TOL
                 )
             option = (step if step is not None else True) if do_resample else False
-            res = fit(pts, resample=option, tolerance=tolerance, max_iter=max_iter)
+            if max_segments is not None:
+                res = fit_segments(
+                    pts, tolerance, max_segments=max_segments, resample=option, max_iter=max_iter
+                )
+            else:
+                res = fit(pts, resample=option, tolerance=tolerance, max_iter=max_iter)
         except CurveError as exc:
             raise CurveError(f"curve {index}: {exc}") from None
         faired = res.points
@@ -221,7 +323,10 @@ def fair_command(
             centroid, axes = frame
             faired = centroid + faired @ axes[:2]
         out.append(curve.replace(points=faired))
-        rows.append(_report_row(index, res, do_resample, plane))
+        if max_segments is not None:
+            rows.append(_segments_row(index, res, do_resample, plane))
+        else:
+            rows.append(_report_row(index, res, do_resample, plane))
         fits.append((index, res, pts))
     failed = [r for r in rows if not r["success"]]
     missed = [r for r in rows if r["within_tolerance"] is False]
@@ -243,13 +348,27 @@ def fair_command(
             f"{len(failed)} of {len(rows)} fits failed (no output written); "
             f"curve {first['index']}: {first['message']}"
         )
+    if missed and max_segments is not None:
+        first = missed[0]
+        raise CurveError(
+            f"{len(missed)} of {len(rows)} curves need more than {max_segments} segment"
+            f"{'s' if max_segments > 1 else ''} "
+            f"(no output written); curve {first['index']}: {first['message']}"
+        )
     if missed:
         first = missed[0]
         raise CurveError(
             f"{len(missed)} of {len(rows)} fits miss the tolerance {tolerance:g} (no output "
             f"written); curve {first['index']}: max deviation {first['max_deviation']:.6g}"
         )
-    if dest != "-":
+    if dest != "-" and max_segments is not None:
+        worst = max(rows, key=lambda r: r["max_deviation"])
+        click.echo(
+            f"faired {len(rows)} curve(s) by {sum(len(r['segments']) for r in rows)} discrete "
+            f"elastica segment(s) joined G1; largest max deviation {worst['max_deviation']:.6g} "
+            f"(tolerance {tolerance:g})"
+        )
+    elif dest != "-":
         worst = max(rows, key=lambda r: r["max_deviation"])
         click.echo(
             f"fitted {len(rows)} curve(s) to discrete elasticae; largest max deviation "

@@ -11,7 +11,8 @@ by integrable discrete analogue of Euler's elasticae", sections 3-4:
   modulus ``1/k``), its curvature (3.20) and constants ``alpha``, ``C`` (3.9, 3.18);
 * :func:`initial_guess` - the pseudo code of section 4.3;
 * :func:`fit` - the closest discrete elastica to data (section 4.2), with
-  :func:`spacing_spread` telling whether data need resampling first.
+  :func:`spacing_spread` telling whether data need resampling first;
+* :func:`fit_segments` - the fewest discrete elasticae, joined G1, within a tolerance.
 
 Examples
 --------
@@ -38,6 +39,7 @@ from .exact import (
 )
 from .fit import PARAM_NAMES, SPACING_TOL, FitResult, fit, spacing_spread
 from .guess import initial_guess
+from .segments import Joint, Segment, SegmentFit, fit_segments
 
 __all__ = [
     "PARAM_NAMES",
@@ -45,10 +47,14 @@ __all__ = [
     "ElasticaParams",
     "FitResult",
     "Invariants",
+    "Joint",
+    "Segment",
+    "SegmentFit",
     "case_of",
     "curvature",
     "exact_curvature",
     "fit",
+    "fit_segments",
     "initial_guess",
     "invariants",
     "sample",
