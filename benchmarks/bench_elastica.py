@@ -98,7 +98,7 @@ def ipopt_unscaled(data: np.ndarray):
     """IPOPT as set up in the paper: objective (4.8), gradient (4.9), L-BFGS Hessian, raw params.
 
     tol 1e-6, looser than fit's 1e-8 (in IPOPT's favour: unscaled it stalls at 1e-8 until
-    max_iter).
+    max_iterations).
     """
     import cyipopt
 
@@ -116,7 +116,7 @@ def ipopt_unscaled(data: np.ndarray):
             options={
                 "hessian_approximation": "limited-memory",
                 "tol": 1e-6,
-                "max_iter": 3000,
+                "max_iter": 3000,  # IPOPT's own option name
                 "print_level": 0,
                 "sb": "yes",
             },

@@ -197,7 +197,7 @@ def test_nonconvergence_is_reported_not_returned_as_success():
     p = (0.0, 0.0, 0.05, 0.3, 0.06, 0.4, 0.7)
     pts = sample(p, 80)
     bad_start = (3.0, -2.0, 0.2, 2.5, 0.5, -2.0, 5.0)
-    res = fit(pts, start=bad_start, max_iter=3, continuation=False)
+    res = fit(pts, start=bad_start, max_iterations=3, continuation=False)
     assert not res.success and ("did not converge" in res.message or "basin" in res.message)
     assert np.all(np.isfinite(res.points))
 
@@ -444,9 +444,11 @@ def test_failed_lm_falls_back_to_trf_with_the_same_result(monkeypatch):
     rng = np.random.default_rng(12)
     clean = sample((0.0, 0.0, 0.1, 0.3, 0.05, 0.2, 0.6), 80)
     data = clean + rng.normal(scale=1e-3, size=clean.shape)
-    res = fit(data, continuation=False, max_iter=400)
+    res = fit(data, continuation=False, max_iterations=400)
     assert calls == [400]
-    assert res.message.startswith("Levenberg-Marquardt reached max_iter = 400 function evaluations")
+    assert res.message.startswith(
+        "Levenberg-Marquardt reached max_iterations = 400 function evaluations"
+    )
     assert "least_squares trf" in res.message and res.success
     ref, _ = _trf_reference(data, res.start)
     np.testing.assert_allclose(np.array(res.params), ref.x, rtol=0, atol=1e-12)
@@ -468,16 +470,16 @@ def test_lm_trial_points_with_nan_residuals_neither_warn_nor_pass():
     assert np.all(np.isnan(prob.residuals(x0)[2:]))  # all but the start vertex
     _, _, msg, why_not = fit_module._levenberg_marquardt(prob, x0, lo, 400, 1e-12)
     assert msg is None and why_not == "ended with non-finite parameters or residuals"
-    # from just inside k > -1 LM wanders near the NaN region until max_iter: reported, no warning
+    # from just inside k > -1 LM wanders near the NaN region until max_iterations: reported, no warning
     x0[6] = -0.99
     _, _, msg, why_not = fit_module._levenberg_marquardt(prob, x0, lo, 400, 1e-12)
-    assert msg is None and why_not.startswith("reached max_iter = 400")
+    assert msg is None and why_not.startswith("reached max_iterations = 400")
     # k = 1e307 overflows da/dz = n k dn: numpy warns (an error here) unless LM silences it
     x0[6] = 1e307
     with pytest.raises(RuntimeWarning, match="overflow"):
         prob.jacobian(x0)
     _, _, msg, why_not = fit_module._levenberg_marquardt(prob, x0, lo, 400, 1e-12)
-    assert msg is None and why_not.startswith("reached max_iter = 400")
+    assert msg is None and why_not.startswith("reached max_iterations = 400")
 
 
 def test_guess_with_collinear_inner_vertices():

@@ -754,7 +754,7 @@ def test_cli_keyline_fits_a_scan_without_inflection_in_scan_coordinates(tmp_path
     out = tmp_path / "o"
     result = CliRunner().invoke(
         keyline_command,
-        [str(tmp_path / "c.xyz"), "-o", str(out), "--step", "2", "--max-iter", "900"],
+        [str(tmp_path / "c.xyz"), "-o", str(out), "--step", "2", "--max-iterations", "900"],
     )
     assert result.exit_code == 0, result.output
     rows = json.loads((out / "keyline_table.json").read_text())["rows"]

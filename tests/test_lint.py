@@ -1,4 +1,4 @@
-"""The README's test command also lints: ruff check and ruff format --check over the whole tree."""
+"""The README's test command also lints and type-checks: ruff check, ruff format --check, mypy."""
 
 from __future__ import annotations
 
@@ -24,4 +24,17 @@ def _ruff() -> list[str]:
 )
 def test_ruff(args):
     proc = subprocess.run([*_ruff(), *args], cwd=ROOT, capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 0, (proc.stdout + proc.stderr)[-4000:]
+
+
+def test_mypy():
+    """The library type-checks (``[tool.mypy]`` in pyproject.toml: src/curvesmith)."""
+    pytest.importorskip("mypy", reason="mypy is in the dev extra")
+    proc = subprocess.run(
+        [sys.executable, "-m", "mypy", "--no-error-summary"],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
     assert proc.returncode == 0, (proc.stdout + proc.stderr)[-4000:]

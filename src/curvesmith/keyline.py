@@ -1057,7 +1057,7 @@ def _fit_side(side: np.ndarray, options: dict):
         coarse = elastica.fit(side[::m], fixed=fixed, **options)
         c = coarse.params
         start = (c.x0, c.y0, c.h / m, c.phi, c.z / m, c.q, c.k)
-        first = {"max_iter": 100, **options}
+        first = {"max_iterations": 100, **options}
         res = elastica.fit(side, fixed=fixed, start=start, **first)
         if not res.success:  # a slow valley ends on the iteration limit: restart there
             res = elastica.fit(side, fixed=fixed, start=res.params, **options)

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
+from typing import Any
 
 import click
 import numpy as np
@@ -161,7 +162,7 @@ def _plot_segments(row, index: int, res, raw: np.ndarray) -> None:
     row[2].set_title("curvature along the curve", fontsize="medium")
 
 
-def _plot(path: str, fits: list[tuple[int, object, np.ndarray]]) -> None:
+def _plot(path: str, fits: list[tuple[int, Any, np.ndarray]]) -> None:
     import matplotlib
 
     matplotlib.use("Agg", force=False)
@@ -245,8 +246,9 @@ def _plot(path: str, fits: list[tuple[int, object, np.ndarray]]) -> None:
     "joined G1, within the tolerance; exit 1 if it takes more.",
 )
 @click.option(
+    "--max-iterations",
     "--max-iter",
-    "max_iter",
+    "max_iterations",
     type=click.IntRange(min=1),
     default=None,
     help="Function evaluations per solve (default 5000).",
@@ -261,7 +263,7 @@ def fair_command(
     step: float | None,
     tolerance: float | None,
     max_segments: int | None,
-    max_iter: int | None,
+    max_iterations: int | None,
     fmt: str | None,
 ) -> None:
     """Replace every open curve of IN by its closest discrete elastica.
@@ -289,7 +291,9 @@ def fair_command(
     if max_segments is not None and tolerance is None:
         raise click.UsageError("--max-segments needs --tolerance (the deviation to meet)")
     curves = _read(source, fmt)
-    out, rows, fits = [], [], []
+    out: list = []
+    rows: list[dict[str, Any]] = []
+    fits: list[tuple[int, Any, np.ndarray]] = []
     for index, curve in enumerate(curves):
         if curve.closed:
             raise CurveError(
@@ -310,12 +314,18 @@ def fair_command(
                     distinct.shape[0] >= 2 and spacing_spread(distinct) > SPACING_TOL
                 )
             option = (step if step is not None else True) if do_resample else False
+            res: Any  # a SegmentFit or a FitResult
             if max_segments is not None:
+                assert tolerance is not None  # --max-segments needs --tolerance (usage error)
                 res = fit_segments(
-                    pts, tolerance, max_segments=max_segments, resample=option, max_iter=max_iter
+                    pts,
+                    tolerance,
+                    max_segments=max_segments,
+                    resample=option,
+                    max_iterations=max_iterations,
                 )
             else:
-                res = fit(pts, resample=option, tolerance=tolerance, max_iter=max_iter)
+                res = fit(pts, resample=option, tolerance=tolerance, max_iterations=max_iterations)
         except CurveError as exc:
             raise CurveError(f"curve {index}: {exc}") from None
         faired = res.points

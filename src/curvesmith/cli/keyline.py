@@ -133,14 +133,15 @@ def _json_value(v):
     help="Viewing direction NX,NY,NZ: the side of the plane the 2D keyline is seen from.",
 )
 @click.option(
+    "--max-iterations",
     "--max-iter",
-    "max_iter",
+    "max_iterations",
     type=click.IntRange(min=1),
     default=None,
     help="Function evaluations per elastica solve (default 5000).",
 )
 @click.pass_context
-def keyline_command(ctx, inputs, outdir, step, normal, max_iter) -> None:
+def keyline_command(ctx, inputs, outdir, step, normal, max_iterations) -> None:
     """Fit a discrete elastica to each side of the inflection of 3D keyline scans.
 
     Each IN is a scanned keyline: CSV with x,y,z columns (an id column for
@@ -193,7 +194,7 @@ def keyline_command(ctx, inputs, outdir, step, normal, max_iter) -> None:
                 continue
             for name, pts in scans:
                 try:
-                    options = {} if max_iter is None else {"max_iter": max_iter}
+                    options = {} if max_iterations is None else {"max_iterations": max_iterations}
                     res = keyline.fit(
                         pts,
                         step=step,

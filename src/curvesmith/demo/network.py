@@ -103,10 +103,10 @@ def run(ctx) -> None:
         (after, "tab:blue", 1.5, "cca network"),
         (bounded, "tab:purple", 1.0, "cca network, --max-shift 1 m"),
     ]:
-        ls = "--" if geoms is bounded else "-"
+        dash = "--" if geoms is bounded else "-"
         for k, g in enumerate(geoms):
             xy = shapely.get_coordinates(g)
-            ax.plot(xy[:, 0], xy[:, 1], ls, color=color, lw=lw, label=label if k == 0 else None)
+            ax.plot(xy[:, 0], xy[:, 1], dash, color=color, lw=lw, label=label if k == 0 else None)
     ax.plot(topo_nodes[:, 0], topo_nodes[:, 1], "k.", ms=6)
     ax.set_xlim(cx - half, cx + half)
     ax.set_ylim(cy - half, cy + half)

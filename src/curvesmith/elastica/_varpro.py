@@ -95,7 +95,8 @@ class Reduced:
         u_mid = k * (start.q + start.z * self.c)
         finite = periods and math.isfinite(period) and math.isfinite(u_mid)
         self.j = round(u_mid / period) if finite else 0
-        self._key = self._cache = None
+        self._key: tuple | None = None
+        self._cache: tuple | None = None
 
     def theta(self, p: ElasticaParams) -> np.ndarray:
         """``(Z, Q, k)`` of parameters `p`."""
@@ -161,7 +162,7 @@ class Reduced:
         key = (theta.tobytes(), derivatives)
         if key == self._key:
             return self._cache
-        out = None
+        out: tuple | None = None
         if theta[2] > 0.0 and math.isfinite(theta[0] + theta[1] + theta[2]):
             W, dW = self._basis(theta, derivatives)
             lin = self._linear(W)  # None also for non-finite W (its norm is not finite)
@@ -204,18 +205,18 @@ class Reduced:
         )
 
 
-def solve(data, start: ElasticaParams, anchor: complex | None, max_iter: int, tol: float):
+def solve(data, start: ElasticaParams, anchor: complex | None, max_iterations: int, tol: float):
     """Levenberg-Marquardt (MINPACK lmder) on the reduced problem from `start`.
 
     Returns ``(params, njev, status)``: ``status`` is ``"converged"``, ``"cap"`` (stopped
-    at `max_iter` function evaluations) or ``"failed"`` (params may then be None), also for
+    at `max_iterations` function evaluations) or ``"failed"`` (params may then be None), also for
     a solve with ``j != 0`` that reaches or crosses ``k = 1``.
     """
-    params, njev, status = _solve(data, start, anchor, max_iter, tol, True)
+    params, njev, status = _solve(data, start, anchor, max_iterations, tol, True)
     return params, njev, "failed" if status == "singular" else status
 
 
-def _solve(data, start, anchor, max_iter, tol, periods):
+def _solve(data, start, anchor, max_iterations, tol, periods):
     prob = Reduced(data, start, anchor, periods)
     with np.errstate(all="ignore"):
         theta0 = prob.theta(start)
@@ -230,7 +231,7 @@ def _solve(data, start, anchor, max_iter, tol, periods):
             ftol=tol,
             xtol=tol,
             gtol=tol,
-            maxfev=max_iter,
+            maxfev=max_iterations,
         )
         params = prob.params(x) if np.all(np.isfinite(x)) and x[2] > 0.0 else None
     njev = int(info["njev"])

@@ -78,6 +78,7 @@ from __future__ import annotations
 import functools
 import math
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 from scipy.optimize import least_squares, leastsq
@@ -186,7 +187,7 @@ class FitResult(RichRepr):
     within_tolerance: bool | None = None
     total_iterations: int = 0
     starts: int = 1
-    deviation: np.ndarray = field(default=None, repr=False)
+    deviation: np.ndarray | None = field(default=None, repr=False)
 
 
 def _check_fixed(fixed) -> dict[int, float]:
@@ -324,7 +325,8 @@ class _Memo:
     def __init__(self, prob: _Problem):
         self.prob = prob
         self.all_free = bool(prob.free.all())
-        self._r = self._j = (None, None)
+        self._r: tuple[bytes | None, Any] = (None, None)
+        self._j: tuple[bytes | None, Any] = (None, None)
 
     def _params(self, x: np.ndarray) -> ElasticaParams:
         return ElasticaParams._make(x.tolist()) if self.all_free else self.prob.full(x)
@@ -367,7 +369,7 @@ _LM_CONVERGED = {
 }
 
 
-def _levenberg_marquardt(prob: _Problem, x0: np.ndarray, lo: np.ndarray, max_iter, tol):
+def _levenberg_marquardt(prob: _Problem, x0: np.ndarray, lo: np.ndarray, max_iterations, tol):
     """MINPACK lmder (scipy ``leastsq``) from `x0`, unbounded: ``(x, njev, message, why_not)``.
 
     ``why_not`` is None (and ``message`` says how it converged) if it converged
@@ -388,11 +390,11 @@ def _levenberg_marquardt(prob: _Problem, x0: np.ndarray, lo: np.ndarray, max_ite
             ftol=tol,
             xtol=tol,
             gtol=tol,
-            maxfev=max_iter,
+            maxfev=max_iterations,
         )
     njev = int(info["njev"])
     if ier == 5:
-        why = f"reached max_iter = {max_iter} function evaluations"
+        why = f"reached max_iterations = {max_iterations} function evaluations"
     elif ier not in _LM_CONVERGED:
         why = f"stopped with MINPACK info {ier}"
     elif not (np.all(np.isfinite(x)) and np.all(np.isfinite(info["fvec"]))):
@@ -407,7 +409,13 @@ def _levenberg_marquardt(prob: _Problem, x0: np.ndarray, lo: np.ndarray, max_ite
 
 
 def _solve(
-    data, start: ElasticaParams, pinned: dict[int, float], method: str, max_iter, tol, fallback=True
+    data,
+    start: ElasticaParams,
+    pinned: dict[int, float],
+    method: str,
+    max_iterations,
+    tol,
+    fallback=True,
 ):
     base = np.array(start, dtype=float)
     for i, v in pinned.items():
@@ -419,10 +427,10 @@ def _solve(
     lo, hi = _bounds(free)
     x0 = np.clip(x0, lo, hi)
     if method == "lsq":
-        x, lm_iters, msg, why_not = _levenberg_marquardt(prob, x0, lo, max_iter, tol)
+        x, lm_iters, msg, why_not = _levenberg_marquardt(prob, x0, lo, max_iterations, tol)
         if why_not is None:
             return prob.full(x), lm_iters, True, msg
-        if not fallback and why_not.startswith("reached max_iter"):
+        if not fallback and why_not.startswith("reached max_iterations"):
             return prob.full(x), lm_iters, False, f"Levenberg-Marquardt {why_not}"
         # Fallback: bounded trust-region reflective from the same start (h, k > 0 kept).
         res = least_squares(
@@ -435,7 +443,7 @@ def _solve(
             ftol=tol,
             xtol=tol,
             gtol=tol,
-            max_nfev=max_iter,
+            max_nfev=max_iterations,
         )
         ok = res.status > 0
         msg = (
@@ -460,7 +468,7 @@ def _solve(
             options={
                 "hessian_approximation": "limited-memory",
                 "tol": tol,
-                "max_iter": int(max_iter),
+                "max_iter": int(max_iterations),  # IPOPT's own option name
                 "print_level": 0,
                 "sb": "yes",
             },
@@ -480,8 +488,8 @@ def _segment_index_length(p: ElasticaParams) -> float:
     return float(seg / max(abs(p.z), 1e-300))
 
 
-#: Default ``max_iter`` per solve: function evaluations for lsq, iterations for IPOPT.
-DEFAULT_MAX_ITER = {"lsq": 5000, "ipopt": 3000}
+#: Default ``max_iterations`` per solve: function evaluations for lsq, iterations for IPOPT.
+DEFAULT_MAX_ITERATIONS = {"lsq": 5000, "ipopt": 3000}
 #: Vertices of the coarsest level of the global search.
 _COARSE_POINTS = 60
 #: Ratio of successive levels of the global search.
@@ -568,13 +576,13 @@ def _levels(data: np.ndarray, pinned: dict[int, float]) -> list[int]:
 class _Search:
     """Bookkeeping of the global search: every solve, the total work, the best result."""
 
-    def __init__(self, method: str, max_iter: int, tol: float):
-        self.method, self.max_iter, self.tol = method, max_iter, tol
+    def __init__(self, method: str, max_iterations: int, tol: float):
+        self.method, self.max_iterations, self.tol = method, max_iterations, tol
         self.total = 0
         self.tried = 0
 
     def solve(self, data, start, pinned, cap=None, reduced=True, bar=math.inf):
-        limit = self.max_iter if cap is None else min(cap, self.max_iter)
+        limit = self.max_iterations if cap is None else min(cap, self.max_iterations)
         reduced = reduced and _VARPRO and self.method == "lsq" and set(pinned) in (set(), {0, 1})
         out = self._reduced(data, start, pinned, limit, bar) if reduced else None
         if out is None and reduced and cap is not None and limit > _PROBE_CAP:
@@ -606,7 +614,7 @@ class _Search:
             "msg": msg,
             "rms": r,
             "start": start,
-            "capped": cap is not None and limit < self.max_iter,
+            "capped": cap is not None and limit < self.max_iterations,
         }
 
     def _reduced(self, data, start, pinned, limit, bar=math.inf):
@@ -637,7 +645,7 @@ class _Search:
                 params,
                 iters,
                 False,
-                f"Levenberg-Marquardt on (z, q, k) reached max_iter = {limit} evaluations",
+                f"Levenberg-Marquardt on (z, q, k) reached max_iterations = {limit} evaluations",
             )
         polished, more, ok, msg = _solve(
             data, params, pinned, "lsq", _POLISH_CAP, self.tol, fallback=False
@@ -702,7 +710,7 @@ def _pinned_at(pinned: dict[int, float], m: int) -> dict[int, float]:
 
 def _starts(d: np.ndarray) -> list[ElasticaParams]:
     """The guess and its variants for `d`, then for `d` reversed (mapped back)."""
-    out = []
+    out: list[ElasticaParams] = []
     n = d.shape[0]
     for rev in (False, True):
         try:
@@ -716,7 +724,7 @@ def _starts(d: np.ndarray) -> list[ElasticaParams]:
 
 def _distinct_best(cands: list[dict], count: int) -> list[dict]:
     """The best `count` candidates of distinct rms; runners-up only within 1.5 x the best."""
-    keep = []
+    keep: list[dict] = []
     for c in cands:
         if keep and (c["rms"] > _RUNNER_UP * keep[0]["rms"] or not c["ok"]):
             continue
@@ -745,7 +753,7 @@ def _best(cands: list[dict]) -> dict:
 def _global_search(data, pinned, search: _Search, early: float):
     """Coarse-to-fine multi-start search (module docstring); returns the best candidate dict."""
     levels = _levels(data, pinned)
-    finals = []
+    finals: list[dict[str, Any]] = []
     if not pinned:  # the degenerate elasticae first: data on a line or circle end the search
         for make in (_degenerate.line_fit, _degenerate.circle_fit):
             p = make(data)
@@ -877,7 +885,7 @@ def fit(
     spacing_tol: float = SPACING_TOL,
     continuation: str | bool = "auto",
     basin_factor: float = 20.0,
-    max_iter: int | None = None,
+    max_iterations: int | None = None,
     tol: float | None = None,
     tolerance: float | None = None,
 ) -> FitResult:
@@ -919,7 +927,7 @@ def fit(
         An rms above ``basin_factor * noise`` is far above the noise: it triggers the
         growing-prefix continuation (``"auto"``) and, for a single start, the warning
         that the minimum may be in a wrong basin. It does not decide ``success``.
-    max_iter : int, optional
+    max_iterations : int, optional
         Limit per solve: function evaluations for lsq (default 5000, for each of
         the two solvers), iterations for IPOPT (default 3000).
     tol : float, optional
@@ -962,9 +970,9 @@ def fit(
     """
     if method not in _METHODS:
         raise CurveError(f"method must be one of {_METHODS}, got {method!r}")
-    if max_iter is None:
-        max_iter = DEFAULT_MAX_ITER[method]
-    max_iter = as_int(max_iter, name="max_iter", minimum=1)
+    if max_iterations is None:
+        max_iterations = DEFAULT_MAX_ITERATIONS[method]
+    max_iterations = as_int(max_iterations, name="max_iterations", minimum=1)
     if tol is None:
         tol = 1e-12 if method == "lsq" else 1e-8
     tol = as_float(tol, name="tol", low=0.0)
@@ -983,7 +991,7 @@ def fit(
     noise = _noise_level(data)
     extent = float((data.max(axis=0) - data.min(axis=0)).max())
     floor = 1e-9 * extent
-    search = _Search(method, max_iter, tol)
+    search = _Search(method, max_iterations, tol)
     if single:
         if start is None:
             first = _initial_guess(data)
@@ -1095,7 +1103,7 @@ def _continuation(data, first, pinned, search: _Search, seg):
     while True:
         prefix = data[:size]
         order = ("guess", "first") if params is None else ("previous", "guess")
-        best = None
+        best: dict[str, Any] | None = None
         for which in order:
             if which == "guess":
                 start = _guess_or_none(prefix, pinned)
@@ -1106,6 +1114,7 @@ def _continuation(data, first, pinned, search: _Search, seg):
             cand = search.solve(prefix, start, pinned, reduced=False)
             if best is None or cand["rms"] < best["rms"]:
                 best = cand
+        assert best is not None  # "first" or "previous" always starts a solve
         params = best["params"]
         stages += 1
         if size == n:

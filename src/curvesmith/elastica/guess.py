@@ -238,7 +238,7 @@ def _pseudo_code(
     span = (n_pts - 1) * h * math.sqrt(mu)  # z ~ sqrt(mu) h, eq. (4.38)
     m_hat = int(np.floor(span / seg_len)) + 1
     pieces = _argument_pieces(float(U[0]), float(U[1]), kq, case_ii)
-    best = None
+    best: tuple[float, float, float] | None = None
     for m in range(max(1, m_hat - 3), m_hat + 4):
         if (m % 2 == 1) != same:
             continue
@@ -246,6 +246,7 @@ def _pseudo_code(
         miss = abs(s1 - s0 - span)
         if best is None or miss < best[0]:
             best = (miss, s0, s1)
+    assert best is not None  # seven segment counts, one of each parity
     _, s0, s1 = best
     z = (s1 - s0) / (n_pts - 1)  # (4.54)
     return ElasticaParams(0.0, 0.0, h, phi, float(z), float(s0), k)

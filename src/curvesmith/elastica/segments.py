@@ -245,7 +245,8 @@ def _chain(x: np.ndarray, sizes, jac: bool):
     dphi = np.zeros(npar)
     dphi[2] = 1.0
     verts, rows, angles = [], [], []
-    theta_prev = dtheta_prev = None
+    theta_prev = 0.0  # set by the first segment, used from the second on
+    dtheta_prev = np.zeros(npar)
     for i, n in enumerate(sizes):
         h, z, q, k = (float(v) for v in x[3 + 4 * i : 7 + 4 * i])
         if jac:
@@ -619,7 +620,7 @@ def fit_segments(
     *,
     max_segments: int | None = None,
     resample: bool | float = True,
-    max_iter: int | None = None,
+    max_iterations: int | None = None,
 ) -> SegmentFit:
     """Fewest discrete elasticae, joined G1, whose union is within `tolerance` of every point.
 
@@ -636,7 +637,7 @@ def fit_segments(
     resample : bool or float, optional
         As in :func:`.fit` (default True: equal chords end to end; a float is the chord).
         The chain pairs data and model vertices by index, so unevenly spaced data need it.
-    max_iter : int, optional
+    max_iterations : int, optional
         Passed to the single fit of the start (:func:`.fit`).
 
     Returns
@@ -680,7 +681,7 @@ def fit_segments(
             raise CurveError(f"points must have at least 5 distinct points, got {raw.shape[0]}")
     rev = _orient(raw)
     work = np.ascontiguousarray(raw[::-1] if rev else raw)
-    single = fit(work, resample=resample, tolerance=tolerance, max_iter=max_iter)
+    single = fit(work, resample=resample, tolerance=tolerance, max_iterations=max_iterations)
     data = single.data
     n = data.shape[0]
     p = single.params
@@ -690,6 +691,7 @@ def fit_segments(
     search = _Search(data)
     if single.within_tolerance or max_segments == 1:
         dev = single.deviation
+        assert dev is not None  # elastica.fit measures every point
         near = np.zeros(dev.size, dtype=int)
     else:
         free = _greedy(data, tolerance, max_segments, search)
@@ -708,12 +710,13 @@ def fit_segments(
         if not order:
             break
         i = int(order[0])
-        best = None
+        best: tuple | None = None
         c = (sizes[i] - 1) // 2
         for xs, ss in _split_starts(data, x, sizes, i, c):
             xs, cs, _ = search.solve(xs, ss, _CHAIN_MAXFEV)
             if best is None or cs < best[2]:
                 best = (xs, ss, cs)
+        assert best is not None  # _split_starts yields at least one start
         x, sizes, cost = best
         x, sizes, cost = search.joints(x, sizes, cost, (i - 1, i, i + 1))
         x, cost, ok_all = search.solve(x, sizes)
