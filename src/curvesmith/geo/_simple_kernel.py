@@ -139,28 +139,17 @@ def _ring_simple(X, s, n, max_chains, starts, lens, ups, bb, co, cx, cy, cid):
         lens[c] = ln
         co[c] = pos
         y0, y1 = np.inf, -np.inf
-        if ups[c]:
-            for t in range(ln + 1):
-                u = st + t
-                if u >= n:
-                    u -= n
-                yv = X[s + u, 1]
-                cx[pos + t] = X[s + u, 0]
-                cy[pos + t] = yv
-                cid[pos + t] = u
-                y0 = min(y0, yv)
-                y1 = max(y1, yv)
-        else:
-            for t in range(ln + 1):
-                u = nxt - t
-                if u >= n:
-                    u -= n
-                yv = X[s + u, 1]
-                cx[pos + t] = X[s + u, 0]
-                cy[pos + t] = yv
-                cid[pos + t] = u
-                y0 = min(y0, yv)
-                y1 = max(y1, yv)
+        up = ups[c]
+        for t in range(ln + 1):
+            u = st + t if up else nxt - t  # chains are stored in increasing x
+            if u >= n:
+                u -= n
+            yv = X[s + u, 1]
+            cx[pos + t] = X[s + u, 0]
+            cy[pos + t] = yv
+            cid[pos + t] = u
+            y0 = min(y0, yv)
+            y1 = max(y1, yv)
         bb[c, 0], bb[c, 1], bb[c, 2], bb[c, 3] = cx[pos], cx[pos + ln], y0, y1
         pos += ln + 1
     for a in range(nch):
