@@ -30,6 +30,7 @@ import numpy as np
 
 from .._validate import as_float, as_int, as_points
 from ..errors import CurveError
+from ..geometry import det2
 
 __all__ = [
     "Conic",
@@ -46,17 +47,13 @@ __all__ = [
 ]
 
 
-def _det2(u: np.ndarray, v: np.ndarray) -> np.ndarray:
-    return u[..., 0] * v[..., 1] - u[..., 1] * v[..., 0]
-
-
 def _coords(p: np.ndarray, closed: bool) -> tuple[np.ndarray, np.ndarray]:
     if closed:
         v = np.roll(p, -1, axis=0) - p  # v_i = x_{i+1} - x_i
         vm = np.roll(v, 1, axis=0)  # v_{i-1}
-        return _det2(vm, v), _det2(vm, np.roll(v, -1, axis=0))
+        return det2(vm, v), det2(vm, np.roll(v, -1, axis=0))
     v = np.diff(p, axis=0)
-    return _det2(v[:-1], v[1:]), _det2(v[:-2], v[2:])
+    return det2(v[:-1], v[1:]), det2(v[:-2], v[2:])
 
 
 def coordinates(points, *, closed: bool = False) -> tuple[np.ndarray, np.ndarray]:
@@ -132,7 +129,7 @@ def reconstruct(A, B, start) -> np.ndarray:
         raise CurveError("A and B must be finite")
     if np.any(a == 0):
         raise CurveError(f"A must be non-zero, got A_{int(np.flatnonzero(a == 0)[0]) + 1} = 0")
-    a1 = float(_det2(s[1] - s[0], s[2] - s[1]))
+    a1 = float(det2(s[1] - s[0], s[2] - s[1]))
     if abs(a1 - a[0]) > 1e-9 * max(abs(a[0]), abs(a1)):
         raise CurveError(f"start must satisfy det(x1 - x0, x2 - x1) = A_1 = {a[0]:g}, got {a1:g}")
     out = np.empty((a.size + 2, 2))
@@ -154,7 +151,7 @@ def _volume_elements(p: np.ndarray, closed: bool) -> np.ndarray:
     v = (np.roll(p, -1, axis=0) - p) if closed else np.diff(p, axis=0)
     m = v.shape[0] if closed else v.shape[0] - d + 1
     idx = (np.arange(m)[:, None] + np.arange(d)[None, :]) % v.shape[0]
-    return np.linalg.det(v[idx]) if d > 2 else _det2(v[idx[:, 0]], v[idx[:, 1]])
+    return np.linalg.det(v[idx]) if d > 2 else det2(v[idx[:, 0]], v[idx[:, 1]])
 
 
 def affine_length_elements(points, *, closed: bool = False) -> np.ndarray:

@@ -20,12 +20,9 @@ from scipy.interpolate import BPoly
 
 from .._validate import as_points
 from ..errors import CurveError
+from ..geometry import det2
 
 __all__ = ["bezier_affine_curvature", "bezier_curve", "parametric_affine_curvature"]
-
-
-def _det(u: np.ndarray, v: np.ndarray) -> np.ndarray:
-    return u[..., 0] * v[..., 1] - u[..., 1] * v[..., 0]
 
 
 def parametric_affine_curvature(d1, d2, d3, d4) -> np.ndarray:
@@ -56,11 +53,11 @@ def parametric_affine_curvature(d1, d2, d3, d4) -> np.ndarray:
     True
     """
     d1, d2, d3, d4 = (np.atleast_2d(np.asarray(d, dtype=float)) for d in (d1, d2, d3, d4))
-    dd = _det(d1, d2)
+    dd = det2(d1, d2)
     if np.any(dd == 0):
         raise CurveError("affine curvature is undefined at an inflection: det(c', c'') = 0")
     r = np.cbrt(dd)
-    return (4.0 * _det(d2, d3) + _det(d1, d4)) / (3.0 * r**5) - 5.0 * _det(d1, d3) ** 2 / (
+    return (4.0 * det2(d2, d3) + det2(d1, d4)) / (3.0 * r**5) - 5.0 * det2(d1, d3) ** 2 / (
         9.0 * r**8
     )
 

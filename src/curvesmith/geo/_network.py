@@ -38,6 +38,7 @@ import numpy as np
 
 from .._rich import RichRepr
 from ..errors import CurveError
+from ..geometry import _signed_area  # trapezoid shoelace about the first vertex
 from . import _zm
 from ._corners import with_corners
 from ._coverage import smooth_arcs_bounded
@@ -446,12 +447,6 @@ def _initial(topo_arcs, loops, frozen, *, method, iterations, alpha, smoother):
     for k in loop_idx:
         out[k] = smoother(out[k], bool(loops[k]), level)
     return out
-
-
-def _signed_area(xy: np.ndarray) -> float:
-    """Shoelace area of a ring (no repeated vertex), relative to its first vertex."""
-    q = xy - xy[0]
-    return 0.5 * float(np.dot(q[:-1, 0], q[1:, 1]) - np.dot(q[1:, 0], q[:-1, 1]))
 
 
 def _line_parts(geoms: np.ndarray):

@@ -28,6 +28,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import CurveError, CurveFormatError
+from ..geometry import det2
 
 __all__ = [
     "Contour",
@@ -732,7 +733,7 @@ def truetype_contour(seg) -> TrueTypeContour:
     dot = np.sum(t_in * t_out, axis=1)
     norm = np.hypot(*t_in.T) * np.hypot(*t_out.T)
     g1 = (np.abs(cross) <= 1e-7 * norm) & (dot > 0)
-    a_in = _cross2(seg[:, 1] - seg[:, 0], seg[:, 2] - seg[:, 1])
+    a_in = det2(seg[:, 1] - seg[:, 0], seg[:, 2] - seg[:, 1])
     a_out = a_in[nxt]
     smooth = g1 & ~straight & ~straight[nxt] & (np.sign(a_in) * np.sign(a_out) > 0)
     # and G2: the joints next to an inflection of the fit (where its cross area A changes
@@ -758,10 +759,6 @@ def truetype_contour(seg) -> TrueTypeContour:
             pts.append(seg[k, 2])
             on.append(True)
     return TrueTypeContour(np.array(pts), np.array(on), control, end, smooth)
-
-
-def _cross2(u, v):
-    return u[..., 0] * v[..., 1] - u[..., 1] * v[..., 0]
 
 
 def _tt_segments(tc: TrueTypeContour, p: np.ndarray) -> np.ndarray:
@@ -805,10 +802,10 @@ def joint_jumps(seg, smooth) -> np.ndarray:
     nq = np.roll(q, -1, axis=-3)
     u, w = q[..., 2, :] - q[..., 1, :], q[..., 1, :] - q[..., 0, :]
     lu = np.hypot(u[..., 0], u[..., 1])
-    left = 0.5 * _cross2(w, u) / np.where(lu > 0, lu, 1.0) ** 3
+    left = 0.5 * det2(w, u) / np.where(lu > 0, lu, 1.0) ** 3
     u2, w2 = nq[..., 1, :] - nq[..., 0, :], nq[..., 2, :] - nq[..., 1, :]
     lu2 = np.hypot(u2[..., 0], u2[..., 1])
-    right = 0.5 * _cross2(u2, w2) / np.where(lu2 > 0, lu2, 1.0) ** 3
+    right = 0.5 * det2(u2, w2) / np.where(lu2 > 0, lu2, 1.0) ** 3
     big = np.maximum(np.abs(left), np.abs(right))
     jump = np.abs(left - right) / np.where(big > 0, big, 1.0)
     return np.where(np.asarray(smooth, bool) & (big > 0), jump, 0.0)
@@ -833,7 +830,7 @@ def joint_kinks(seg, smooth) -> np.ndarray:
     q = np.asarray(seg, dtype=float)
     nq = np.roll(q, -1, axis=-3)
     t_in, t_out = q[..., 2, :] - q[..., 1, :], nq[..., 1, :] - nq[..., 0, :]
-    ang = np.abs(np.arctan2(_cross2(t_in, t_out), np.sum(t_in * t_out, axis=-1)))
+    ang = np.abs(np.arctan2(det2(t_in, t_out), np.sum(t_in * t_out, axis=-1)))
     return np.where(np.asarray(smooth, bool), ang, 0.0)
 
 
@@ -852,7 +849,7 @@ def _joint_defects(seg, smooth) -> np.ndarray:
     h_out = np.hypot(*np.moveaxis(nq[..., 1, :] - nq[..., 0, :], -1, 0))
     w = q[..., 1, :] - q[..., 0, :]
     safe = np.where(h_in > 0, h_in, 1.0)
-    area = 0.5 * np.abs(_cross2(w, q[..., 2, :] - q[..., 1, :]))
+    area = 0.5 * np.abs(det2(w, q[..., 2, :] - q[..., 1, :]))
     k_left = np.where(h_in > 0, area / safe**3, 0.0)
     scale = k_left * np.minimum(h_in, h_out)
     ok = (kink > 0) & (scale > 0)
