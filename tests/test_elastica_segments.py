@@ -229,9 +229,11 @@ def test_cli_fair_segments_3d_scan_with_glitch(tmp_path):
     np.savetxt(src, pts)
     tol = 0.25
     args = ["fair", str(src), "-o", str(out), "--tolerance", str(tol), "--report", str(rep)]
-    result = CliRunner().invoke(cli(), [*args, "--max-segments", "8"])
+    png = tmp_path / "fit.png"
+    result = CliRunner().invoke(cli(), [*args, "--max-segments", "8", "--plot", str(png)])
     assert result.exit_code == 0, result.output
     assert "discrete elastica segment(s) joined G1" in result.output
+    assert png.stat().st_size > 20_000  # the three panels of plot.fit_figure
     faired = np.loadtxt(out, delimiter=",", skiprows=1)
     row = json.loads(rep.read_text())["curves"][0]
     assert row["within_tolerance"] and row["max_deviation"] <= tol

@@ -80,3 +80,23 @@ def test_rich_repr_without_a_figure_still_shows_the_numbers(monkeypatch):
     monkeypatch.setattr(builtins, "__import__", no_plot)
     html = res._repr_html_()
     assert "<svg" not in html and ">vertices</th><td style='text-align:left'>12<" in html
+
+
+def test_fit_figure_draws_both_kinds_of_fit():
+    """plot.fit_figure: one row of three panels per fit, segments and joints for a chain."""
+    from curvesmith import elastica, plot
+
+    t = np.linspace(0.0, 2.0, 200)
+    arc = 100.0 * np.c_[np.cos(t), np.sin(t)]
+    x = np.linspace(0.0, 600.0, 300)  # an S with growing bends (mm): 4 segments within 0.3 mm
+    wave = np.c_[x, 60.0 * np.sin(2 * np.pi * x / 600.0) + 80.0 * (x / 600.0) ** 4]
+    single = elastica.fit(arc)
+    chain = elastica.fit_segments(wave, 0.3)
+    assert len(chain.segments) >= 2 and chain.within_tolerance
+    fig = plot.fit_figure([(single, arc), (chain, chain.data)], labels=["arc", "chain"])
+    assert len(fig.axes) == 6
+    assert fig.axes[0].get_title().startswith("arc: case (")
+    title = f"chain: {len(chain.segments)} elastica segments (within 0.3)"
+    assert fig.axes[3].get_title() == title
+    legend = [t.get_text() for t in fig.axes[3].get_legend().get_texts()]
+    assert "joints (G1)" in legend and "segment 1" in legend

@@ -23,6 +23,8 @@ __all__ = [
     "curvature_comb",
     "deviation_along",
     "draw_curve",
+    "fit_figure",
+    "fit_panels",
     "new_axes",
     "result_figure",
     "result_svg",
@@ -575,3 +577,85 @@ def result_svg(result) -> str | None:
         fig.savefig(buf, format="svg")
     text = buf.getvalue()
     return text[text.index("<svg") :]
+
+
+def fit_panels(axes, result, data, *, label: str | None = None) -> None:
+    """Three panels of an elastica fit: the curve over its data, deviation and curvature.
+
+    For :func:`curvesmith.elastica.fit` (with the start of its final solve) and
+    :func:`curvesmith.elastica.fit_segments` (each segment and the G1 joints): left the
+    input points and the fit, middle the distance of every input point from the fit along
+    the curve in data units (:func:`deviation_along`, with the tolerance if one was given),
+    right the curvature of data and fit along the curve (:func:`curvature_along`). This is
+    what ``curvesmith fair --plot`` draws per curve.
+
+    Parameters
+    ----------
+    axes : sequence of 3 matplotlib Axes
+    result : FitResult or SegmentFit
+    data : (N, 2) array_like
+        The input points as fitted (in the fit's plane for 3D input).
+    label : str, optional
+        Prefix of the left panel's title (e.g. ``"curve 3"``).
+    """
+    raw = np.asarray(data, dtype=float)
+    ax = axes[0]
+    ax.plot(*raw.T, ".", color="black", ms=2, label="input")
+    prefix = f"{label}: " if label else ""
+    if hasattr(result, "segments"):
+        for i, seg in enumerate(result.segments):
+            ax.plot(*seg.points.T, "-", lw=1.0, label=f"segment {i}" if i < 6 else None)
+        joints = np.array([result.points[j.vertex] for j in result.joints]).reshape(-1, 2)
+        ax.plot(*joints.T, "kx", ms=7, label="joints (G1)")
+        verdict = "within" if result.within_tolerance else "misses"
+        title = f"{len(result.segments)} elastica segments ({verdict} {result.tolerance:g})"
+        middle = f"max deviation {result.max_deviation:.3g}, rms {result.rms_deviation:.3g}"
+    else:
+        from .elastica import sample
+
+        guess = sample(result.start, result.data.shape[0])
+        ax.plot(*guess.T, "-", color="tab:green", lw=0.8, label="start of the final solve")
+        ax.plot(*result.points.T, "-", color="tab:red", lw=1.0, label="discrete elastica")
+        title = f"case ({result.case})" + ("" if result.success else " (failed)")
+        middle = (
+            f"max deviation {result.max_deviation:.3g}, rms {result.rms_deviation:.3g} "
+            f"(noise {result.noise:.2g})"
+        )
+    ax.set_title(prefix + title, fontsize="medium")
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.legend(fontsize="small")
+    deviation_along(axes[1], raw, result.deviation, tolerance=result.tolerance)
+    axes[1].set_title(middle, fontsize="medium")
+    span = max(1, result.data.shape[0] // 60)
+    curvature_along(
+        axes[2],
+        result.data,
+        result.points,
+        data_label=f"data (circles over {span} chords)",
+        span=span,
+    )
+    axes[2].set_title("curvature along the curve", fontsize="medium")
+
+
+def fit_figure(fits, *, labels=None):
+    """One row of :func:`fit_panels` per ``(result, data)`` pair; a Figure not tied to pyplot.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from curvesmith import elastica, plot
+    >>> t = np.linspace(0.0, 1.5, 80)
+    >>> arc = 100.0 * np.c_[np.cos(t), np.sin(t)]
+    >>> fig = plot.fit_figure([(elastica.fit(arc), arc)], labels=["arc"])
+    >>> len(fig.axes), fig.axes[2].get_title()
+    (3, 'curvature along the curve')
+    """
+    from matplotlib.figure import Figure
+
+    fits = list(fits)
+    fig = Figure(figsize=(16.0, 4.2 * len(fits)))
+    rows = fig.subplots(len(fits), 3, squeeze=False)
+    for k, (row, (result, data)) in enumerate(zip(rows, fits, strict=True)):
+        fit_panels(row, result, data, label=None if labels is None else labels[k])
+    fig.tight_layout()
+    return fig

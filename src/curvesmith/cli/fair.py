@@ -134,72 +134,14 @@ def _segments_row(index: int, res, resampled: bool, plane) -> dict:
     return row
 
 
-def _plot_segments(row, index: int, res, raw: np.ndarray) -> None:
-    """Input and chain (joints marked), deviation along the curve, curvature along it."""
-    from ..plot import curvature_along, deviation_along
-
-    ax = row[0]
-    ax.plot(*raw.T, ".", color="black", ms=2, label="input")
-    for i, seg in enumerate(res.segments):
-        ax.plot(*seg.points.T, "-", lw=1.0, label=f"segment {i}" if i < 6 else None)
-    joints = np.array([res.points[j.vertex] for j in res.joints]).reshape(-1, 2)
-    ax.plot(*joints.T, "kx", ms=7, label="joints (G1)")
-    verdict = "within" if res.within_tolerance else "misses"
-    ax.set_title(
-        f"curve {index}: {len(res.segments)} elastica segments ({verdict} {res.tolerance:g})",
-        fontsize="medium",
-    )
-    ax.set_aspect("equal", adjustable="datalim")
-    ax.legend(fontsize="small")
-    deviation_along(row[1], raw, res.deviation, tolerance=res.tolerance)
-    row[1].set_title(
-        f"max deviation {res.max_deviation:.3g}, rms {res.rms_deviation:.3g}", fontsize="medium"
-    )
-    span = max(1, res.data.shape[0] // 60)
-    curvature_along(
-        row[2], res.data, res.points, data_label=f"data (circles over {span} chords)", span=span
-    )
-    row[2].set_title("curvature along the curve", fontsize="medium")
-
-
 def _plot(path: str, fits: list[tuple[int, Any, np.ndarray]]) -> None:
-    import matplotlib
+    """``--plot``: :func:`curvesmith.plot.fit_figure`, one row per curve."""
+    from ..plot import fit_figure
 
-    matplotlib.use("Agg", force=False)
-    import matplotlib.pyplot as plt
-
-    from ..elastica import sample
-    from ..plot import curvature_along, deviation_along
-
-    n = len(fits)
-    fig, axes = plt.subplots(n, 3, figsize=(16.0, 4.2 * n), squeeze=False)
-    for row, (index, res, raw) in zip(axes, fits, strict=True):
-        if hasattr(res, "segments"):
-            _plot_segments(row, index, res, raw)
-            continue
-        ax = row[0]
-        guess = sample(res.start, res.data.shape[0])
-        ax.plot(*raw.T, ".", color="black", ms=2, label="input")
-        ax.plot(*guess.T, "-", color="tab:green", lw=0.8, label="start of the final solve")
-        ax.plot(*res.points.T, "-", color="tab:red", lw=1.0, label="discrete elastica")
-        status = "" if res.success else " (failed)"
-        ax.set_title(f"curve {index}: case ({res.case}){status}", fontsize="medium")
-        ax.set_aspect("equal", adjustable="datalim")
-        ax.legend(fontsize="small")
-        deviation_along(row[1], raw, res.deviation, tolerance=res.tolerance)
-        row[1].set_title(
-            f"max deviation {res.max_deviation:.3g}, rms {res.rms_deviation:.3g} "
-            f"(noise {res.noise:.2g})",
-            fontsize="medium",
-        )
-        span = max(1, res.data.shape[0] // 60)
-        curvature_along(
-            row[2], res.data, res.points, data_label=f"data (circles over {span} chords)", span=span
-        )
-        row[2].set_title("curvature along the curve", fontsize="medium")
-    fig.tight_layout()
+    fig = fit_figure(
+        [(res, raw) for _, res, raw in fits], labels=[f"curve {i}" for i, _, _ in fits]
+    )
     fig.savefig(path, dpi=110)
-    plt.close(fig)
 
 
 @click.command("fair")
