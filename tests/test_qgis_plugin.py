@@ -411,6 +411,12 @@ def _scenarios(data):
         _scenario(
             "network", "smoothnetwork", lines, {"ITERATIONS": 2, "OUTPUT": str(d / "network.gpkg")}
         ),
+        _scenario(
+            "network_bounded",
+            "smoothnetwork",
+            lines,
+            {"ITERATIONS": 3, "MAX_SHIFT": 50.0, "OUTPUT": str(d / "network_bounded.gpkg")},
+        ),
         _scenario("z", "smooth", p["z"], {"ITERATIONS": 1, "OUTPUT": str(d / "z_out.gpkg")}),
         _scenario(
             "task",
@@ -752,6 +758,38 @@ def test_smoothnetwork(qgis, data):
         assert abs(pb / pa - 1) < 1e-9
     # and the lines were smoothed (two cca iterations: up to 9x the vertices)
     assert shapely.get_num_coordinates(b).sum() > 4 * shapely.get_num_coordinates(a).sum()
+
+
+@pytest.mark.slow  # a headless QGIS session
+def test_smoothnetwork_max_shift(qgis, data, tmp_path):
+    """MAX_SHIFT in smoothnetwork: every county border line moves at most 50 m, still smoothed,
+    and the output is the CLI's (smooth --network --max-shift), bit for bit."""
+    res = _ran(qgis, "network_bounded")
+    src, out = data["lines"], _read(res["output"])
+    shift = shapely.hausdorff_distance(src.geometry.values, out.geometry.values)
+    free = shapely.hausdorff_distance(
+        src.geometry.values, _read(_ran(qgis, "network")["output"]).geometry.values
+    )
+    assert shift.max() <= 50.0 < free.max() and (shift > 0).mean() > 0.5
+    ref = tmp_path / "cli.gpkg"
+    direct = subprocess.run(
+        [
+            str(CLI_BIN / "curvesmith"),
+            "smooth",
+            str(data["paths"]["lines"]),
+            "-o",
+            str(ref),
+            "--network",
+            "--iterations",
+            "3",
+            "--max-shift",
+            "50",
+        ],
+        capture_output=True,
+        text=True,
+    )
+    assert direct.returncode == 0, direct.stderr
+    assert _same_geometries(out, _read(ref))
 
 
 @pytest.mark.slow  # a headless QGIS session
