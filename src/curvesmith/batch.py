@@ -179,6 +179,33 @@ class _Cluster:
             self.cluster.close()
 
 
+class _Workers:
+    """The Dask client of one batch run: the caller's, or a cluster started when first needed.
+
+    ``with _Workers(client, workers, scheduler) as pool: ... pool.client ...``; a cluster
+    this started is closed at the end. Started lazily, so the runs that end up not mapping
+    anything (the map-unit bounds, which try every level on the client) start none.
+    """
+
+    def __init__(self, client: Any, workers: int | None, scheduler: str | None):
+        self._client, self._workers, self._scheduler = client, workers, scheduler
+        self._own: _Cluster | None = None
+
+    @property
+    def client(self) -> Any:
+        if self._client is None:
+            self._own = _Cluster(self._workers, self._scheduler)
+            self._client = self._own.client
+        return self._client
+
+    def __enter__(self) -> _Workers:
+        return self
+
+    def __exit__(self, *exc) -> None:
+        if self._own is not None:
+            self._own.close()
+
+
 def _run(client, fn: Callable, args: Sequence[tuple], progress: bool) -> list[Any]:
     """Submit one task per argument tuple, show a progress bar, gather in order."""
     distributed = require("distributed", "dask", "batch smoothing")
@@ -271,15 +298,8 @@ def smooth_partitioned(
     rings = bool(np.any(shapely.get_type_id(geoms[present]) == shapely.GeometryType.LINEARRING))
     data = geoms if rings else shapely.to_wkb(geoms)
     args = [(data[s : s + partition_size], s, options, not rings) for s in starts]
-    own = None
-    if client is None:
-        own = _Cluster(workers, scheduler)
-        client = own.client
-    try:
-        results = _run(client, _smooth_partition, args, progress) if args else []
-    finally:
-        if own is not None:
-            own.close()
+    with _Workers(client, workers, scheduler) as pool:
+        results = _run(pool.client, _smooth_partition, args, progress) if args else []
     out = np.array(geoms, dtype=object, copy=True)
     errors: list[FeatureError] = []
     n_red = 0
@@ -513,10 +533,7 @@ def _equal_area_on_dask(
     check_method(options["method"], options["iterations"], options["alpha"])
     errors: list[tuple[int, str]] = []
     n_tasks = 0
-    own = None
-    if client is None:
-        own = _Cluster(workers, scheduler)
-        client = own.client
+    pool = _Workers(client, workers, scheduler)
 
     def smoother(jobs):
         nonlocal n_tasks
@@ -530,7 +547,7 @@ def _equal_area_on_dask(
                 args.append((data, s, opts, not rings, labels[s : s + partition_size]))
                 where.append((k, s, rings))
         n_tasks += len(args)
-        results = _run(client, _smooth_partition, args, progress) if args else []
+        results = _run(pool.client, _smooth_partition, args, progress) if args else []
         outs = [(np.array(g, dtype=object, copy=True), 0, []) for g, _, _ in jobs]
         for (k, s, rings), (part, errs, nr) in zip(where, results, strict=True):
             out, n_red, job_errors = outs[k]
@@ -538,13 +555,10 @@ def _equal_area_on_dask(
             outs[k] = (out, n_red + nr, job_errors + [(i, r) for i, r in errs])
         return outs
 
-    try:
+    with pool:
         out, n_red, _, _ = _smooth_equal_area(
             df, make_valid=make_valid, smoother=smoother, errors=errors, **options
         )
-    finally:
-        if own is not None:
-            own.close()
     return out, tuple(FeatureError(i, r) for i, r in sorted(errors)), n_tasks, n_red
 
 
@@ -566,10 +580,7 @@ def _coverage_on_dask(
 ):
     from . import geo
 
-    own = None
-    if client is None:
-        own = _Cluster(workers, scheduler)
-        client = own.client
+    pool = _Workers(client, workers, scheduler)
     arc_errors: list[tuple[int, str]] = []
     n_tasks = 0
     seen: dict[str, Any] = {}
@@ -592,14 +603,14 @@ def _coverage_on_dask(
             for s in starts
         ]
         n_tasks = len(args)
-        results = _run(client, _smooth_arc_chunk, args, progress)
+        results = _run(pool.client, _smooth_arc_chunk, args, progress)
         out: list[np.ndarray] = []
         for s, (arcs, errs) in zip(starts, results, strict=True):
             out += arcs
             arc_errors.extend((s + k, r) for k, r in errs)
         return out
 
-    try:
+    with pool:
         res = geo.smooth_coverage(
             df,
             method=method,
@@ -612,9 +623,6 @@ def _coverage_on_dask(
             keep_angle=keep_angle,
             **(budget or {}),
         )
-    finally:
-        if own is not None:
-            own.close()
     errors: list[FeatureError] = []
     if arc_errors:
         import shapely
@@ -646,10 +654,7 @@ def _network_on_dask(
     from . import geo
     from .geo._network import ARC_BLOCK
 
-    own = None
-    if client is None:
-        own = _Cluster(workers, scheduler)
-        client = own.client
+    pool = _Workers(client, workers, scheduler)
     n_tasks = 0
 
     def map_arcs(topo, frozen) -> list[np.ndarray]:
@@ -669,13 +674,13 @@ def _network_on_dask(
         n_tasks = len(args)
         out = list(topo.arcs)
         for g, arcs in zip(
-            groups, _run(client, _smooth_network_chunk, args, progress), strict=True
+            groups, _run(pool.client, _smooth_network_chunk, args, progress), strict=True
         ):
             for k, xy in zip(g, arcs, strict=True):
                 out[k] = xy
         return out
 
-    try:
+    with pool:
         res = geo.smooth_network(
             df,
             method=method,
@@ -686,7 +691,4 @@ def _network_on_dask(
             keep_angle=keep_angle,
             **(budget or {}),
         )
-    finally:
-        if own is not None:
-            own.close()
     return res.geometry, n_tasks, len(res.reductions)
