@@ -66,6 +66,7 @@ _LAZY = (
     "glyphs",
     "io",
     "keyline",
+    "methods",
     "plot",
 )
 
@@ -85,6 +86,7 @@ __all__ = [
     "glyphs",
     "io",
     "keyline",
+    "methods",
     "plot",
     "signed_area",
     "subdivision",

@@ -9,7 +9,7 @@ from pathlib import Path
 import click
 import numpy as np
 
-from .. import geometry
+from .. import geometry, methods
 from ..errors import CurveError
 from ._common import (
     ALPHA,
@@ -135,10 +135,11 @@ def _where(row: dict) -> str:
 @FORMAT_OPTION
 @click.option(
     "--method",
-    type=click.Choice(["cca", "chaikin", "derham"]),
+    type=click.Choice(list(methods.METHODS)),
     default="cca",
     show_default=True,
-    help="cca keeps every enclosed area exactly; chaikin and derham are linear corner cutting.",
+    help="cca keeps every enclosed area exactly; the others are linear corner cutting "
+    "(lane_riesenfeld: towards the B-spline of --degree).",
 )
 @click.option(
     "--iterations",
@@ -159,10 +160,18 @@ def _where(row: dict) -> str:
     "--gamma", type=GAMMA, default=2.0, show_default=True, help="derham: ratio 1:gamma:1, > 1."
 )
 @click.option(
+    "--degree",
+    type=click.IntRange(min=1),
+    default=3,
+    show_default=True,
+    help="lane_riesenfeld: B-spline degree (2 is chaikin).",
+)
+@click.option(
     "--preserve-endpoints/--free-endpoints",
     default=True,
     show_default=True,
-    help="chaikin/derham: keep the end points of open polylines (PostGIS preserveEndPoints).",
+    help="chaikin/derham/lane_riesenfeld: keep the end points of open polylines "
+    "(PostGIS preserveEndPoints).",
 )
 @click.option(
     "--coverage",
@@ -208,6 +217,7 @@ def smooth_command(
     alpha: str | float,
     anchors: str | None,
     gamma: float,
+    degree: int,
     preserve_endpoints: bool,
     coverage: bool,
     layer: str | None,
@@ -234,9 +244,10 @@ def smooth_command(
     CRS are kept, output stays valid, and --coverage keeps neighbouring
     polygons gap-free.
     """
-    from .. import subdivision
     from .geo import check_geo_output, is_geofile, smooth_geofile
 
+    spec = methods.get(method)
+    _check_method_options(spec, keep_angle)
     budget = max_shift is not None or min_segment is not None
     if network:
         from .contours import smooth_network_geofile
@@ -295,47 +306,23 @@ def smooth_command(
         )
     check_output(dest, fmt)
 
-    if keep_angle is not None and method != "cca":
-        raise click.UsageError(f"--keep-angle needs --method cca, got {method}")
-    if method == "cca":
-        from .. import cca
+    anchor_idx = parse_indices(anchors, name="--anchors") if anchors else None
+    given = {"alpha": alpha, "gamma": gamma, "degree": degree}
+    given["preserve_endpoints"] = preserve_endpoints
+    params = {k: v for k, v in given.items() if k in spec.parameters}
 
-        alpha_value = alpha
-        anchor_idx = parse_indices(anchors, name="--anchors") if anchors else None
-
-        def run(c):
-            fixed = anchor_idx
-            if keep_angle is not None:  # corners turning by more than keep_angle stay
-                turn = np.abs(geometry.turning_angles(c.points, closed=c.closed))
-                corners = np.flatnonzero(turn > math.radians(keep_angle))
-                corners = corners if c.closed else corners + 1  # interior vertices of a line
-                fixed = sorted(set(corners.tolist()) | set(anchor_idx or ()))
-            return cca.smooth(
-                c.points,
-                closed=c.closed,
-                iterations=iterations,
-                alpha=alpha_value,
-                anchors=fixed or None,
-            )
-    elif method == "chaikin":
-
-        def run(c):
-            return subdivision.chaikin(
-                c.points,
-                closed=c.closed,
-                iterations=iterations,
-                preserve_endpoints=preserve_endpoints,
-            )
-    else:
-
-        def run(c):
-            return subdivision.de_rham(
-                c.points,
-                gamma=gamma,
-                closed=c.closed,
-                iterations=iterations,
-                preserve_endpoints=preserve_endpoints,
-            )
+    def run(c):
+        if not spec.keeps_vertices:
+            return spec.smooth(c.points, closed=c.closed, iterations=iterations, **params)
+        fixed = anchor_idx
+        if keep_angle is not None:  # corners turning by more than keep_angle stay
+            turn = np.abs(geometry.turning_angles(c.points, closed=c.closed))
+            corners = np.flatnonzero(turn > math.radians(keep_angle))
+            corners = corners if c.closed else corners + 1  # interior vertices of a line
+            fixed = sorted(set(corners.tolist()) | set(anchor_idx or ()))
+        return spec.smooth(
+            c.points, closed=c.closed, iterations=iterations, anchors=fixed or None, **params
+        )
 
     curves = read_curves(source, fmt, keep_others=True)
     out = []
@@ -363,6 +350,37 @@ def smooth_command(
     write_curves(out, dest, fmt)
 
 
+# the options of `smooth` that belong to some methods only: (parameter, flag)
+_METHOD_OPTIONS = (
+    ("alpha", "--alpha"),
+    ("anchors", "--anchors"),
+    ("gamma", "--gamma"),
+    ("degree", "--degree"),
+    ("preserve_endpoints", "--preserve-endpoints/--free-endpoints"),
+)
+
+
+def _check_method_options(spec: methods.SmoothingMethod, keep_angle: float | None) -> None:
+    """A usage error for an option given on the command line that `spec` does not take.
+
+    An option given at its default value is no error (tools such as the QGIS plugin pass
+    every option).
+    """
+    ctx = click.get_current_context()
+    defaults = {p.name: p.default for p in ctx.command.params}
+    for param, flag in _METHOD_OPTIONS:
+        if param in spec.parameters or ctx.params.get(param) == defaults.get(param):
+            continue
+        if ctx.get_parameter_source(param) is click.core.ParameterSource.COMMANDLINE:
+            takers = [m.name for m in methods.METHODS.values() if param in m.parameters]
+            raise click.UsageError(
+                f"{flag} applies to --method {' or '.join(takers)}, not {spec.name}"
+            )
+    if keep_angle is not None and not spec.keeps_vertices:
+        able = " or ".join(m.name for m in methods.METHODS.values() if m.keeps_vertices)
+        raise click.UsageError(f"--keep-angle needs --method {able}, got {spec.name}")
+
+
 def _features_text(items) -> str:
     shown = ", ".join(str(f) for f in items[:5])
     return shown + (f", ... ({len(items)} in all)" if len(items) > 5 else "")
@@ -382,7 +400,7 @@ def _keep_valid(before, after, method, iterations, alpha, *, fixable: bool):
             after,
             method=method,
             iterations=iterations,
-            alpha=alpha if method == "cca" else "regular",
+            alpha=alpha if "alpha" in methods.get(method).parameters else "regular",
             fixable=fixable,
         )
     except (ImportError, MissingDependencyError):

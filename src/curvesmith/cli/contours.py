@@ -13,6 +13,7 @@ from typing import Any
 
 import click
 
+from .. import methods
 from ..errors import CurveError
 from ._common import ALPHA, COUNT, MAX_SHIFT_OPTION, MIN_SEGMENT_OPTION, POSITIVE, POSITIVE_INT
 
@@ -103,8 +104,11 @@ def smooth_network_geofile(
     """
     from .. import geo
 
-    if method not in ("cca", "chaikin"):
-        raise CurveError(f"--method {method} is not available for networks; use cca or chaikin")
+    if not methods.get(method).gis:
+        raise CurveError(
+            f"--method {method} is not available for networks; use "
+            f"{' or '.join(methods.gis_names())}"
+        )
     _check_output(out_path)
     df = geo.read_file(in_path, layer=int(layer) if layer and layer.isdigit() else layer)
     crs = df.crs
@@ -168,7 +172,7 @@ def _levels(text: str | None) -> list[float] | None:
 @click.option("--iterations", type=COUNT, default=1, show_default=True, help="Smoothing passes.")
 @click.option(
     "--method",
-    type=click.Choice(["cca", "chaikin"]),
+    type=click.Choice(list(methods.gis_names())),
     default="cca",
     show_default=True,
     help="cca keeps every area exactly; chaikin shrinks.",

@@ -14,6 +14,7 @@ from typing import Any
 
 import click
 
+from .. import methods
 from ..errors import CurveError
 from ._common import ALPHA, COUNT, KEEP_ANGLE_OPTION, MAX_SHIFT_OPTION, MIN_SEGMENT_OPTION
 
@@ -138,8 +139,11 @@ def smooth_geofile(
 
     from .. import geo
 
-    if method not in ("cca", "chaikin"):
-        raise CurveError(f"--method {method} is not available for GIS files; use cca or chaikin")
+    if not methods.get(method).gis:
+        raise CurveError(
+            f"--method {method} is not available for GIS files; use "
+            f"{' or '.join(methods.gis_names())}"
+        )
     with tempfile.TemporaryDirectory(prefix="curvesmith-") as tmp:
         target = Path(tmp) / "stdout.geojson" if out_path == "-" else out_path
         report = _run_reporting_crs(
@@ -202,7 +206,7 @@ def batch_group() -> None:
 @click.option("-o", "--output", "dest", required=True, metavar="OUT", help="Output GIS file.")
 @click.option(
     "--method",
-    type=click.Choice(["cca", "chaikin"]),
+    type=click.Choice(list(methods.gis_names())),
     default="cca",
     show_default=True,
     help="cca keeps every ring's area exactly; chaikin shrinks.",

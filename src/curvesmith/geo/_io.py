@@ -12,6 +12,7 @@ from typing import Any
 
 import numpy as np
 
+from .. import methods
 from ..errors import CurveError, CurveFormatError, require
 from ..io._core import atomic_path
 
@@ -1251,7 +1252,7 @@ def keep_polygons_valid(
             invalid_input.append((feature, shapely.is_valid_reason(polys_in[k])))
             continue
         reason = shapely.is_valid_reason(polys_out[k])
-        if not fixable or method not in ("cca", "chaikin"):
+        if not fixable or not methods.get(method).gis:
             still.append((feature, reason))
             continue
         redo = smooth(polys_in[k], method=method, iterations=iterations, alpha=alpha)

@@ -36,6 +36,7 @@ from typing import Any
 
 import numpy as np
 
+from .. import methods
 from .._rich import RichRepr
 from ..errors import CurveError
 from ..geometry import _signed_area  # trapezoid shoelace about the first vertex
@@ -613,7 +614,7 @@ def smooth_network(
             topo.arcs,
             topo.loops,
             frozen,
-            levels=levels_for(iterations, scalable=(method == "cca")),
+            levels=levels_for(iterations, scalable=methods.get(method).scalable),
             smoother=smoother,
             method=method,
             alpha=alpha,
@@ -640,7 +641,7 @@ def smooth_network(
             groups=np.zeros(len(topo.arcs), dtype=int),
             frozen=frozen,
             smoother=smoother,
-            levels=levels_for(iterations, scalable=(method == "cca")),
+            levels=levels_for(iterations, scalable=methods.get(method).scalable),
             initial=initial,
         )
     new_lines = rebuild_lines(topo, new_arcs)
