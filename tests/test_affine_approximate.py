@@ -11,13 +11,10 @@ from scipy.integrate import quad
 from curvesmith import affine
 from curvesmith.data import load_points
 from curvesmith.errors import CurveError
+from oracles import det
 
 BEZIER8 = load_points("affine_bezier8.csv")
 SCURVE6 = load_points("affine_scurve6.csv")
-
-
-def det(u, v):
-    return u[..., 0] * v[..., 1] - u[..., 1] * v[..., 0]
 
 
 def kappa_deviation(res, control, samples):

@@ -11,10 +11,7 @@ from scipy.optimize import brentq
 from curvesmith import affine
 from curvesmith.errors import CurveError
 from curvesmith.subdivision import chaikin, lane_riesenfeld
-
-
-def det(u, v):
-    return u[0] * v[1] - u[1] * v[0]
+from oracles import det
 
 
 def naive_coordinates(x):

@@ -16,7 +16,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from curvesmith.affine.approximation import _construct, _Curve, replacement_curve
+from curvesmith.affine.approximation import replacement_curve
+from curvesmith.internals import AffineConstructionCurve, affine_construct
 
 sys.path.insert(0, str(Path(__file__).parent))
 from affine_construct_reference import construct as reference
@@ -42,7 +43,7 @@ CASES = [
 
 @pytest.mark.parametrize(("name", "samples", "closed"), CASES, ids=[c[0] for c in CASES])
 def test_compiled_construction_is_the_python_loop(name, samples, closed):
-    cv = _Curve(replacement_curve(samples, closed=closed))
+    cv = AffineConstructionCurve(replacement_curve(samples, closed=closed))
     total = sum(cv.len)
     compared = 0
     for m in (3, 8, 25, 60):
@@ -52,7 +53,7 @@ def test_compiled_construction_is_the_python_loop(name, samples, closed):
                 for extrapolate in (True, False):
                     t_end = float(cv.n) if closed else float(cv.n) - 0.5
                     args = (cv, 0.25, t1, area, m, t_end)
-                    got = _construct(*args, extrapolate=extrapolate)
+                    got = affine_construct(*args, extrapolate=extrapolate)
                     want = reference(*args, extrapolate=extrapolate)
                     assert got == want, (m, area, t1, extrapolate)
                     compared += got[3]

@@ -25,7 +25,7 @@ from curvesmith import cca, geo
 from curvesmith import io as cio
 from curvesmith.cli import main
 from curvesmith.errors import CurveError, CurveFormatError
-from curvesmith.io import _core
+from curvesmith.internals import Utf8Sink
 from oracles import exact_area
 
 FIXTURES = Path(pyogrio.__file__).parent / "tests" / "fixtures"
@@ -62,7 +62,7 @@ def enospc_after(monkeypatch):
     """Make text writes fail with ENOSPC after `limit` bytes (a disk that fills up)."""
 
     def arm(limit: int):
-        original = _core._Utf8Sink.write
+        original = Utf8Sink.write
 
         def write(self, text):
             if self.nbytes + len(text.encode()) > limit:
@@ -70,7 +70,7 @@ def enospc_after(monkeypatch):
                 raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
             return original(self, text)
 
-        monkeypatch.setattr(_core._Utf8Sink, "write", write)
+        monkeypatch.setattr(Utf8Sink, "write", write)
 
     return arm
 

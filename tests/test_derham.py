@@ -18,6 +18,7 @@ from scipy.integrate import quad
 
 from curvesmith import derham
 from curvesmith.errors import CurveError
+from curvesmith.internals import derham_triangle
 from curvesmith.subdivision import de_rham
 
 # Section 5: A = (-1.5, -1), B = (0, 1), C = (1.5, 0); tangents along AB and BC.
@@ -85,7 +86,7 @@ def test_blockwise_refinement_matches_whole_arrays(monkeypatch):
     # deep levels are refined in blocks of consecutive sides overlapping by one side
     pts = [[0, 0], [1, 2], [3, 2.5], [4, 0], [5, -1]]
     whole = derham.length_sequences(pts, gamma=3.0, levels=10)
-    monkeypatch.setattr(derham, "_CHUNK", 16)
+    monkeypatch.setattr(derham, "CHUNK", 16)
     blocks = derham.length_sequences(pts, gamma=3.0, levels=10)
     np.testing.assert_allclose(blocks, whole, rtol=1e-14)
 
@@ -450,7 +451,7 @@ def test_interpolate_chain():
     spans = []
     for i in range(3):
         a, c = np.array(pts[i], float), np.array(pts[i + 1], float)
-        _, b, _ = derham._triangle(a, tans[i], c, tans[i + 1])
+        _, b, _ = derham_triangle(a, tans[i], c, tans[i + 1])
         spans.append(0.5 * (np.linalg.norm(c - a) + np.linalg.norm(b - a) + np.linalg.norm(c - b)))
     res = derham.interpolate_chain(pts, tans, spans, gamma=3.0, tol=1e-10, level=4)
     assert res.success and len(res.spans) == 3
@@ -533,10 +534,10 @@ CLI_ARGS += ["--end-tangent", "1.5,-1", "--length", "3.7"]
 
 
 def _cli():
-    from curvesmith.cli import _Group
     from curvesmith.cli.derham import derham_command
+    from curvesmith.internals import cli_group
 
-    group = _Group()
+    group = cli_group()
     group.add_command(derham_command)
     return group
 

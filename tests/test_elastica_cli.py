@@ -99,7 +99,7 @@ def test_fair_model_error_is_a_converged_fit_and_tolerance_decides(tmp_path):
     --tolerance below its max deviation exits 1 and writes no output."""
     t = np.linspace(0, 4 * np.pi, 200)
     wave = np.column_stack((t, 0.2 * t * np.sin(t)))
-    from curvesmith.geometry import _resample_walk as equilateral
+    from curvesmith.internals import resample_walk as equilateral
 
     src, out, rep = tmp_path / "w.csv", tmp_path / "o.csv", tmp_path / "r.json"
     write_csv(src, equilateral(wave, 0.1))

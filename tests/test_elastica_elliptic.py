@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 from scipy.special import ellipj as scipy_ellipj
 
-from curvesmith.elastica._elliptic import amplitude_dm, ellipj, ellipj_am, sd2_integral
+from curvesmith.internals import amplitude_dm, ellipj, ellipj_am, sd2_integral
 
 mp.mp.dps = 40
 

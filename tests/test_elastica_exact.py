@@ -16,8 +16,9 @@ from curvesmith.elastica import (
     segment_length,
     tangent_angles,
 )
-from curvesmith.elastica.exact import _as_params, _positions_and_jacobian
 from curvesmith.errors import CurveError
+from curvesmith.internals import elastica_params as _as_params
+from curvesmith.internals import elastica_positions_and_jacobian as _positions_and_jacobian
 
 PARAMS = [
     (0.3, -0.2, 0.07, 0.0, 0.11, 0.4, 0.3),

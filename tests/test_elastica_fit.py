@@ -7,8 +7,9 @@ from hypothesis import strategies as st
 from scipy.optimize import least_squares, leastsq
 
 from curvesmith.elastica import PARAM_NAMES, fit, initial_guess, sample, tangent_angles
-from curvesmith.elastica.fit import _noise_level, _Problem
 from curvesmith.errors import CurveError
+from curvesmith.internals import ElasticaProblem as _Problem
+from curvesmith.internals import noise_level as _noise_level
 
 
 def random_params(rng):
@@ -227,7 +228,7 @@ def test_ipopt_backend_matches_least_squares():
 
 
 def test_equilateral_resampler_keeps_order_and_step():
-    from curvesmith.geometry import _resample_walk as equilateral
+    from curvesmith.internals import resample_walk as equilateral
 
     rng = np.random.default_rng(5)
     poly = np.cumsum(rng.normal(size=(40, 2)), axis=0)

@@ -14,10 +14,12 @@ import pytest
 
 sys.path.insert(0, str(Path(__file__).parent))
 from curvesmith.elastica import ElasticaParams, fit, sample
-from curvesmith.elastica._geom import chord_walk, point_polyline_distance, walk_to_end
-from curvesmith.elastica.fit import _noise_level, _reverse_params, _savgol
 from curvesmith.errors import CurveError
-from curvesmith.geometry import _resample_walk
+from curvesmith.internals import chord_walk, point_polyline_distance, walk_to_end
+from curvesmith.internals import noise_level as _noise_level
+from curvesmith.internals import resample_walk as _resample_walk
+from curvesmith.internals import reverse_params as _reverse_params
+from curvesmith.internals import savgol as _savgol
 from elastica_curves import reference_fit, scan
 
 
@@ -215,11 +217,12 @@ def test_variable_projection_jacobian_and_period(p, anchored):
     """On exact data the projected residual vanishes and Kaufman's Jacobian is its exact
     derivative (the dropped Golub-Pereyra term is proportional to the residual): central
     differences agree. The period P(k) that re-centres the phase leaves the curve unchanged."""
-    from curvesmith.elastica import _varpro
+    from curvesmith.internals import elastica_varpro as varpro
+    from curvesmith.internals import elastica_varpro_period as varpro_period
 
     p = ElasticaParams(*p)
     data = sample(p, 200)
-    prob = _varpro.Reduced(data, p, complex(p.x0, p.y0) if anchored else None)
+    prob = varpro.Reduced(data, p, complex(p.x0, p.y0) if anchored else None)
     theta = prob.theta(p)
     np.testing.assert_allclose(prob.zqk(theta), (p.z, p.q, p.k), rtol=1e-13, atol=1e-13)
     assert np.abs(prob.residuals(theta)).max() < 1e-9 * p.h
@@ -232,7 +235,7 @@ def test_variable_projection_jacobian_and_period(p, anchored):
         down[i] -= step
         fd = (prob.residuals(up) - prob.residuals(down)) / (2 * step)
         assert np.abs(fd - jac[i]).max() <= 1e-5 * np.abs(fd).max(), i
-    shifted = p._replace(q=p.q + _varpro._period(p.k) / p.k)
+    shifted = p._replace(q=p.q + varpro_period(p.k) / p.k)
     np.testing.assert_allclose(sample(shifted, 200), data, atol=1e-12 * max(1.0, p.h * 200))
 
 
@@ -241,7 +244,7 @@ def test_variable_projection_matches_the_seven_parameter_optimum():
     optimum of eq. (4.8) on noisy data (cost to 1e-10, curve to 1e-8 of h)."""
     import importlib
 
-    from curvesmith.elastica import _varpro
+    from curvesmith.internals import elastica_varpro as varpro
 
     fm = importlib.import_module("curvesmith.elastica.fit")
     rng = np.random.default_rng(4)
@@ -249,7 +252,7 @@ def test_variable_projection_matches_the_seven_parameter_optimum():
         p = ElasticaParams(*p)
         data = sample(p, 150) + rng.normal(scale=0.005 * p.h, size=(150, 2))
         start = p._replace(z=p.z * 1.02, q=p.q + 0.05, k=p.k * 1.03, h=p.h * 0.98)
-        reduced, _, status = _varpro.solve(data, start, None, 5000, 1e-12)
+        reduced, _, status = varpro.solve(data, start, None, 5000, 1e-12)
         full, _, ok, _ = fm._solve(data, start, {}, "lsq", 5000, 1e-12)
         assert status == "converged" and ok
         assert fm._rms(data, reduced) == pytest.approx(fm._rms(data, full), rel=1e-10)

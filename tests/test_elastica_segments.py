@@ -18,8 +18,9 @@ from click.testing import CliRunner
 from scipy.special import ellipj
 
 from curvesmith.elastica import fit_segments, sample
-from curvesmith.elastica.segments import _chain, _ChainProblem
 from curvesmith.errors import CurveError
+from curvesmith.internals import ChainProblem as _ChainProblem
+from curvesmith.internals import segment_chain as _chain
 
 
 def plain_distance(points, poly):

@@ -17,7 +17,7 @@ from click.testing import CliRunner
 from curvesmith import geo
 from curvesmith.cli import main
 from curvesmith.errors import CurveError
-from curvesmith.geo._io import _lon_arc, equal_area_crs, equal_area_regions
+from curvesmith.internals import geo_io, lon_arc
 
 NATURAL_EARTH = (
     Path(pyogrio.__file__).parent
@@ -38,10 +38,10 @@ def _lon_0(proj: str) -> float:
 
 
 def test_lon_arc_crosses_the_antimeridian():
-    centre, half = _lon_arc(np.array([172.0, 179.5, -179.5, -160.0, -130.0]))
+    centre, half = lon_arc(np.array([172.0, 179.5, -179.5, -160.0, -130.0]))
     assert centre == pytest.approx(-159.0) and half == pytest.approx(29.0)  # 172E..130W
-    assert _lon_arc(np.array([-10.0, 30.0])) == pytest.approx((10.0, 20.0))
-    assert _lon_arc(np.array([190.0])) == pytest.approx((-170.0, 0.0))
+    assert lon_arc(np.array([-10.0, 30.0])) == pytest.approx((10.0, 20.0))
+    assert lon_arc(np.array([190.0])) == pytest.approx((-170.0, 0.0))
 
 
 def test_centres_of_alaska_and_the_us_are_not_the_bounding_box_centre():
@@ -49,8 +49,8 @@ def test_centres_of_alaska_and_the_us_are_not_the_bounding_box_centre():
     alaska = us[us["STATEFP"] == "02"]
     x0, _, x1, _ = alaska.total_bounds
     assert abs((x0 + x1) / 2) < 1.0  # the old centre: the Aleutians span -180..180
-    assert -165.0 < _lon_0(equal_area_crs(alaska)) < -150.0
-    assert -150.0 < _lon_0(equal_area_crs(us)) < -100.0
+    assert -165.0 < _lon_0(geo_io.equal_area_crs(alaska)) < -150.0
+    assert -150.0 < _lon_0(geo_io.equal_area_crs(us)) < -100.0
 
 
 @pytest.fixture(scope="module")
@@ -61,7 +61,7 @@ def world():
 
 
 def test_regions_cover_every_feature_once(world):
-    regions = equal_area_regions(world)
+    regions = geo_io.equal_area_regions(world)
     idx = np.sort(np.concatenate([i for _, i in regions]))
     assert idx.tolist() == list(range(len(world)))
     assert 10 < len(regions) < len(world)  # neighbours share, the world is not one region
@@ -113,9 +113,8 @@ def test_cli_world_make_valid_is_valid_exit_0(tmp_path):
 
 
 def test_domain_edge_mask_on_natural_earth(world):
-    from curvesmith.geo._io import domain_edge_mask
 
-    masks = domain_edge_mask(world)
+    masks = geo_io.domain_edge_mask(world)
     names = list(world["name"])
     counts = {names[i]: int(m.sum()) for i, m in enumerate(masks) if m.any()}
     # the countries cut at the antimeridian and Antarctica's edge at the pole
@@ -126,7 +125,7 @@ def test_domain_edge_mask_on_natural_earth(world):
     ref = (np.abs(xy[:, 0]) >= 180.0 - 1e-9) | (np.abs(xy[:, 1]) >= 90.0 - 1e-9)
     assert np.array_equal(flat, ref) and flat.sum() == 18  # 16 exact, 2 at 180.00000000000006
     with pytest.raises(CurveError, match="needs a geographic CRS"):
-        domain_edge_mask(world.to_crs("EPSG:3857").iloc[:3])
+        geo_io.domain_edge_mask(world.to_crs("EPSG:3857").iloc[:3])
 
 
 @pytest.mark.parametrize(("mode", "flag"), [("coverage", "--coverage"), ("network", "--network")])
@@ -152,7 +151,7 @@ def test_one_projection_modes_refuse_a_layer_the_projection_breaks(tmp_path, mod
     assert f"in the one equal-area projection that {mode} mode smooths in" in r.output
     assert "(4 feature(s) in all)" in r.output and not out.exists()
     with pytest.raises(CurveError, match="spans too much of the globe"):
-        geo._io.to_one_equal_area(df, mode=mode, name="world")
+        geo_io.to_one_equal_area(df, mode=mode, name="world")
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", geo.GeographicCRSWarning)
         r = CliRunner().invoke(main, args)
@@ -161,15 +160,15 @@ def test_one_projection_modes_refuse_a_layer_the_projection_breaks(tmp_path, mod
 
 def test_one_projection_serves_the_us_across_the_antimeridian(tmp_path):
     counties = geo.us_counties()
-    assert _lon_0(equal_area_crs(counties)) < -90  # centred west, the Aleutians included
-    geo._io.to_one_equal_area(counties, mode="coverage", name="counties")
+    assert _lon_0(geo_io.equal_area_crs(counties)) < -90  # centred west, the Aleutians included
+    geo_io.to_one_equal_area(counties, mode="coverage", name="counties")
     lines = counties.assign(geometry=counties.geometry.boundary)
-    geo._io.to_one_equal_area(lines, mode="network", name="county outlines")
+    geo_io.to_one_equal_area(lines, mode="network", name="county outlines")
 
 
 def test_network_back_check_names_changed_contacts():
     a = shapely.LineString([(0, 0), (10, 0)])
     b = shapely.LineString([(0, 1), (10, 1)])
-    geo._io.check_network_back([a, b], [a, b], name="x")
+    geo_io.check_network_back([a, b], [a, b], name="x")
     with pytest.raises(CurveError, match="1 pair"):
-        geo._io.check_network_back([a, b], [a, shapely.LineString([(0, 1), (5, -1)])], name="x")
+        geo_io.check_network_back([a, b], [a, shapely.LineString([(0, 1), (5, -1)])], name="x")

@@ -22,8 +22,7 @@ gpd = pytest.importorskip("geopandas")
 pyogrio = pytest.importorskip("pyogrio")
 
 from curvesmith import geo  # noqa: E402
-from curvesmith.geo import _engine  # noqa: E402
-from curvesmith.geo._io import domain_fixed  # noqa: E402
+from curvesmith.internals import clearance_kernel, geo_engine, geo_io  # noqa: E402
 
 NE = Path(pyogrio.__file__).parent / "tests" / "fixtures" / "naturalearth_lowres"
 NE = NE / "naturalearth_lowres.shp"
@@ -49,7 +48,7 @@ def _margin(a_in, b_in):
 
     d_in = float(shapely.distance(a_in, b_in))
     ell = max(min_edge(a_in), min_edge(b_in))  # a piece's mean edge is at least this
-    return min(_engine.MARGIN_EDGE * ell, _engine.MARGIN_GAP * d_in), d_in
+    return min(geo_engine.MARGIN_EDGE * ell, geo_engine.MARGIN_GAP * d_in), d_in
 
 
 def _ring_area(g):
@@ -181,7 +180,7 @@ def test_natural_earth_keeps_clearance_and_stays_valid_in_web_mercator():
     df = gpd.read_file(NE)
     valid_in = df.is_valid.values
     res = geo.smooth(
-        df, iterations=2, make_valid=True, full_output=True, fixed=domain_fixed(df.crs)
+        df, iterations=2, make_valid=True, full_output=True, fixed=geo_io.domain_fixed(df.crs)
     )
     out = res.geometry
     assert out.is_valid.all()
@@ -194,7 +193,10 @@ def test_natural_earth_keeps_clearance_and_stays_valid_in_web_mercator():
     checked = 0
     for k in np.flatnonzero(valid_in):
         bad, n_pairs = _edge_clearance_violations(
-            df.geometry.values[k], out.geometry.values[k], _engine.MARGIN_EDGE, _engine.MARGIN_GAP
+            df.geometry.values[k],
+            out.geometry.values[k],
+            geo_engine.MARGIN_EDGE,
+            geo_engine.MARGIN_GAP,
         )
         assert bad == 0, df.name[k]
         checked += n_pairs
@@ -239,7 +241,6 @@ def test_clearance_screening_equals_the_plain_reference():
     Random walks, noisy nested loops and integer grids (collinear overlaps, shared vertices,
     zero-length segments) at distances from 1e-9 to 1.
     """
-    from curvesmith.geo._clearance_kernel import polylines_within
 
     rng = np.random.default_rng(11)
     checked = close = 0
@@ -261,7 +262,7 @@ def test_clearance_screening_equals_the_plain_reference():
         pa = rng.integers(0, len(polys), 12)
         pb = rng.integers(0, len(polys), 12)
         d = 10.0 ** rng.uniform(-9, 0, 12)
-        got = polylines_within(X, off, pa, pb, d)
+        got = clearance_kernel.polylines_within(X, off, pa, pb, d)
         want = [_within_reference(polys[i], polys[j], r) for i, j, r in zip(pa, pb, d, strict=True)]
         assert got.tolist() == want
         checked += len(want)
@@ -271,7 +272,6 @@ def test_clearance_screening_equals_the_plain_reference():
 
 def test_nested_contour_loops_are_screened_right():
     """40 nested wavy loops of 20,000 vertices, neighbours 1/40 apart, screened at 1e-4 and 0.03."""
-    from curvesmith.geo._clearance_kernel import polylines_within
 
     t = np.linspace(0, 2 * np.pi, 20_000)
     polys = [
@@ -281,5 +281,5 @@ def test_nested_contour_loops_are_screened_right():
     X = np.concatenate(polys)
     off = np.arange(41, dtype=np.int64) * 20_000
     pa = np.arange(39)
-    assert not polylines_within(X, off, pa, pa + 1, np.full(39, 1e-4)).any()
-    assert polylines_within(X, off, pa, pa + 1, np.full(39, 0.03)).all()
+    assert not clearance_kernel.polylines_within(X, off, pa, pa + 1, np.full(39, 1e-4)).any()
+    assert clearance_kernel.polylines_within(X, off, pa, pa + 1, np.full(39, 0.03)).all()

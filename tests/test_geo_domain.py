@@ -19,7 +19,7 @@ pyogrio = pytest.importorskip("pyogrio", reason="needs the geo extra")
 
 from curvesmith import geo  # noqa: E402
 from curvesmith.errors import CurveError  # noqa: E402
-from curvesmith.geo._io import clamp_to_domain, domain_fixed, smooth_file  # noqa: E402
+from curvesmith.internals import geo_io  # noqa: E402
 
 NE = Path(pyogrio.__file__).parent / "tests" / "fixtures" / "naturalearth_lowres"
 NE = NE / "naturalearth_lowres.shp"
@@ -57,7 +57,7 @@ def test_smooth_file_keeps_lonlat_data_on_the_map(countries, tmp_path, options):
     src.to_file(path)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        smooth_file(path, tmp_path / "out.gpkg", **options)
+        geo_io.smooth_file(path, tmp_path / "out.gpkg", **options)
     out = gpd.read_file(tmp_path / "out.gpkg")
     xy0 = shapely.get_coordinates(src.geometry.values)
     xy = shapely.get_coordinates(out.geometry.values)
@@ -76,7 +76,7 @@ def test_smooth_file_keeps_lonlat_data_on_the_map(countries, tmp_path, options):
 
 
 def test_domain_fixed_in_a_projection_judges_longitude_latitude():
-    fixed = domain_fixed("EPSG:4326", "+proj=laea +lat_0=-90 +lon_0=0")
+    fixed = geo_io.domain_fixed("EPSG:4326", "+proj=laea +lat_0=-90 +lon_0=0")
     import pyproj
 
     t = pyproj.Transformer.from_crs("EPSG:4326", "+proj=laea +lat_0=-90 +lon_0=0", always_xy=True)
@@ -86,15 +86,15 @@ def test_domain_fixed_in_a_projection_judges_longitude_latitude():
 
 def test_clamp_to_domain():
     g = np.array([shapely.Polygon([(179, 0), (180 + 6e-14, 0), (180 + 6e-14, 1)])], dtype=object)
-    out = clamp_to_domain(g, "f.gpkg")
+    out = geo_io.clamp_to_domain(g, "f.gpkg")
     assert shapely.get_coordinates(out)[:, 0].max() == 180.0
     far = np.array([shapely.Polygon([(179, 0), (181, 0), (181, 1)])], dtype=object)
     with pytest.raises(CurveError, match=r"f.gpkg: feature 0: .*outside the longitude/latitude"):
-        clamp_to_domain(far, "f.gpkg")
+        geo_io.clamp_to_domain(far, "f.gpkg")
     # an input edge vertex that an equal-area round trip moved by 1e-9 gets its bits back
     orig = np.array([shapely.Polygon([(170, -90), (180, -90), (180, -80)])], dtype=object)
     moved = np.array([shapely.Polygon([(170, -90), (180 - 1e-9, -90), (180, -80)])], dtype=object)
-    back = clamp_to_domain(moved, "f.gpkg", orig)
+    back = geo_io.clamp_to_domain(moved, "f.gpkg", orig)
     assert shapely.get_coordinates(back).tolist() == shapely.get_coordinates(orig).tolist()
 
 

@@ -75,7 +75,8 @@ def test_layers_select_and_unknown(tmp_path):
 def test_geopackage_written_in_slices_equals_one_write(tmp_path, monkeypatch, kind):
     """A large GeoPackage is written in slices (append) and read back in slices: the file
     holds the same layer type, features, order, attributes and NULLs as one write."""
-    from curvesmith.geo import _io
+    from curvesmith.internals import geo_io as _io
+    from curvesmith.internals import slices
 
     rng = np.random.default_rng(5)
     n = 40
@@ -102,7 +103,7 @@ def test_geopackage_written_in_slices_equals_one_write(tmp_path, monkeypatch, ki
     one = tmp_path / "one.gpkg"
     geo.write_file(df, one)
     monkeypatch.setattr(_io, "WRITE_CHUNK_VERTICES", 37)
-    assert len(_io._slices(np.asarray(df.geometry.values, dtype=object))) > 3
+    assert len(slices(np.asarray(df.geometry.values, dtype=object))) > 3
     reads = []
     real_read = pyogrio.read_dataframe
 

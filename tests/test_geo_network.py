@@ -499,7 +499,8 @@ def test_contours_in_degrees_keep_their_levels_apart_within_max_shift():
 
 def test_shift_test_is_geos_hausdorff():
     """geo._coverage.shifts_within decides GEOS' hausdorff_distance <= D, arc by arc."""
-    from curvesmith.geo._coverage import _ragged, shifts_within
+    from curvesmith.internals import coverage_ragged as _ragged
+    from curvesmith.internals import geo_coverage
 
     rng = np.random.default_rng(3)
     arcs = [np.cumsum(rng.normal(size=(int(rng.integers(2, 50)), 2)), axis=0) for _ in range(300)]
@@ -514,7 +515,7 @@ def test_shift_test_is_geos_hausdorff():
         ]
     )
     for d in (1e-3, 0.05, 0.3, 1.0, 3.0):
-        got = shifts_within(_ragged(arcs, loops), _ragged(moved, loops), d)
+        got = geo_coverage.shifts_within(_ragged(arcs, loops), _ragged(moved, loops), d)
         assert got.tolist() == (hd <= d).tolist()
     assert 0 < (hd <= 0.3).sum() < 300
 

@@ -1191,7 +1191,7 @@ def test_svg_long_polyline_fast_path_equals_svgelements(monkeypatch, d, transfor
 
     text = _svg_doc(d, transform)
     fast = read_svg(io.StringIO(text))
-    monkeypatch.setattr(cio, "_FAST_D_MIN", 10**9)
+    monkeypatch.setattr(cio, "FAST_D_MIN", 10**9)
     general = read_svg(io.StringIO(text))
     assert len(fast) == len(general)
     for a, b in zip(fast, general, strict=True):
@@ -1251,10 +1251,10 @@ def _geojson_text(curves) -> str:
 
 
 def test_format_registry_adds_a_format_in_one_registration(tmp_path, monkeypatch):
-    import curvesmith.io._core as core
+    from curvesmith.internals import io_core as core
     from curvesmith.io import Format, formats, register
 
-    monkeypatch.setattr(core, "_REGISTRY", dict(core._REGISTRY))
+    monkeypatch.setattr(core, "REGISTRY", dict(core.REGISTRY))
     assert formats() == ("csv", "geojson", "svg")
 
     def read_pts(source):

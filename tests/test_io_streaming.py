@@ -16,7 +16,7 @@ import pytest
 
 from curvesmith import CurveError
 from curvesmith import io as cio
-from curvesmith.io import _core
+from curvesmith.internals import io_core
 
 
 def _noisy_ring(n: int, seed: int = 3) -> np.ndarray:
@@ -36,7 +36,7 @@ def _old_csv_text(points: np.ndarray) -> str:
 @pytest.mark.slow
 @pytest.mark.parametrize(("suffix", "limit"), [(".csv", 0.5), (".geojson", 0.5), (".svg", 1.5)])
 def test_writer_peak_memory_is_a_few_chunks(tmp_path, monkeypatch, suffix, limit):
-    monkeypatch.setattr(_core, "CHUNK_ROWS", 4096)
+    monkeypatch.setattr(io_core, "CHUNK_ROWS", 4096)
     curve = cio.Curve(_noisy_ring(200_000), closed=True, kind="Polygon")
     out = tmp_path / f"big{suffix}"
     tracemalloc.start()
@@ -56,7 +56,7 @@ def test_writer_peak_memory_is_a_few_chunks(tmp_path, monkeypatch, suffix, limit
 
 
 def test_streamed_csv_text_is_the_old_text_and_round_trips(tmp_path, monkeypatch):
-    monkeypatch.setattr(_core, "CHUNK_ROWS", 7)  # many chunks, a partial last one
+    monkeypatch.setattr(io_core, "CHUNK_ROWS", 7)  # many chunks, a partial last one
     pts = _noisy_ring(50)
     pts[3] = [0.1, -0.0]
     pts[4] = [1e-320, 1e300]
@@ -69,7 +69,7 @@ def test_streamed_csv_text_is_the_old_text_and_round_trips(tmp_path, monkeypatch
 
 
 def test_streamed_geojson_is_json_dumps_of_the_collection(monkeypatch):
-    monkeypatch.setattr(_core, "CHUNK_ROWS", 5)
+    monkeypatch.setattr(io_core, "CHUNK_ROWS", 5)
     ring = _noisy_ring(23)
     hole = 0.5 * (ring - ring.mean(axis=0)) + ring.mean(axis=0)
     curves = [
@@ -95,7 +95,7 @@ def test_streamed_geojson_is_json_dumps_of_the_collection(monkeypatch):
 
 
 def test_streamed_svg_round_trips_bit_exactly(monkeypatch):
-    monkeypatch.setattr(_core, "CHUNK_ROWS", 3)
+    monkeypatch.setattr(io_core, "CHUNK_ROWS", 3)
     curves = [cio.Curve(_noisy_ring(40, seed=k), closed=bool(k % 2), feature=k) for k in range(3)]
     buf = io.StringIO()
     cio.write_svg(curves, buf)
@@ -115,12 +115,12 @@ def test_format_rows_is_repr_for_doubles_of_every_exponent(row):
     v = np.concatenate([v[np.isfinite(v)], powers, -powers, edge, np.nextafter(powers, 0)])
     cols = row.count("%r") - row.count("%%r")
     v = v[: len(v) // cols * cols].reshape(-1, cols)
-    got = "".join(_core.format_rows(v, row, chunk=997))
+    got = "".join(io_core.format_rows(v, row, chunk=997))
     assert got == (row * len(v)) % tuple(v.ravel().tolist())
 
 
 def test_format_rows_refuses_non_finite_and_wrong_templates():
     with pytest.raises(CurveError, match="non-finite"):
-        list(_core.format_rows(np.array([[0.0, np.nan]]), "%r,%r\n"))
+        list(io_core.format_rows(np.array([[0.0, np.nan]]), "%r,%r\n"))
     with pytest.raises(CurveError, match="3 fields"):
-        list(_core.format_rows(np.zeros((2, 2)), "%r %r %r"))
+        list(io_core.format_rows(np.zeros((2, 2)), "%r %r %r"))

@@ -74,8 +74,8 @@ def test_each_inflection_is_found_and_each_piece_fitted(zeros, turn, noise, seed
 def test_one_inflection_is_not_split(noise):
     """The paper's keylines (one inflection) keep the paper's path: noise adds no split, also
     with chords shorter than the noise (the polygon's own noise estimate is then too low)."""
-    from curvesmith.elastica.fit import _scan_noise
-    from curvesmith.geometry import _resample_equilateral
+    from curvesmith.internals import resample_equilateral_with_positions as _resample_equilateral
+    from curvesmith.internals import scan_noise as _scan_noise
 
     for seed in range(4):
         syn = keyline.synthetic_keyline(noise=noise, seed=seed)

@@ -18,7 +18,8 @@ from pathlib import Path
 import pytest
 
 from curvesmith.errors import CurveFormatError
-from curvesmith.io import read_svg, svg
+from curvesmith.internals import svg_absolute_polyline_pattern, svg_polyline_pattern
+from curvesmith.io import read_svg
 
 
 def _doc(d: str) -> str:
@@ -69,7 +70,7 @@ def _read_or_error(d: str) -> None:
 def test_path_patterns_match_in_linear_time(kind):
     make = ADVERSARIAL[kind]
     short, long = make(250), make(2000)
-    for pattern in (svg._POLYLINE_D, svg._ABSOLUTE_POLYLINE_D):
+    for pattern in (svg_polyline_pattern, svg_absolute_polyline_pattern):
         # best of many: the machine is shared, a single run can be preempted
         t_short = _best_time(lambda p=pattern: p.fullmatch(short), repeat=15)
         t_long = _best_time(lambda p=pattern: p.fullmatch(long), repeat=15)

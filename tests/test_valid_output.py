@@ -18,7 +18,7 @@ from click.testing import CliRunner
 from curvesmith import cca, geo
 from curvesmith import io as cio
 from curvesmith.cli import main
-from curvesmith.geo._io import keep_polygons_valid
+from curvesmith.internals import geo_io
 
 #: Counties of Washington (53) and Virginia (51): Grays Harbor, Thurston, Buena Vista and
 #: Rockbridge come out invalid from one ring-by-ring CCA pass.
@@ -49,7 +49,7 @@ def test_ring_by_ring_smoothing_alone_breaks_some_counties(counties_geojson):
     assert shapely.is_valid(df.geometry.values).all()
     curves = cio.read_curves(path)
     out = [c.replace(cca.smooth(c.points, closed=True)) for c in curves]
-    _, report = keep_polygons_valid(curves, out, method="cca", iterations=1)
+    _, report = geo_io.keep_polygons_valid(curves, out, method="cca", iterations=1)
     names = set(df["NAME"].iloc[list(report.resmoothed)])
     assert {"Grays Harbor", "Thurston", "Buena Vista", "Rockbridge"} <= names
     assert report.n_polygons == len(df) and not report.still_invalid

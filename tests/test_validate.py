@@ -2,7 +2,7 @@ import numpy as np
 import pytest
 
 from curvesmith import CurveError
-from curvesmith._validate import as_float, as_int, as_points
+from curvesmith.internals import as_float, as_int, as_points
 
 
 def test_as_points_converts_and_copies():
@@ -84,7 +84,7 @@ def test_complex_input_is_refused_not_truncated():
 
 
 def test_as_bool_and_growth_limit():
-    from curvesmith._validate import as_bool, check_growth
+    from curvesmith.internals import as_bool, check_growth
 
     assert as_bool(np.True_, name="closed") is True
     for bad in (None, "no", 1, 0.0):
@@ -96,7 +96,7 @@ def test_as_bool_and_growth_limit():
 
 
 def test_as_choice_lists_the_choices_and_keeps_bools_apart():
-    from curvesmith._validate import as_choice
+    from curvesmith.internals import as_choice
 
     assert as_choice("secant", ("accelerated", "secant"), name="method") == "secant"
     assert as_choice(2010, [2010, 2016], name="year") == 2010

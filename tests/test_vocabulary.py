@@ -97,3 +97,74 @@ def test_workers_means_dask_processes():
     assert users and all(n.startswith("curvesmith.batch.") for n in users), users
     threads = [n for n, sig in SIGNATURES if "threads" in sig.parameters]
     assert "curvesmith.cca.smooth" in threads
+
+
+# every enumerated option: a call with a bad value, the function and the keyword
+_SQUARE = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0], [0.0, 0.5]]
+_ELASTICA = (0.0, 0.0, 0.1, 0.0, 0.0, 0.0, 0.5)
+_CHOICES = [
+    ("curvesmith.geometry", "resample_equilateral", "rule", lambda f, v: f(_SQUARE, 0.3, rule=v)),
+    ("curvesmith.affine", "approximate", "search", lambda f, v: f(_SQUARE, vertices=8, search=v)),
+    ("curvesmith.affine", "osculating_conic", "kind", lambda f, v: f(_SQUARE, 2, kind=v)),
+    ("curvesmith.elastica", "fit", "method", lambda f, v: f(_SQUARE, method=v)),
+    ("curvesmith.elastica", "sample", "case", lambda f, v: f(_ELASTICA, 5, case=v)),
+    ("curvesmith.elastica", "invariants", "case", lambda f, v: f(_ELASTICA, case=v)),
+    ("curvesmith.elastica", "exact_curvature", "case", lambda f, v: f(_ELASTICA, 5, case=v)),
+    (
+        "curvesmith.derham",
+        "interpolate",
+        "method",
+        lambda f, v: f((0, 0), (1, 0), (1, 1), (0, 1), length=2.0, gamma=2.0, method=v),
+    ),
+    ("curvesmith.io", "read_geojson", "others", lambda f, v: f("unused.geojson", others=v)),
+    (
+        "curvesmith.glyphs",
+        "refit_glyph",
+        "rounding",
+        lambda f, v: f(None, "a", tolerance=1.0, rounding=v),
+    ),
+    ("curvesmith.methods", "get", "name", lambda f, v: f(v)),
+]
+
+
+@pytest.mark.parametrize(
+    ("module", "function", "keyword", "call"), _CHOICES, ids=[f"{c[1]}.{c[2]}" for c in _CHOICES]
+)
+def test_enumerated_options_are_literal_and_checked_by_one_helper(module, function, keyword, call):
+    """The annotation lists the values, and a bad value gets as_choice's message with the same."""
+    import typing
+
+    from curvesmith import CurveError, methods
+
+    f = getattr(importlib.import_module(module), function)
+    hint = typing.get_type_hints(f)[keyword]
+    if function == "get":  # takes any string; the table's names are typed as MethodName
+        hint = methods.MethodName
+    values = _literal_values(hint)
+    assert values, f"{function}({keyword}=...) is not annotated with a Literal: {hint!r}"
+    with pytest.raises(CurveError) as info:
+        call(f, "no-such-value")
+    word = "method" if function == "get" else keyword
+    assert str(info.value) == (
+        f"{word} must be one of {', '.join(map(repr, values))}, got 'no-such-value'"
+    )
+
+
+def _literal_values(hint) -> tuple:
+    import typing
+
+    if typing.get_origin(hint) is typing.Literal:
+        return typing.get_args(hint)
+    out: tuple = ()
+    for a in typing.get_args(hint):  # a union: None (optional) comes first in the messages
+        out = (None, *out) if a is type(None) else out + _literal_values(a)
+    return out
+
+
+def test_the_method_literals_are_the_table():
+    import typing
+
+    from curvesmith import methods
+
+    assert typing.get_args(methods.MethodName) == tuple(methods.METHODS)
+    assert typing.get_args(methods.GisMethod) == methods.gis_names()

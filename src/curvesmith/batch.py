@@ -26,6 +26,7 @@ import numpy as np
 
 from ._validate import as_int
 from .errors import CurveError, require
+from .methods import GisMethod
 
 __all__ = ["BatchReport", "FeatureError", "smooth_file", "smooth_partitioned"]
 
@@ -221,7 +222,7 @@ def _run(client, fn: Callable, args: Sequence[tuple], progress: bool) -> list[An
 def smooth_partitioned(
     geometry: Any,
     *,
-    method: str = "cca",
+    method: GisMethod = "cca",
     iterations: int = 1,
     alpha: Any = "regular",
     make_valid: bool = False,
@@ -314,7 +315,7 @@ def smooth_file(
     in_path: str | Path,
     out_path: str | Path,
     *,
-    method: str = "cca",
+    method: GisMethod = "cca",
     iterations: int = 1,
     alpha: Any = "regular",
     layer: str | int | None = None,

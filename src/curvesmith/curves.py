@@ -66,6 +66,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 from scipy.spatial import cKDTree
 
 from ._rich import RichRepr
@@ -169,7 +170,7 @@ class CurveFit(RichRepr):
 # ------------------------------------------------------------------------------- Bézier tools
 
 
-def elevate(segments) -> np.ndarray:
+def elevate(segments: ArrayLike) -> np.ndarray:
     """Exact degree elevation of quadratic Bézier segments to cubics.
 
     ``(P0, P1, P2) -> (P0, P0 + 2/3 (P1 - P0), P2 + 2/3 (P1 - P2), P2)``: the same curve.
@@ -208,7 +209,7 @@ def _check_segments(segments) -> np.ndarray:
     return q
 
 
-def sample_segments(segments, per_segment: int = 48) -> np.ndarray:
+def sample_segments(segments: ArrayLike, per_segment: int = 48) -> np.ndarray:
     """Points along Bézier segments, ``per_segment`` per segment plus the final end point.
 
     Parameters
@@ -235,7 +236,7 @@ def sample_segments(segments, per_segment: int = 48) -> np.ndarray:
     return np.vstack([pts, q[-1, -1:]])
 
 
-def bezier_area(segments, *, closed: bool = True) -> float:
+def bezier_area(segments: ArrayLike, *, closed: bool = True) -> float:
     r"""Signed area of a path of Bézier segments (CCW positive), exact.
 
     Closed: the enclosed area. Open: the area between the path and the chord
@@ -290,7 +291,7 @@ def bezier_area(segments, *, closed: bool = True) -> float:
     return poly + bulge
 
 
-def joint_curvatures(segments, *, closed: bool) -> tuple[np.ndarray, np.ndarray]:
+def joint_curvatures(segments: ArrayLike, *, closed: bool) -> tuple[np.ndarray, np.ndarray]:
     """Curvature at the end of each segment and at the start of the next one.
 
     Parameters
@@ -329,7 +330,9 @@ def joint_curvatures(segments, *, closed: bool) -> tuple[np.ndarray, np.ndarray]
     return end[:-1], start[1:]
 
 
-def bezier_deviation(segments, points, *, closed: bool, per_segment: int = 48) -> float:
+def bezier_deviation(
+    segments: ArrayLike, points: ArrayLike, *, closed: bool, per_segment: int = 48
+) -> float:
     """Largest distance between a Bézier path and a polyline, both ways.
 
     Every polyline vertex is measured to the path (sampled with ``per_segment``
@@ -740,7 +743,7 @@ def _ring_area(points: np.ndarray) -> float:
 
 
 def fit(
-    points,
+    points: ArrayLike,
     *,
     closed: bool,
     tolerance: float,

@@ -82,8 +82,10 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import Literal
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ._rich import RichRepr
 from ._validate import as_choice, as_float, as_int, as_points
@@ -109,7 +111,7 @@ __all__ = [
 METHODS = ("accelerated", "regula_falsi", "secant")
 
 _EPS = float(np.finfo(float).eps)
-_CHUNK = 1 << 18  # corners refined together; bounds memory at high levels
+CHUNK = 1 << 18  # corners refined together; bounds memory at high levels
 _MAX_LEVEL = 26
 _GL_T, _GL_W = np.polynomial.legendre.leggauss(32)
 _GL_T = 0.5 * (_GL_T + 1.0)
@@ -186,7 +188,7 @@ def _accumulate(
     """Add ``l^k`` (and x-derivatives) of levels ``start .. start + depth`` into ``out[k]``.
 
     ``l^k`` is half the sum of ``|e_i + e_{i+1}|`` over consecutive sides. Refines
-    level by level; once the side array would exceed ``_CHUNK`` it recurses over
+    level by level; once the side array would exceed ``CHUNK`` it recurses over
     blocks of consecutive sides that overlap by one side (every corner, i.e. pair
     of consecutive sides, lies in exactly one block; corner cutting is local).
     """
@@ -196,8 +198,8 @@ def _accumulate(
         out[start + k] += 0.5 * _abs_sums(s, order)
         if k == depth:
             return
-        if 2 * e.shape[1] > _CHUNK:
-            step = _CHUNK // 2
+        if 2 * e.shape[1] > CHUNK:
+            step = CHUNK // 2
             for i in range(0, e.shape[1] - 1, step):
                 child = _refine(e[:, i : i + step + 1], beta)
                 _accumulate(child, depth - k - 1, beta, out, start + k + 1, order)
@@ -251,7 +253,9 @@ def _check_polygon(points, gamma) -> tuple[np.ndarray, float]:
     return p, gamma
 
 
-def length_sequences(points, *, gamma: float, levels: int) -> tuple[np.ndarray, np.ndarray]:
+def length_sequences(
+    points: ArrayLike, *, gamma: float, levels: int
+) -> tuple[np.ndarray, np.ndarray]:
     """Lengths ``l^k`` and ``L^k`` for every level ``k`` from 0 to ``levels`` (Merrien, section 2).
 
     Parameters
@@ -288,7 +292,7 @@ def length_sequences(points, *, gamma: float, levels: int) -> tuple[np.ndarray, 
     return s[:, 0], s[:, 1]
 
 
-def length_bounds(points, *, gamma: float, levels: int) -> tuple[float, float]:
+def length_bounds(points: ArrayLike, *, gamma: float, levels: int) -> tuple[float, float]:
     """The pair ``(l^n, L^n)`` at level ``n = levels`` that brackets the de Rham curve's length.
 
     Parameters
@@ -320,7 +324,7 @@ def length_bounds(points, *, gamma: float, levels: int) -> tuple[float, float]:
     return float(lo[-1]), float(up[-1])
 
 
-def aitken(sequence, *, iterations: int | None = None) -> float:
+def aitken(sequence: ArrayLike, *, iterations: int | None = None) -> float:
     """Iterated Aitken Δ² extrapolation of a sequence; returns the last entry of the last column.
 
     Parameters
@@ -359,7 +363,7 @@ def aitken(sequence, *, iterations: int | None = None) -> float:
     return float(s[-1])
 
 
-def wynn_epsilon(sequence) -> float:
+def wynn_epsilon(sequence: ArrayLike) -> float:
     """Wynn's epsilon algorithm; returns the last entry of the highest even column.
 
     ``eps_{-1} = 0``, ``eps_0^{(k)} = s_k``,
@@ -446,7 +450,7 @@ def _parabola_arcs(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return out
 
 
-def parabola_length(points) -> float:
+def parabola_length(points: ArrayLike) -> float:
     """Exact length of the ``gamma = 2`` de Rham (Chaikin) curve of an open polygon.
 
     Every arc is a parabola; this is the corrected closed form of section 2
@@ -525,7 +529,9 @@ def _predict_level(gap: np.ndarray, level: int, target: float, floor: float) -> 
     )
 
 
-def length(points, *, gamma: float, tol: float = 1e-9, max_level: int = 24) -> LengthResult:
+def length(
+    points: ArrayLike, *, gamma: float, tol: float = 1e-9, max_level: int = 24
+) -> LengthResult:
     """Length of the de Rham curve with a certified bracket and an extrapolated value.
 
     Refines until the bracket ``[l^n, L^{n+1}]`` (section 2 and the recurrence
@@ -699,7 +705,9 @@ def _polygon(a: np.ndarray, b: np.ndarray, c: np.ndarray, x: float) -> np.ndarra
     return np.array([2.0 * a - s1, s1, s2, 2.0 * c - s2])
 
 
-def control_polygon(start, start_tangent, end, end_tangent, x: float) -> np.ndarray:
+def control_polygon(
+    start: ArrayLike, start_tangent: ArrayLike, end: ArrayLike, end_tangent: ArrayLike, x: float
+) -> np.ndarray:
     """The control polygon ``S_0(x), S_1(x), S_2(x), S_3(x)`` of section 3 with ``y = x``.
 
     Parameters
@@ -727,7 +735,14 @@ def control_polygon(start, start_tangent, end, end_tangent, x: float) -> np.ndar
     return _polygon(a, b, c, x)
 
 
-def paper_level(start, start_tangent, end, end_tangent, *, tol: float) -> int:
+def paper_level(
+    start: ArrayLike,
+    start_tangent: ArrayLike,
+    end: ArrayLike,
+    end_tangent: ArrayLike,
+    *,
+    tol: float,
+) -> int:
     """Level ``n`` of section 4: the smallest with ``(|AB| + |BC|) 0.25^n < tol / 2``.
 
     Examples
@@ -851,15 +866,15 @@ class _Problem:
 
 
 def interpolate(
-    start,
-    start_tangent,
-    end,
-    end_tangent,
+    start: ArrayLike,
+    start_tangent: ArrayLike,
+    end: ArrayLike,
+    end_tangent: ArrayLike,
     *,
     length: float,
     gamma: float = 2.0,
     tol: float = 1e-9,
-    method: str = "accelerated",
+    method: Literal["accelerated", "regula_falsi", "secant"] = "accelerated",
     level: int = 6,
     length_level: int | None = None,
     max_iterations: int = 200,
@@ -1287,13 +1302,13 @@ class ChainResult(RichRepr):
 
 
 def interpolate_chain(
-    points,
-    tangents,
-    lengths,
+    points: ArrayLike,
+    tangents: ArrayLike,
+    lengths: ArrayLike,
     *,
     gamma: float = 2.0,
     tol: float = 1e-9,
-    method: str = "accelerated",
+    method: Literal["accelerated", "regula_falsi", "secant"] = "accelerated",
     level: int = 6,
 ) -> ChainResult:
     """G1 curve through several points with given tangents and a prescribed length per span.

@@ -13,10 +13,12 @@ vectorized over vertices, and return new float64 arrays. Conventions:
 from __future__ import annotations
 
 import math
+from typing import Literal
 
 import numpy as np
+from numpy.typing import ArrayLike
 
-from ._validate import as_float, as_points
+from ._validate import as_choice, as_float, as_points
 from .errors import CurveError
 
 __all__ = [
@@ -30,6 +32,7 @@ __all__ = [
     "menger_curvature",
     "orientation",
     "pca_frame",
+    "principal_axes",
     "resample_equilateral",
     "segment_intersection",
     "signed_area",
@@ -37,7 +40,7 @@ __all__ = [
 ]
 
 
-def det2(u, v) -> np.ndarray:
+def det2(u: ArrayLike, v: ArrayLike) -> np.ndarray:
     """Determinant ``u_x v_y - u_y v_x`` of 2D vectors, broadcast over leading axes.
 
     Parameters
@@ -66,7 +69,7 @@ def _edges(p: np.ndarray, closed: bool) -> np.ndarray:
     return p[1:] - p[:-1]
 
 
-def signed_area(points) -> float:
+def signed_area(points: ArrayLike) -> float:
     """Signed area of the closed polygon through `points` (shoelace formula).
 
     Parameters
@@ -116,7 +119,7 @@ def _signed_area(p: np.ndarray) -> float:
     return 0.5 * (float(dx.sum()) + closing)
 
 
-def edge_vectors(points, *, closed: bool = False) -> np.ndarray:
+def edge_vectors(points: ArrayLike, *, closed: bool = False) -> np.ndarray:
     """Edge vectors ``x_{i+1} - x_i`` of a polyline in any dimension.
 
     Parameters
@@ -140,7 +143,7 @@ def edge_vectors(points, *, closed: bool = False) -> np.ndarray:
     return _edges(p, closed)
 
 
-def edge_lengths(points, *, closed: bool = False) -> np.ndarray:
+def edge_lengths(points: ArrayLike, *, closed: bool = False) -> np.ndarray:
     """Euclidean edge lengths of a polyline in any dimension.
 
     Parameters
@@ -162,7 +165,7 @@ def edge_lengths(points, *, closed: bool = False) -> np.ndarray:
     return np.linalg.norm(edge_vectors(points, closed=closed), axis=1)
 
 
-def curve_length(points, *, closed: bool = False) -> float:
+def curve_length(points: ArrayLike, *, closed: bool = False) -> float:
     """Length of a polyline (or polygon perimeter) in any dimension.
 
     Parameters
@@ -186,7 +189,7 @@ def curve_length(points, *, closed: bool = False) -> float:
     return float(edge_lengths(points, closed=closed).sum())
 
 
-def turning_angles(points, *, closed: bool = False) -> np.ndarray:
+def turning_angles(points: ArrayLike, *, closed: bool = False) -> np.ndarray:
     """Signed turning (exterior) angles at the vertices of a planar polyline.
 
     The turning angle at vertex i is the angle from edge ``x_i - x_{i-1}`` to
@@ -231,7 +234,7 @@ def _unit_scaled(e: np.ndarray) -> np.ndarray:
     return np.ldexp(e, -exp[:, None])
 
 
-def interior_angles(points, *, closed: bool = False) -> np.ndarray:
+def interior_angles(points: ArrayLike, *, closed: bool = False) -> np.ndarray:
     """Unsigned angle between the two edges at each vertex, in ``[0, pi]``, any dimension.
 
     The angle at vertex i is between ``x_{i-1} - x_i`` and ``x_{i+1} - x_i``:
@@ -273,7 +276,7 @@ def interior_angles(points, *, closed: bool = False) -> np.ndarray:
     return np.arctan2(cross, dot)
 
 
-def orientation(points) -> int:
+def orientation(points: ArrayLike) -> int:
     """Orientation of a closed polygon: +1 counter-clockwise, -1 clockwise, 0 degenerate.
 
     Examples
@@ -285,7 +288,7 @@ def orientation(points) -> int:
     return int(np.sign(a))
 
 
-def is_convex(points, *, strict: bool = True) -> bool:
+def is_convex(points: ArrayLike, *, strict: bool = True) -> bool:
     """Whether a closed polygon is convex (turns one way, once around).
 
     Parameters
@@ -309,7 +312,7 @@ def is_convex(points, *, strict: bool = True) -> bool:
     return bool(np.all(ok) and abs(abs(np.sum(t)) - 2 * np.pi) < 1e-9)
 
 
-def line_intersection(p, u, q, v) -> np.ndarray:
+def line_intersection(p: ArrayLike, u: ArrayLike, q: ArrayLike, v: ArrayLike) -> np.ndarray:
     """Intersection of the lines ``p + s u`` and ``q + t v`` in the plane.
 
     Parameters
@@ -340,7 +343,9 @@ def line_intersection(p, u, q, v) -> np.ndarray:
     return p + s[..., None] * u
 
 
-def segment_intersection(a0, a1, b0, b1) -> tuple[np.ndarray, np.ndarray]:
+def segment_intersection(
+    a0: ArrayLike, a1: ArrayLike, b0: ArrayLike, b1: ArrayLike
+) -> tuple[np.ndarray, np.ndarray]:
     """Intersect segments ``[a0, a1]`` and ``[b0, b1]`` (vectorized).
 
     Parameters
@@ -406,7 +411,7 @@ def _on_segment(q, s0, s1) -> np.ndarray:
     return col & inside
 
 
-def menger_curvature(points, *, closed: bool = False) -> np.ndarray:
+def menger_curvature(points: ArrayLike, *, closed: bool = False) -> np.ndarray:
     """Signed curvature of the circle through each vertex and its two neighbours.
 
     ``kappa_i = 2 det(x_i - x_{i-1}, x_{i+1} - x_i) / (|a| |b| |c|)`` with the
@@ -447,7 +452,9 @@ def menger_curvature(points, *, closed: bool = False) -> np.ndarray:
     return k
 
 
-def resample_equilateral(points, step, *, rule: str = "paper") -> np.ndarray:
+def resample_equilateral(
+    points: ArrayLike, step: float, *, rule: Literal["paper", "walk"] = "paper"
+) -> np.ndarray:
     """Equilateral open polygon approximation of a polyline with step ``r``.
 
     Implements the procedure of section 5.3 (Figs. 11-13): ``A_1`` is the first
@@ -504,6 +511,7 @@ def resample_equilateral(points, step, *, rule: str = "paper") -> np.ndarray:
     >>> a[:, 0].tolist()
     [0.0, 3.0, 6.0, 9.0]
     """
+    as_choice(rule, ("paper", "walk"), name="rule")
     p = as_points(points, dim=None, min_points=2)
     r = as_float(step, name="step", low=0.0)
     if rule == "walk":
@@ -511,8 +519,6 @@ def resample_equilateral(points, step, *, rule: str = "paper") -> np.ndarray:
         if out.shape[0] < 2:
             raise CurveError(f"step must be shorter than the polyline reaches, got {r:.6g}")
         return out
-    if rule != "paper":
-        raise CurveError(f"rule must be 'paper' or 'walk', got {rule!r}")
     return _resample_equilateral(p, r)[0]
 
 
@@ -637,7 +643,41 @@ def _resample_walk(p: np.ndarray, step: float) -> np.ndarray:
     return np.array(out)
 
 
-def pca_frame(points, *, normal_hint=(0.0, 0.0, 1.0)):
+def principal_axes(points: ArrayLike) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Centroid, singular values and principal directions of points: the one PCA.
+
+    The SVD ``q = U diag(s) V^t`` of the centred points ``q = p - p_bar``; the rows of
+    ``V^t`` are the eigenvectors of the covariance ``(1/m) q^t q`` with eigenvalues
+    ``s^2 / m``, largest first. No sign is chosen: :func:`pca_frame` (3D planes),
+    :func:`curvesmith.keyline.principal_frame` (the 2D keyline frame) and CCA's planarity
+    test of 3D polylines each fix the signs their use needs.
+
+    Parameters
+    ----------
+    points : (N, d) array_like
+        N >= 1 finite points of any dimension.
+
+    Returns
+    -------
+    centroid : (d,) ndarray
+    singular_values : (min(N, d),) ndarray
+        Non-increasing.
+    directions : (min(N, d), d) ndarray
+        Orthonormal rows.
+
+    Examples
+    --------
+    >>> c, s, vt = principal_axes([[0, 0], [2, 0], [4, 0]])
+    >>> c.tolist(), s.round(12).tolist(), abs(vt[0]).tolist()
+    ([2.0, 0.0], [2.828427124746, 0.0], [1.0, 0.0])
+    """
+    p = as_points(points, dim=None, min_points=1)
+    centroid = p.mean(axis=0)
+    _, s, vt = np.linalg.svd(p - centroid, full_matrices=False)
+    return centroid, s, vt
+
+
+def pca_frame(points: ArrayLike, *, normal_hint: ArrayLike = (0.0, 0.0, 1.0)):
     """Least-squares plane of 3D points by principal component analysis: ``(centroid, axes, lam)``.
 
     The plane through the centroid spanned by the eigenvectors ``e1, e2`` of the two largest
@@ -678,9 +718,7 @@ def pca_frame(points, *, normal_hint=(0.0, 0.0, 1.0)):
     hint = as_points([normal_hint], name="normal_hint", dim=3, min_points=1)[0]
     if not np.any(hint):
         raise CurveError(f"normal_hint must be a nonzero vector, got {hint.tolist()}")
-    centroid = p.mean(axis=0)
-    q = p - centroid
-    _, s, vt = np.linalg.svd(q, full_matrices=False)
+    centroid, s, vt = principal_axes(p)
     lam = s**2 / p.shape[0]
     if s[0] <= 0.0 or s[1] <= 1e-12 * s[0]:
         raise CurveError(

@@ -38,11 +38,15 @@ Examples
 from __future__ import annotations
 
 import math
+import os
+from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import Any, Literal
 
 import numpy as np
 
 from . import curves
+from ._validate import as_choice
 from .errors import CurveError
 
 __all__ = ["GlyphReport", "refit_font", "refit_glyph"]
@@ -158,14 +162,14 @@ def _num(x: float):
 
 
 def refit_glyph(
-    font,
+    font: Any,
     name: str,
     *,
     tolerance: float,
     iterations: int = 0,
     spacing: float | None = None,
     grid: float | None = None,
-    rounding: str = "search",
+    rounding: Literal["search", "plain"] = "search",
 ):
     """Refit the contours of one glyph.
 
@@ -208,8 +212,7 @@ def refit_glyph(
         raise CurveError(f"tolerance must be > 0, got {tolerance}")
     if grid is not None and not grid > 0:
         raise CurveError(f"grid must be > 0, got {grid}")
-    if rounding not in ("search", "plain"):
-        raise CurveError(f"rounding must be 'search' or 'plain', got {rounding!r}")
+    as_choice(rounding, ("search", "plain"), name="rounding")
     outline = read_glyph(font, name)
     upm = font.units_per_em if hasattr(font, "units_per_em") else int(font["head"].unitsPerEm)
     step = spacing if spacing is not None else min(float(tolerance), upm / 200.0)
@@ -353,15 +356,15 @@ def _tolerance_bound(seg: np.ndarray, target: np.ndarray, tol: float):
 
 
 def refit_font(
-    source,
-    dest,
+    source: str | os.PathLike[str],
+    dest: str | os.PathLike[str],
     *,
     glyphs: str | None = None,
     tolerance: float = 1.0,
     iterations: int = 0,
-    progress=None,
+    progress: Callable[[str], None] | None = None,
     units_per_em: int | None = None,
-    rounding: str = "search",
+    rounding: Literal["search", "plain"] = "search",
 ):
     """Refit glyphs of a font file and write a TrueType font.
 

@@ -61,12 +61,13 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ._rich import RichRepr
 from ._validate import as_float, as_int, as_points
 from .errors import CurveError
 from .geometry import _resample_equilateral as _resample
-from .geometry import pca_frame, resample_equilateral
+from .geometry import pca_frame, principal_axes, resample_equilateral
 
 if TYPE_CHECKING:
     from .elastica import FitResult
@@ -134,7 +135,7 @@ class PlaneFit:
         """float: root mean square distance of the points from the plane, ``sqrt(lambda3)``."""
         return float(np.sqrt(np.mean(self.coords[:, 2] ** 2)))
 
-    def to_3d(self, points2d) -> np.ndarray:
+    def to_3d(self, points2d: ArrayLike) -> np.ndarray:
         """Map x'y' plane coordinates back to 3D points on the plane.
 
         Parameters
@@ -151,7 +152,7 @@ class PlaneFit:
         return self.centroid + q @ self.axes[:2]
 
 
-def fit_plane(points, *, normal_hint=(0.0, 0.0, 1.0)) -> PlaneFit:
+def fit_plane(points: ArrayLike, *, normal_hint: ArrayLike = (0.0, 0.0, 1.0)) -> PlaneFit:
     """Fit a plane to 3D points by principal component analysis and project on it.
 
     Implements the plane fitting of section 5.3 (Graiff Zurita, Kajiwara &
@@ -234,7 +235,7 @@ class PrincipalFrame:
         """float: angle of ``f1`` from the x axis, in ``(-pi/2, pi/2]`` radians."""
         return math.atan2(self.axes[0, 1], self.axes[0, 0])
 
-    def to_frame(self, points) -> np.ndarray:
+    def to_frame(self, points: ArrayLike) -> np.ndarray:
         """Express other points of the same plane in this frame.
 
         Parameters
@@ -249,7 +250,7 @@ class PrincipalFrame:
         q = as_points(points, min_points=1)
         return (q - self.centre) @ self.axes.T
 
-    def from_frame(self, coords) -> np.ndarray:
+    def from_frame(self, coords: ArrayLike) -> np.ndarray:
         """Map frame coordinates back: ``q = q_bar + (f1 f2) q'``.
 
         Parameters
@@ -264,7 +265,7 @@ class PrincipalFrame:
         return self.centre + c @ self.axes
 
 
-def principal_frame(points) -> PrincipalFrame:
+def principal_frame(points: ArrayLike) -> PrincipalFrame:
     """Put a 2D point sequence in its principal-axes frame (section 5.3).
 
     Implements the coordinate conversion of the approximated 2D keyline in
@@ -299,9 +300,8 @@ def principal_frame(points) -> PrincipalFrame:
 
 
 def _principal_frame(q: np.ndarray) -> PrincipalFrame:
-    centre = q.mean(axis=0)
+    centre, s, vt = principal_axes(q)
     c = q - centre
-    _, s, vt = np.linalg.svd(c, full_matrices=False)
     if s[0] <= 0.0:
         raise CurveError(f"points must not all coincide, got every point at {centre.tolist()}")
     f1 = vt[0]
@@ -392,7 +392,7 @@ def _concavity_depth(p: np.ndarray, i: int, j: int) -> float:
     return float(max(0.0, inside.min(axis=1).max()))
 
 
-def estimate_inflection(points) -> InflectionEstimate:
+def estimate_inflection(points: ArrayLike) -> InflectionEstimate:
     """Estimate the global inflection point of an S-shaped polyline (RDP method).
 
     Implements steps (1)-(4) of section 5.3 (Fig. 14), inspired by the
@@ -529,7 +529,9 @@ def _rdp_index(p: np.ndarray, lo: int, hi: int) -> int | None:
     return i if lo + 2 <= i <= hi - 2 else None
 
 
-def estimate_inflections(points, *, noise: float | None = None) -> tuple[InflectionEstimate, ...]:
+def estimate_inflections(
+    points: ArrayLike, *, noise: float | None = None
+) -> tuple[InflectionEstimate, ...]:
     """Estimate every inflection of an open polyline by the RDP method, recursively.
 
     The RDP method of section 5.3 (:func:`estimate_inflection`) assumes one global
@@ -788,7 +790,7 @@ class KeylineFit(RichRepr):
             )
         return rows
 
-    def to_input_frame(self, points2d) -> np.ndarray:
+    def to_input_frame(self, points2d: ArrayLike) -> np.ndarray:
         """Map x''y'' coordinates (e.g. a side's fitted points) back to the input's frame.
 
         Parameters
@@ -806,10 +808,10 @@ class KeylineFit(RichRepr):
 
 
 def fit(
-    points,
+    points: ArrayLike,
     *,
     step: float | None = None,
-    normal_hint=(0.0, 0.0, 1.0),
+    normal_hint: ArrayLike = (0.0, 0.0, 1.0),
     inflection: int | Sequence[int] | None = None,
     min_side_points: int = 5,
     fit_options: dict | None = None,
@@ -1069,7 +1071,7 @@ def _fit_side(side: np.ndarray, options: dict):
     return min(candidates, key=lambda r: (not r.success, r.rms))
 
 
-def canonical_params(params) -> tuple[float, ...]:
+def canonical_params(params: Sequence[float]) -> tuple[float, ...]:
     """A canonical representative of discrete elastica parameters ``(x0, y0, h, phi, z, q, k)``.
 
     Different parameter vectors draw the same vertices: ``phi`` matters
@@ -1203,15 +1205,15 @@ def _rotation_xyz(angles) -> np.ndarray:
 
 
 def synthetic_keyline(
-    left=(0.008, None, 0.30),
-    right=(0.015, None, 0.40),
+    left: tuple[float, float | None, float] = (0.008, None, 0.30),
+    right: tuple[float, float | None, float] = (0.015, None, 0.40),
     *,
     h: float = 1.0,
     n_left: int = 150,
     n_right: int = 120,
     phi: float = -0.2,
-    tilt=(0.35, -0.25, 0.6),
-    offset=(120.0, -40.0, 15.0),
+    tilt: ArrayLike = (0.35, -0.25, 0.6),
+    offset: ArrayLike = (120.0, -40.0, 15.0),
     noise: float = 0.0,
     points_per_edge: int = 8,
     seed: int | None = None,

@@ -31,7 +31,7 @@ from __future__ import annotations
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from types import MappingProxyType
-from typing import Any
+from typing import Any, Literal
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -39,7 +39,12 @@ from numpy.typing import ArrayLike
 from ._validate import as_choice
 from .errors import CurveError
 
-__all__ = ["METHODS", "SmoothingMethod", "get", "gis_names", "needs"]
+__all__ = ["METHODS", "GisMethod", "MethodName", "SmoothingMethod", "get", "gis_names", "needs"]
+
+#: The names of :data:`METHODS`, for annotations (a test keeps the two equal).
+MethodName = Literal["cca", "chaikin", "derham", "lane_riesenfeld"]
+#: The names of the methods for GIS layers (``gis=True``).
+GisMethod = Literal["cca", "chaikin"]
 
 
 @dataclass(frozen=True)
@@ -251,7 +256,12 @@ def gis_names() -> tuple[str, ...]:
     return tuple(name for name, m in METHODS.items() if m.gis)
 
 
-def needs(option: str, method: str, *, capability: str = "keeps_vertices") -> None:
+def needs(
+    option: str,
+    method: str,
+    *,
+    capability: Literal["keeps_vertices", "keeps_area", "scalable"] = "keeps_vertices",
+) -> None:
     """Raise if `option` needs a method with `capability` and `method` has not got it.
 
     The message names the option, the methods that have the capability, and why

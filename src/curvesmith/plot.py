@@ -8,11 +8,16 @@ scaling.
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from . import geometry
 from ._validate import as_points
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
 
 __all__ = [
     "before_after",
@@ -43,11 +48,19 @@ def _closed_xy(p: np.ndarray, closed: bool) -> np.ndarray:
     return np.vstack([p, p[:1]]) if closed else p
 
 
-def draw_curve(ax, points, *, closed: bool, label: str | None = None, markers: bool = False, **kw):
+def draw_curve(
+    ax: Axes,
+    points: ArrayLike,
+    *,
+    closed: bool,
+    label: str | None = None,
+    markers: bool = False,
+    **kw,
+):
     """Draw a polyline or polygon (closing edge included when `closed`)."""
     p = as_points(points, closed=closed, min_points=2)
     xy = _closed_xy(p, closed)
-    style = {"marker": "o", "markersize": 3} if markers else {}
+    style: dict[str, Any] = {"marker": "o", "markersize": 3} if markers else {}
     style.update(kw)
     ax.plot(xy[:, 0], xy[:, 1], label=label, **style)
     ax.set_aspect("equal", adjustable="box")
@@ -64,13 +77,13 @@ def _describe(p: np.ndarray, closed: bool) -> str:
 
 
 def before_after(
-    before,
+    before: ArrayLike,
     after: Sequence | np.ndarray,
     *,
     closed: bool,
     labels: Sequence[str] = ("before", "after"),
     title: str | None = None,
-    ax=None,
+    ax: Axes | None = None,
 ):
     """Overlay a curve before and after an operation, annotating length and area.
 
@@ -133,12 +146,12 @@ def _legend_below(ax) -> None:
 
 
 def curvature_comb(
-    points,
-    curvature=None,
+    points: ArrayLike,
+    curvature: ArrayLike | None = None,
     *,
     closed: bool,
     scale: float | None = None,
-    ax=None,
+    ax: Axes | None = None,
     title: str | None = None,
     color: str = "tab:red",
 ):
@@ -205,7 +218,7 @@ def curvature_comb(
 def convergence(
     series: dict[str, Sequence[float]],
     *,
-    ax=None,
+    ax: Axes | None = None,
     title: str | None = None,
     xlabel: str = "level n",
     ylabel: str = "error",
@@ -250,12 +263,12 @@ def _bezier_curvature(segments: np.ndarray, per_segment: int):
 
 
 def bezier_comb(
-    segments,
+    segments: ArrayLike,
     *,
     closed: bool,
     per_segment: int = 24,
     scale: float | None = None,
-    ax=None,
+    ax: Axes | None = None,
     title: str | None = None,
     color: str = "tab:blue",
 ):
@@ -324,7 +337,7 @@ def bezier_comb(
     return ax
 
 
-def comb_before_after(points, fit, *, closed: bool, title: str | None = None):
+def comb_before_after(points: ArrayLike, fit: Any, *, closed: bool, title: str | None = None):
     """Side by side: the comb of a dense polyline and of its fitted Bézier path.
 
     Parameters
@@ -372,7 +385,15 @@ def _arc_positions(p: np.ndarray) -> np.ndarray:
     return np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(p[:, :2], axis=0).T))])
 
 
-def deviation_along(ax, points, deviation, *, tolerance: float | None = None, label=None, **kw):
+def deviation_along(
+    ax: Axes,
+    points: ArrayLike,
+    deviation: ArrayLike,
+    *,
+    tolerance: float | None = None,
+    label: str | None = None,
+    **kw,
+):
     """Plot the deviation of each point from a fitted curve against arc length, in data units.
 
     Unlike an overlay at equal scale, where a 1 mm error on a 1.5 m curve is invisible,
@@ -418,7 +439,15 @@ def deviation_along(ax, points, deviation, *, tolerance: float | None = None, la
     return ax
 
 
-def curvature_along(ax, data, fitted, *, data_label="data", fit_label="fit", span: int = 1):
+def curvature_along(
+    ax: Axes,
+    data: ArrayLike,
+    fitted: ArrayLike,
+    *,
+    data_label: str = "data",
+    fit_label: str = "fit",
+    span: int = 1,
+):
     """Plot the discrete curvature of data and of a fitted curve against arc length.
 
     Curvature is the Menger curvature (inverse circumradius of three vertices, signed) of
@@ -501,7 +530,7 @@ def _geometry_lines(geometry, most: int = 3000):
     return [shapely.get_coordinates(g) for g in lines]
 
 
-def result_figure(result, *, width: float = 3.4, height: float = 2.6):
+def result_figure(result: Any, *, width: float = 3.4, height: float = 2.6):
     """A small figure of a method's result: the curve, the fit over its data, or the layer.
 
     What a notebook shows beside the numbers (``_repr_html_`` of the results): the
@@ -563,7 +592,7 @@ def result_figure(result, *, width: float = 3.4, height: float = 2.6):
     return fig
 
 
-def result_svg(result) -> str | None:
+def result_svg(result: Any) -> str | None:
     """:func:`result_figure` as an inline SVG document (what notebooks embed), or None."""
     import io
 
@@ -579,7 +608,9 @@ def result_svg(result) -> str | None:
     return text[text.index("<svg") :]
 
 
-def fit_panels(axes, result, data, *, label: str | None = None) -> None:
+def fit_panels(
+    axes: Sequence[Axes], result: Any, data: ArrayLike, *, label: str | None = None
+) -> None:
     """Three panels of an elastica fit: the curve over its data, deviation and curvature.
 
     For :func:`curvesmith.elastica.fit` (with the start of its final solve) and
@@ -637,7 +668,7 @@ def fit_panels(axes, result, data, *, label: str | None = None) -> None:
     axes[2].set_title("curvature along the curve", fontsize="medium")
 
 
-def fit_figure(fits, *, labels=None):
+def fit_figure(fits: Sequence[Any], *, labels: Sequence[str] | None = None):
     """One row of :func:`fit_panels` per ``(result, data)`` pair; a Figure not tied to pyplot.
 
     Examples

@@ -30,6 +30,7 @@ be booleans.
 from __future__ import annotations
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ._validate import MAX_VERTICES, as_bool, as_float, as_int, as_points, check_growth
 from .errors import CurveError
@@ -63,7 +64,7 @@ def _input_points(points, closed) -> tuple[np.ndarray, bool]:
 
 
 def chaikin(
-    points,
+    points: ArrayLike,
     *,
     closed: bool,
     iterations: int = 1,
@@ -107,7 +108,7 @@ def chaikin(
 
 
 def de_rham(
-    points,
+    points: ArrayLike,
     *,
     gamma: float,
     closed: bool = False,
@@ -185,7 +186,7 @@ def _de_rham_step(
 
 
 def lane_riesenfeld(
-    points,
+    points: ArrayLike,
     *,
     degree: int,
     closed: bool = False,
@@ -313,11 +314,11 @@ def _edge_ends(offsets: np.ndarray, closed: np.ndarray):
 
 
 def de_rham_ragged(
-    coords,
-    offsets,
+    coords: ArrayLike,
+    offsets: ArrayLike,
     *,
     gamma: float,
-    closed=False,
+    closed: bool | ArrayLike = False,
     iterations: int = 1,
     preserve_endpoints: bool = False,
 ) -> tuple[np.ndarray, np.ndarray]:
@@ -368,10 +369,10 @@ def de_rham_ragged(
 
 
 def chaikin_ragged(
-    coords,
-    offsets,
+    coords: ArrayLike,
+    offsets: ArrayLike,
     *,
-    closed,
+    closed: bool | ArrayLike,
     iterations: int = 1,
     preserve_endpoints: bool = False,
 ) -> tuple[np.ndarray, np.ndarray]:
@@ -428,11 +429,11 @@ def _de_rham_ragged_step(p, off, closed, beta, keep_ends):
 
 
 def lane_riesenfeld_ragged(
-    coords,
-    offsets,
+    coords: ArrayLike,
+    offsets: ArrayLike,
     *,
     degree: int,
-    closed=False,
+    closed: bool | ArrayLike = False,
     iterations: int = 1,
     preserve_endpoints: bool = False,
 ) -> tuple[np.ndarray, np.ndarray]:

@@ -43,12 +43,14 @@ import bisect
 import dataclasses
 import math
 from dataclasses import dataclass, field
+from typing import Literal
 
 import numpy as np
+from numpy.typing import ArrayLike
 from scipy.optimize import least_squares, minimize_scalar
 
 from .._rich import RichRepr
-from .._validate import as_float, as_int, as_points
+from .._validate import as_choice, as_float, as_int, as_points
 from ..errors import CurveError
 
 __all__ = ["Approximation", "ReplacementCurve", "approximate", "construct", "replacement_curve"]
@@ -94,7 +96,7 @@ class ReplacementCurve:
         """Signed total affine arc length ``S = sum_j S_j``."""
         return float(self.cumulative[-1])
 
-    def evaluate(self, t) -> np.ndarray:
+    def evaluate(self, t: ArrayLike) -> np.ndarray:
         """Points ``f~(t)``; the end arcs of an open curve are extended beyond ``[0, N]``.
 
         Parameters
@@ -117,7 +119,7 @@ class ReplacementCurve:
         c = self.controls[j]
         return (1 - u) ** 2 * p + 2 * u * (1 - u) * c + u**2 * q
 
-    def affine_length_at(self, t) -> np.ndarray:
+    def affine_length_at(self, t: ArrayLike) -> np.ndarray:
         """Signed affine arc length ``s(t)`` from ``f~(0)`` (piecewise linear in ``t``)."""
         t = np.atleast_1d(np.asarray(t, dtype=float))
         n = self.segments
@@ -144,7 +146,7 @@ class ReplacementCurve:
         return np.array([(nz[c] + 1 + nz[c + 1]) // 2 for c in change], dtype=int)
 
 
-def replacement_curve(samples, *, closed: bool = False) -> ReplacementCurve:
+def replacement_curve(samples: ArrayLike, *, closed: bool = False) -> ReplacementCurve:
     """Build the piecewise parabolic replacement curve of dense samples (section 4.1, Fig. 9).
 
     The arc from ``p_j`` to ``p_{j+1}`` is the parabola tangent to
@@ -555,11 +557,11 @@ class _Piece:
 
 
 def approximate(
-    samples,
+    samples: ArrayLike,
     *,
     vertices: int,
     closed: bool = False,
-    search: str = "brent",
+    search: Literal["brent", "golden"] = "brent",
     xtol: float = 1e-10,
     max_iterations: int = 200,
     skip: int = 2,
@@ -642,8 +644,7 @@ def approximate(
     (True, True)
     """
     vertices = as_int(vertices, name="vertices", minimum=4)
-    if search not in ("brent", "golden"):
-        raise CurveError(f"search must be 'brent' or 'golden', got {search!r}")
+    as_choice(search, ("brent", "golden"), name="search")
     xtol = as_float(xtol, name="xtol", low=0.0)
     max_iterations = as_int(max_iterations, name="max_iterations", minimum=1)
     skip = as_int(skip, name="skip", minimum=0)

@@ -25,10 +25,12 @@ For a closed polygon (``closed=True``, ``N`` distinct vertices) every array has
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Literal
 
 import numpy as np
+from numpy.typing import ArrayLike
 
-from .._validate import as_float, as_int, as_points
+from .._validate import as_choice, as_float, as_int, as_points
 from ..errors import CurveError
 from ..geometry import det2
 
@@ -56,7 +58,7 @@ def _coords(p: np.ndarray, closed: bool) -> tuple[np.ndarray, np.ndarray]:
     return det2(v[:-1], v[1:]), det2(v[:-2], v[2:])
 
 
-def coordinates(points, *, closed: bool = False) -> tuple[np.ndarray, np.ndarray]:
+def coordinates(points: ArrayLike, *, closed: bool = False) -> tuple[np.ndarray, np.ndarray]:
     """Affine polyline coordinates ``A_i, B_i`` (Käferböck, eq. 1).
 
     ``A_i = det(v_{i-1}, v_i)`` and ``B_i = det(v_{i-1}, v_{i+1})`` with
@@ -89,7 +91,7 @@ def coordinates(points, *, closed: bool = False) -> tuple[np.ndarray, np.ndarray
     return _coords(p, closed)
 
 
-def reconstruct(A, B, start) -> np.ndarray:
+def reconstruct(A: ArrayLike, B: ArrayLike, start: ArrayLike) -> np.ndarray:
     """Rebuild an open polyline from its affine coordinates and three vertices (eq. 2).
 
     Uses ``B_i v_i = A_{i+1} v_{i-1} + A_i v_{i+1}`` solved for ``v_{i+1}``.
@@ -154,7 +156,7 @@ def _volume_elements(p: np.ndarray, closed: bool) -> np.ndarray:
     return np.linalg.det(v[idx]) if d > 2 else det2(v[idx[:, 0]], v[idx[:, 1]])
 
 
-def affine_length_elements(points, *, closed: bool = False) -> np.ndarray:
+def affine_length_elements(points: ArrayLike, *, closed: bool = False) -> np.ndarray:
     """Discrete affine length elements ``L_n(x_i, .., x_{i+n})`` in ``R^n`` (eq. 8).
 
     ``L_n = det(dx_i, .., dx_{i+n-1})^(2 / (n (n + 1)))`` where ``n`` is the
@@ -190,7 +192,7 @@ def affine_length_elements(points, *, closed: bool = False) -> np.ndarray:
     return _signed_root(_volume_elements(p, closed), 2.0 / (d * (d + 1)))
 
 
-def affine_length(points, *, closed: bool = False) -> float:
+def affine_length(points: ArrayLike, *, closed: bool = False) -> float:
     """Discrete affine length: ``L_2`` (eq. 3) in the plane, ``L_n`` (eq. 8) in ``R^n``.
 
     The sum of :func:`affine_length_elements`. It is invariant under equiaffine
@@ -216,7 +218,7 @@ def affine_length(points, *, closed: bool = False) -> float:
     return float(np.sum(affine_length_elements(points, closed=closed)))
 
 
-def is_affine_arc_length(points, *, closed: bool = False, rtol: float = 1e-8) -> bool:
+def is_affine_arc_length(points: ArrayLike, *, closed: bool = False, rtol: float = 1e-8) -> bool:
     """Whether a polyline is an affine arc length polyline (eq. 9: all ``A_i`` equal, non-zero).
 
     Parameters
@@ -251,7 +253,7 @@ def is_affine_arc_length(points, *, closed: bool = False, rtol: float = 1e-8) ->
     return bool(mean != 0.0 and np.max(np.abs(dets - mean)) <= rtol * abs(mean))
 
 
-def normals(points, *, closed: bool = False) -> np.ndarray:
+def normals(points: ArrayLike, *, closed: bool = False) -> np.ndarray:
     """Discrete affine normals ``n_i = x_{i-1} - 2 x_i + x_{i+1}`` (section 2.3).
 
     Parameters
@@ -290,7 +292,7 @@ def _checked_area(p: np.ndarray, closed: bool, rtol: float) -> tuple[float, np.n
     return mean, b
 
 
-def curvature(points, *, closed: bool = False, rtol: float = 1e-6) -> np.ndarray:
+def curvature(points: ArrayLike, *, closed: bool = False, rtol: float = 1e-6) -> np.ndarray:
     """Discrete affine curvatures ``k_i`` of an affine arc length polyline (eq. 4).
 
     ``k_i`` is defined by ``d^3 x_{i-1} + k_i dx_i = 0``; equivalently
@@ -333,7 +335,7 @@ def curvature(points, *, closed: bool = False, rtol: float = 1e-6) -> np.ndarray
     return 2.0 - b / area
 
 
-def evolute(points, *, closed: bool = False, rtol: float = 1e-6) -> np.ndarray:
+def evolute(points: ArrayLike, *, closed: bool = False, rtol: float = 1e-6) -> np.ndarray:
     """Discrete affine evolute ``xi_i = x_i + n_i / k_i`` of an affine arc length polyline (eq. 5).
 
     ``xi_i`` is the intersection of the consecutive affine normal lines at
@@ -411,7 +413,7 @@ class Conic:
     centre: np.ndarray | None
     affine_curvature: float
 
-    def evaluate(self, points) -> np.ndarray:
+    def evaluate(self, points: ArrayLike) -> np.ndarray:
         """Value of the quadratic form at points (zero on the conic).
 
         Parameters
@@ -427,7 +429,7 @@ class Conic:
         h = np.c_[p, np.ones(len(p))]
         return np.einsum("ij,jk,ik->i", h, self.matrix, h)
 
-    def sample(self, t, *, branch: int = 1) -> np.ndarray:
+    def sample(self, t: ArrayLike, *, branch: int = 1) -> np.ndarray:
         """Points of the conic for parameters `t`.
 
         Ellipse: ``centre + U (cos t, sin t)``; hyperbola: ``centre + U (branch cosh t,
@@ -495,7 +497,12 @@ def _sym(v: np.ndarray) -> np.ndarray:
 
 
 def osculating_conic(
-    points, index: int, *, kind: str = "middle", closed: bool = False, rtol: float = 1e-6
+    points: ArrayLike,
+    index: int,
+    *,
+    kind: Literal["middle", "outer", "inner"] = "middle",
+    closed: bool = False,
+    rtol: float = 1e-6,
 ) -> Conic:
     """Outer, inner or middle osculating conic of the quadruple at `index` (Theorem 2).
 
@@ -539,8 +546,7 @@ def osculating_conic(
     >>> c.kind, round(c.affine_curvature, 12) == round(3 ** (-2 / 3), 12)
     ('ellipse', True)
     """
-    if kind not in ("middle", "outer", "inner"):
-        raise CurveError(f"kind must be 'middle', 'outer' or 'inner', got {kind!r}")
+    as_choice(kind, ("middle", "outer", "inner"), name="kind")
     p = as_points(points, closed=closed, min_points=4)
     area, b = _checked_area(p, closed, as_float(rtol, name="rtol", low=0.0, low_open=False))
     count = b.size
@@ -605,7 +611,7 @@ def _middle(outer: np.ndarray, inner: np.ndarray) -> np.ndarray:
     return m
 
 
-def osculating_curvatures(points, *, closed: bool = False, rtol: float = 1e-6):
+def osculating_curvatures(points: ArrayLike, *, closed: bool = False, rtol: float = 1e-6):
     """Affine curvatures of the outer, inner and middle osculating conics (eq. 7).
 
     ``kappa^o = A^(-2/3) k (1 - k/4)^(1/3)``, ``kappa^i = A^(-2/3) k (1 - k/4)^(-1/3)``,

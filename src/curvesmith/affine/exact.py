@@ -16,6 +16,7 @@ gives the exact value (scratch check, and the tests here with several conics).
 from __future__ import annotations
 
 import numpy as np
+from numpy.typing import ArrayLike
 from scipy.interpolate import BPoly
 
 from .._validate import as_points
@@ -25,7 +26,9 @@ from ..geometry import det2
 __all__ = ["bezier_affine_curvature", "bezier_curve", "parametric_affine_curvature"]
 
 
-def parametric_affine_curvature(d1, d2, d3, d4) -> np.ndarray:
+def parametric_affine_curvature(
+    d1: ArrayLike, d2: ArrayLike, d3: ArrayLike, d4: ArrayLike
+) -> np.ndarray:
     """Affine curvature from the first four derivatives of a planar curve.
 
     Parameters
@@ -67,7 +70,7 @@ def _bpoly(control) -> BPoly:
     return BPoly(c[:, None, :], [0.0, 1.0])
 
 
-def bezier_curve(control, u) -> np.ndarray:
+def bezier_curve(control: ArrayLike, u: ArrayLike) -> np.ndarray:
     """Points of the Bézier curve with the given control points (``scipy.interpolate.BPoly``).
 
     Parameters
@@ -89,7 +92,7 @@ def bezier_curve(control, u) -> np.ndarray:
     return _bpoly(control)(np.atleast_1d(np.asarray(u, dtype=float)))
 
 
-def bezier_affine_curvature(control, u) -> np.ndarray:
+def bezier_affine_curvature(control: ArrayLike, u: ArrayLike) -> np.ndarray:
     """Exact affine curvature of a Bézier curve at parameters `u`.
 
     Parameters

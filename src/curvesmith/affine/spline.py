@@ -12,6 +12,7 @@ measures their curvature on both sides of every joint.
 from __future__ import annotations
 
 import numpy as np
+from numpy.typing import ArrayLike
 from scipy.interpolate import BSpline, PPoly
 
 from .._validate import as_int, as_points
@@ -32,7 +33,7 @@ def _control(points, closed: bool, degree: int, dim) -> np.ndarray:
     return p
 
 
-def bspline(points, *, degree: int = 2, closed: bool = False) -> BSpline:
+def bspline(points: ArrayLike, *, degree: int = 2, closed: bool = False) -> BSpline:
     """Uniform B-spline of the given degree with `points` as control polygon.
 
     Knots are the integers, so the spline is ``f(t) = sum_i B_i^n(t) x_i`` of
@@ -66,7 +67,7 @@ def bspline(points, *, degree: int = 2, closed: bool = False) -> BSpline:
     return BSpline(knots, c, degree, extrapolate=False)
 
 
-def bezier_segments(points, *, closed: bool = False) -> np.ndarray:
+def bezier_segments(points: ArrayLike, *, closed: bool = False) -> np.ndarray:
     """Quadratic Bézier segments of the uniform quadratic B-spline of a control polygon.
 
     Segment ``j`` runs from ``(x_j + x_{j+1}) / 2`` with control point
@@ -104,7 +105,7 @@ def _ppoly(s: BSpline) -> PPoly:
 
 
 def spline_curvature(
-    points, *, closed: bool = False, per_segment: int = 16
+    points: ArrayLike, *, closed: bool = False, per_segment: int = 16
 ) -> tuple[np.ndarray, np.ndarray]:
     """Euclidean curvature of the uniform quadratic B-spline of a planar control polygon.
 
@@ -162,7 +163,7 @@ def _piece_derivatives(pp: PPoly, idx: np.ndarray, t: np.ndarray, order: int) ->
 
 
 def joint_curvatures(
-    points, *, degree: int = 2, closed: bool = False
+    points: ArrayLike, *, degree: int = 2, closed: bool = False
 ) -> tuple[np.ndarray, np.ndarray]:
     """Highest Frenet curvature of the uniform B-spline on both sides of every interior joint.
 

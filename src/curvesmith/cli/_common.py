@@ -10,6 +10,7 @@ from pathlib import Path
 
 import click
 
+from .. import methods
 from ..errors import CurveError, CurveFormatError
 from ..io import Curve, check_destination, detect_format, formats
 from ..io import read_curves as _read_registry
@@ -27,6 +28,7 @@ __all__ = [
     "POSITIVE",
     "POSITIVE_INT",
     "check_output",
+    "gis_method",
     "parse_floats",
     "parse_indices",
     "read_curves",
@@ -253,3 +255,18 @@ def parse_indices(text: str, *, name: str) -> list[int]:
         return [int(p) for p in text.split(",") if p.strip()]
     except ValueError:
         raise click.UsageError(f"{name} must be comma-separated integers, got {text!r}") from None
+
+
+def gis_method(method: str, *, what: str) -> methods.GisMethod:
+    """`method` if it smooths GIS layers, else the one-line error naming what it is not for.
+
+    >>> gis_method("derham", what="GIS files")
+    Traceback (most recent call last):
+    ...
+    curvesmith.errors.CurveError: --method derham is not available for GIS files; use cca or chaikin
+    """
+    if not methods.get(method).gis:
+        raise CurveError(
+            f"--method {method} is not available for {what}; use {' or '.join(methods.gis_names())}"
+        )
+    return method  # type: ignore[return-value]  # checked against the table just above

@@ -15,7 +15,16 @@ import click
 
 from .. import methods
 from ..errors import CurveError
-from ._common import ALPHA, COUNT, MAX_SHIFT_OPTION, MIN_SEGMENT_OPTION, POSITIVE, POSITIVE_INT
+from ..methods import GisMethod
+from ._common import (
+    ALPHA,
+    COUNT,
+    MAX_SHIFT_OPTION,
+    MIN_SEGMENT_OPTION,
+    POSITIVE,
+    POSITIVE_INT,
+    gis_method,
+)
 
 __all__ = ["contours_command", "smooth_network_geofile"]
 
@@ -104,11 +113,7 @@ def smooth_network_geofile(
     """
     from .. import geo
 
-    if not methods.get(method).gis:
-        raise CurveError(
-            f"--method {method} is not available for networks; use "
-            f"{' or '.join(methods.gis_names())}"
-        )
+    gis = gis_method(method, what="networks")
     _check_output(out_path)
     df = geo.read_file(in_path, layer=int(layer) if layer and layer.isdigit() else layer)
     crs = df.crs
@@ -125,7 +130,7 @@ def smooth_network_geofile(
     work = to_one_equal_area(df, mode="network", name=in_path) if equal_area else df
     res = geo.smooth_network(
         work,
-        method=method,
+        method=gis,
         iterations=iterations,
         alpha=_alpha(alpha),
         full_output=True,
@@ -197,7 +202,7 @@ def contours_command(
     levels: str | None,
     bands: bool,
     iterations: int,
-    method: str,
+    method: GisMethod,
     alpha: str,
     raster_band: int,
     crs: str | None,

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from typing import Literal
+
 import click
 
 from .. import derham
@@ -53,7 +55,7 @@ def derham_command(
     end_tangent: str,
     target: float,
     gamma: float,
-    method: str,
+    method: Literal["accelerated", "regula_falsi", "secant"],
     tol: float,
     level: int,
     dest: str,

@@ -16,7 +16,14 @@ import click
 
 from .. import methods
 from ..errors import CurveError
-from ._common import ALPHA, COUNT, KEEP_ANGLE_OPTION, MAX_SHIFT_OPTION, MIN_SEGMENT_OPTION
+from ._common import (
+    ALPHA,
+    COUNT,
+    KEEP_ANGLE_OPTION,
+    MAX_SHIFT_OPTION,
+    MIN_SEGMENT_OPTION,
+    gis_method,
+)
 
 __all__ = ["GEO_SUFFIXES", "batch_group", "check_geo_output", "is_geofile", "smooth_geofile"]
 
@@ -139,18 +146,14 @@ def smooth_geofile(
 
     from .. import geo
 
-    if not methods.get(method).gis:
-        raise CurveError(
-            f"--method {method} is not available for GIS files; use "
-            f"{' or '.join(methods.gis_names())}"
-        )
+    gis = gis_method(method, what="GIS files")
     with tempfile.TemporaryDirectory(prefix="curvesmith-") as tmp:
         target = Path(tmp) / "stdout.geojson" if out_path == "-" else out_path
         report = _run_reporting_crs(
             geo.smooth_file,
             in_path,
             target,
-            method=method,
+            method=gis,
             iterations=iterations,
             alpha=_alpha(alpha),
             coverage=coverage,

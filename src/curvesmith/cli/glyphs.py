@@ -6,6 +6,7 @@ import json
 import math
 import sys
 from pathlib import Path
+from typing import Literal
 
 import click
 
@@ -50,7 +51,7 @@ def glyphs_command(
     iterations: int,
     tolerance: float | None,
     upem: int | None,
-    rounding: str,
+    rounding: Literal["search", "plain"],
     as_json: bool,
 ) -> None:
     """Refit the glyphs of FONT (TrueType, OpenType-CFF or UFO); write a TrueType font or UFO.

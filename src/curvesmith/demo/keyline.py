@@ -16,6 +16,7 @@ import time
 import numpy as np
 
 from .. import keyline
+from ..errors import CurveError
 
 TITLE = "Keylines of pantiles: plane fit, equilateral resampling, inflection, elastica per side"
 
@@ -236,6 +237,8 @@ def _section_scan(ctx) -> None:
     axes[0].plot(*res.points.T, "-", color="tab:red", lw=1, label="discrete elastica")
     axes[0].set_title(f"section scan, case ({res.case}), k = {res.params.k:.3g}")
     axes[0].legend(fontsize="small")
+    if res.deviation is None:  # a fit always measures its deviation; the demo relies on it
+        raise CurveError("the section scan's fit has no deviation")
     _plot.deviation_along(axes[1], scan, res.deviation, tolerance=0.5)
     axes[1].set_title(f"deviation (mm): max {res.max_deviation:.3g}, rms {res.rms_deviation:.3g}")
     span = max(1, res.data.shape[0] // 60)

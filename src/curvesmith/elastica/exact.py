@@ -47,12 +47,13 @@ from __future__ import annotations
 import functools
 import math
 from dataclasses import dataclass
-from typing import NamedTuple
+from typing import Literal, NamedTuple
 
 import numpy as np
+from numpy.typing import ArrayLike
 from scipy.special import ellipj as _scipy_ellipj
 
-from .._validate import as_int, as_points
+from .._validate import as_choice, as_int, as_points
 from ..errors import CurveError
 from ._elliptic import _AGM_BAND, _sd2_integral, ellipj, ellipj_am, sech
 
@@ -129,8 +130,7 @@ def _as_params(params, *, case: str | None = None) -> ElasticaParams:
         raise CurveError(f"params h must be > 0, got {arr[2]}")
     if arr[6] <= 0:
         raise CurveError(f"params k must be > 0, got {arr[6]}")
-    if case not in (None, "i", "ii"):
-        raise CurveError(f"case must be None, 'i' or 'ii', got {case!r}")
+    as_choice(case, (None, "i", "ii"), name="case")
     if case == "i":
         if arr[6] > 1.0:
             raise CurveError(f"case (i) needs a modulus k <= 1, got {arr[6]}")
@@ -290,7 +290,9 @@ def _columns(p: ElasticaParams, T: np.ndarray, a_s: np.ndarray, a_k: np.ndarray)
     return cols.view(float).reshape(7, n_points, 2)
 
 
-def sample(params, n_points: int, *, case: str | None = None) -> np.ndarray:
+def sample(
+    params: ArrayLike, n_points: int, *, case: Literal["i", "ii"] | None = None
+) -> np.ndarray:
     """Vertices of the discrete elastica with parameters `params`, eqs. (4.3)/(4.2) and (4.4).
 
     Parameters
@@ -332,7 +334,9 @@ def sample(params, n_points: int, *, case: str | None = None) -> np.ndarray:
     return _positions(p, n).copy()  # an array of its own, not a view of the complex walk
 
 
-def exact_curvature(params, n_points: int, *, case: str | None = None) -> np.ndarray:
+def exact_curvature(
+    params: ArrayLike, n_points: int, *, case: Literal["i", "ii"] | None = None
+) -> np.ndarray:
     """Closed-form discrete curvature ``kappa_n`` of a sampled elastica, eq. (3.20), continued in k.
 
     Parameters
@@ -402,7 +406,7 @@ class Invariants:
     case: str
 
 
-def invariants(params, *, case: str | None = None) -> Invariants:
+def invariants(params: ArrayLike, *, case: Literal["i", "ii"] | None = None) -> Invariants:
     """Conserved quantities of the discrete elastica with parameters `params`.
 
     Parameters
@@ -445,7 +449,7 @@ def invariants(params, *, case: str | None = None) -> Invariants:
     )
 
 
-def segment_length(points, *, rtol: float = 1e-6) -> float:
+def segment_length(points: ArrayLike, *, rtol: float = 1e-6) -> float:
     """Common segment length ``h`` of a discrete curve with equal segments (section 3.1).
 
     Parameters
@@ -488,7 +492,7 @@ def _segment_length(p: np.ndarray, rtol: float) -> float:
     return h
 
 
-def tangent_angles(points) -> np.ndarray:
+def tangent_angles(points: ArrayLike) -> np.ndarray:
     """Discrete angle function ``Theta_n`` of eqs. (3.1)/(4.32), continuous (unwrapped).
 
     Parameters
@@ -513,7 +517,7 @@ def tangent_angles(points) -> np.ndarray:
     return np.unwrap(np.arctan2(e[:, 1], e[:, 0]))
 
 
-def curvature(points, *, rtol: float = 1e-6) -> np.ndarray:
+def curvature(points: ArrayLike, *, rtol: float = 1e-6) -> np.ndarray:
     """Discrete curvature ``kappa_n = (2/h) tan(K_n / 2)`` of eqs. (3.4)/(4.33).
 
     Parameters

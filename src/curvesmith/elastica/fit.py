@@ -78,14 +78,15 @@ from __future__ import annotations
 import functools
 import math
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, Literal
 
 import numpy as np
+from numpy.typing import ArrayLike
 from scipy.optimize import least_squares, leastsq
 from scipy.special import ellipk
 
 from .._rich import RichRepr
-from .._validate import as_float, as_int, as_points
+from .._validate import as_choice, as_float, as_int, as_points
 from ..errors import CurveError, require
 from ..geometry import _resample_walk
 from . import _degenerate, _geom, _varpro
@@ -206,7 +207,7 @@ def _check_fixed(fixed) -> dict[int, float]:
     return out
 
 
-def spacing_spread(points) -> float:
+def spacing_spread(points: ArrayLike) -> float:
     """Relative spread of the edge lengths: ``std(l) / mean(l)``.
 
     :func:`fit` pairs data and model vertices by index, which needs roughly
@@ -876,11 +877,11 @@ def _verdict(rms, noise, extent, *, single, basin_factor) -> str:
 
 
 def fit(
-    points,
+    points: ArrayLike,
     *,
     fixed: dict | None = None,
-    method: str = "lsq",
-    start=None,
+    method: Literal["lsq", "ipopt"] = "lsq",
+    start: ArrayLike | None = None,
     resample: bool | float = False,
     spacing_tol: float = SPACING_TOL,
     continuation: str | bool = "auto",
@@ -968,16 +969,14 @@ def fit(
     >>> arc.case, bool(arc.max_deviation < 1e-12)
     ('circle', True)
     """
-    if method not in _METHODS:
-        raise CurveError(f"method must be one of {_METHODS}, got {method!r}")
+    as_choice(method, _METHODS, name="method")
     if max_iterations is None:
         max_iterations = DEFAULT_MAX_ITERATIONS[method]
     max_iterations = as_int(max_iterations, name="max_iterations", minimum=1)
     if tol is None:
         tol = 1e-12 if method == "lsq" else 1e-8
     tol = as_float(tol, name="tol", low=0.0)
-    if continuation not in ("auto", True, False):
-        raise CurveError(f"continuation must be 'auto', True or False, got {continuation!r}")
+    as_choice(continuation, ("auto", True, False), name="continuation")
     spacing_tol = as_float(spacing_tol, name="spacing_tol", low=0.0)
     basin_factor = as_float(basin_factor, name="basin_factor", low=0.0)
     if tolerance is not None:

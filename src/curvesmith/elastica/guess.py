@@ -31,6 +31,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from numpy.typing import ArrayLike
 from scipy.special import ellipk, ellipkinc
 
 from .._validate import as_points
@@ -77,7 +78,7 @@ def _arguments(pieces, dec_start: bool, m: int):
     return scale * s0, scale * s1
 
 
-def initial_guess(points) -> ElasticaParams:
+def initial_guess(points: ArrayLike) -> ElasticaParams:
     """Initial parameters ``(x0, y0, h, phi, z, q, k)`` for fitting a discrete elastica.
 
     Section 4.3 of Graiff Zurita, Kajiwara & Suzuki: discrete curvature (4.33),

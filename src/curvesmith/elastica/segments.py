@@ -68,6 +68,7 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
+from numpy.typing import ArrayLike
 from scipy.optimize import leastsq
 
 from .._validate import as_float, as_int, as_points
@@ -615,7 +616,7 @@ def _orient(raw: np.ndarray) -> bool:
 
 
 def fit_segments(
-    points,
+    points: ArrayLike,
     tolerance: float,
     *,
     max_segments: int | None = None,

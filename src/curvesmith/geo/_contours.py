@@ -23,6 +23,7 @@ import numpy as np
 
 from .._rich import RichRepr
 from ..errors import CurveError, CurveFormatError, require
+from ..methods import GisMethod
 
 __all__ = ["ContourResult", "Grid", "contours", "read_grid"]
 
@@ -297,7 +298,7 @@ def contours(
     levels: Any = None,
     interval: float | None = None,
     bands: bool = False,
-    method: str = "cca",
+    method: GisMethod = "cca",
     iterations: int = 1,
     alpha: Any = "regular",
     crs: Any = None,

@@ -6,6 +6,7 @@ import itertools
 import math
 import shutil
 import warnings
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -15,6 +16,7 @@ import numpy as np
 from .. import methods
 from ..errors import CurveError, CurveFormatError, require
 from ..io._core import atomic_path
+from ..methods import GisMethod
 
 __all__ = [
     "DRIVERS",
@@ -107,7 +109,9 @@ def _driver_for(path: Path) -> str:
     return driver
 
 
-def read_file(path: str | Path, *, layer: str | int | None = None, columns=None):
+def read_file(
+    path: str | Path, *, layer: str | int | None = None, columns: Sequence[str] | None = None
+):
     """Read a GeoPackage, Shapefile, GeoJSON or FlatGeobuf layer into a GeoDataFrame.
 
     Parameters
@@ -985,7 +989,7 @@ def smooth_file(
     in_path: str | Path,
     out_path: str | Path,
     *,
-    method: str = "cca",
+    method: GisMethod = "cca",
     iterations: int = 1,
     alpha: Any = "regular",
     coverage: bool = False,

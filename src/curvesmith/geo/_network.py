@@ -35,11 +35,13 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .. import methods
 from .._rich import RichRepr
 from ..errors import CurveError
 from ..geometry import _signed_area  # trapezoid shoelace about the first vertex
+from ..methods import GisMethod
 from . import _zm
 from ._corners import with_corners
 from ._coverage import smooth_arcs_bounded
@@ -496,7 +498,7 @@ def _line_parts(geoms: np.ndarray):
 def smooth_network(
     geometry: Any,
     *,
-    method: str = "cca",
+    method: GisMethod = "cca",
     iterations: int = 1,
     alpha: Any = "regular",
     fixed_points: Any = None,
@@ -714,7 +716,7 @@ def _points_array(points: Any) -> np.ndarray:
     return fp + 0.0
 
 
-def changed_contacts(before, after, *, tol: float = 1e-6) -> int:
+def changed_contacts(before: Any, after: Any, *, tol: float = 1e-6) -> int:
     """How many pairs of lines changed how they meet: a new contact, a lost one, or a moved point.
 
     The measure of what smoothing did to a network (0 for :func:`smooth_network`): a pair of
@@ -763,7 +765,7 @@ def changed_contacts(before, after, *, tol: float = 1e-6) -> int:
     return len(p0 ^ p1) + moved
 
 
-def level_contacts(geoms, levels) -> int:
+def level_contacts(geoms: Any, levels: ArrayLike) -> int:
     """Pairs of contour lines of different levels that touch or cross (0 for a sound map).
 
     Parameters

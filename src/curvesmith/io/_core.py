@@ -23,6 +23,7 @@ from typing import Any, TextIO
 
 import numpy as np
 import orjson
+from numpy.typing import ArrayLike
 
 from .._validate import as_choice, as_points
 from ..errors import CurveError, CurveFormatError
@@ -151,7 +152,9 @@ class Curve:
         """Number of coordinates per vertex, 2 or 3."""
         return int(self.points.shape[1])
 
-    def replace(self, points=None, *, closed: bool | None = None, **changes: Any) -> Curve:
+    def replace(
+        self, points: ArrayLike | None = None, *, closed: bool | None = None, **changes: Any
+    ) -> Curve:
         """Return a new curve with other points (and optionally other fields).
 
         Parameters
@@ -215,7 +218,7 @@ class Format:
         return frozenset(p.name for p in params if p.kind is inspect.Parameter.KEYWORD_ONLY)
 
 
-_REGISTRY: dict[str, Format] = {}
+REGISTRY: dict[str, Format] = {}
 
 
 def register(fmt: Format) -> Format:
@@ -228,7 +231,7 @@ def register(fmt: Format) -> Format:
     """
     if not isinstance(fmt, Format):
         raise CurveError(f"fmt must be a Format, got {type(fmt).__name__}")
-    for other in _REGISTRY.values():
+    for other in REGISTRY.values():
         if other.name == fmt.name:
             continue
         taken = ({other.name, *other.aliases} & {fmt.name, *fmt.aliases}) or (
@@ -238,25 +241,25 @@ def register(fmt: Format) -> Format:
             raise CurveError(
                 f"format {fmt.name!r}: {sorted(taken)} already belong to {other.name!r}"
             )
-    _REGISTRY[fmt.name] = fmt
+    REGISTRY[fmt.name] = fmt
     return fmt
 
 
 def formats() -> tuple[str, ...]:
     """Names of the registered formats, in registration order."""
-    return tuple(_REGISTRY)
+    return tuple(REGISTRY)
 
 
 def _format_named(name: str) -> Format:
     key = str(name).lower()
-    for fmt in _REGISTRY.values():
+    for fmt in REGISTRY.values():
         if key == fmt.name or key in fmt.aliases:
             return fmt
-    raise CurveFormatError(f"format must be one of {', '.join(_REGISTRY)}, got {name!r}")
+    raise CurveFormatError(f"format must be one of {', '.join(REGISTRY)}, got {name!r}")
 
 
 def _suffix_text() -> str:
-    return ", ".join(f"{', '.join(f.suffixes)} ({f.label})" for f in _REGISTRY.values())
+    return ", ".join(f"{', '.join(f.suffixes)} ({f.label})" for f in REGISTRY.values())
 
 
 def _name_of(source) -> str:
@@ -580,13 +583,13 @@ def detect_format(path: str | os.PathLike | None, format: str | None = None) -> 
     """  # noqa: E501
     if format is not None:
         return _format_named(format).name
-    names = ", ".join(_REGISTRY)
+    names = ", ".join(REGISTRY)
     if path is None:
         raise CurveFormatError(
             f"cannot detect the format without a file name; pass format= one of {names}"
         )
     suffix = Path(path).suffix.lower()
-    for fmt in _REGISTRY.values():
+    for fmt in REGISTRY.values():
         if suffix in fmt.suffixes:
             return fmt.name
     what = f"unknown file suffix {suffix!r}" if suffix else "no file suffix"
@@ -602,7 +605,7 @@ def _format_for(obj, format: str | None) -> str:
     name = _name_of(obj)
     if name == _STREAM or (not isinstance(obj, str | os.PathLike) and name.startswith("<")):
         raise CurveFormatError(
-            f"cannot detect the format of a stream; pass format= one of {', '.join(_REGISTRY)}"
+            f"cannot detect the format of a stream; pass format= one of {', '.join(REGISTRY)}"
         )
     return detect_format(name)
 
@@ -634,7 +637,7 @@ def read_curves(
     CurveFormatError
         If the file is missing, empty or malformed; the message names the file.
     """
-    fmt = _REGISTRY[_format_for(source, format)]
+    fmt = REGISTRY[_format_for(source, format)]
     options = {"tolerance": tolerance} if "tolerance" in fmt.read_options else {}
     return fmt.read(source, **options)
 
@@ -662,7 +665,7 @@ def write_curves(
         If the curves cannot be written in this format (3D curves to SVG,
         inconsistent structure) or the file cannot be written.
     """
-    _REGISTRY[_format_for(dest, format)].write(curves, dest, **options)
+    REGISTRY[_format_for(dest, format)].write(curves, dest, **options)
 
 
 def _check_curves(curves: Iterable[Curve]) -> list[Curve]:

@@ -11,10 +11,11 @@ import re
 import uuid
 import warnings
 from collections.abc import Iterable
-from typing import Any
+from typing import Any, Literal
 
 import numpy as np
 
+from .._validate import as_choice
 from ..errors import CurveError, CurveFormatError
 from . import _core
 from ._core import (
@@ -244,7 +245,7 @@ class _GeoJSONReader:
             self.add(w, pts, True, kind=kind, part=part, ring=r, **common)
 
 
-def read_geojson(source: Source, *, others: str = "error") -> list[Curve]:
+def read_geojson(source: Source, *, others: Literal["error", "keep"] = "error") -> list[Curve]:
     """Read curves from a GeoJSON file (RFC 7946).
 
     Parameters
@@ -279,6 +280,7 @@ def read_geojson(source: Source, *, others: str = "error") -> list[Curve]:
     >>> [(c.ring, len(c.points), c.closed) for c in read_geojson(io.StringIO(text))]
     [(0, 4, True), (1, 4, True)]
     """
+    as_choice(others, ("error", "keep"), name="others")
     text, name = _read_text(source)
     try:
         obj = json.loads(text, parse_constant=_reject_constant)
@@ -288,8 +290,6 @@ def read_geojson(source: Source, *, others: str = "error") -> list[Curve]:
         ) from None
     except CurveFormatError as exc:
         raise CurveFormatError(f"{name}: {exc}") from None
-    if others not in ("error", "keep"):
-        raise CurveError(f"others must be 'error' or 'keep', got {others!r}")
     reader = _GeoJSONReader(name, keep=others == "keep")
     reader.top(obj)
     if others == "keep":

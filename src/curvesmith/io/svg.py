@@ -156,7 +156,7 @@ _ABSOLUTE_POLYLINE_D = re.compile(
     rf"\s*M\s*{_PAIR}(?:{_SEP}{_PAIR})*(?:\s*(?:[ML]\s*{_PAIR}(?:{_SEP}{_PAIR})*|Z))*\s*"
 )
 _D_ATTRIBUTE = re.compile(r'(\sd\s*=\s*)"([^"]*)"')
-_FAST_D_MIN = 2000
+FAST_D_MIN = 2000
 
 
 def _polyline_subpaths(d: str) -> list[tuple[np.ndarray, bool]] | None:
@@ -190,7 +190,7 @@ def _stash_polylines(text: str) -> tuple[str, dict[str, list]]:
 
     def replace(match):
         d = match.group(2)
-        if len(d) < _FAST_D_MIN:
+        if len(d) < FAST_D_MIN:
             return match.group(0)
         subpaths = _polyline_subpaths(d)
         if subpaths is None:
@@ -199,7 +199,7 @@ def _stash_polylines(text: str) -> tuple[str, dict[str, list]]:
         stash[key] = subpaths
         return f'{match.group(1)}"{key}"'
 
-    if len(text) < _FAST_D_MIN:
+    if len(text) < FAST_D_MIN:
         return text, stash
     return _D_ATTRIBUTE.sub(replace, text), stash
 

@@ -1,0 +1,128 @@
+"""The internal API: the names below the public ones that the test suite relies on.
+
+Kernels are tested against their plain references, block sizes are shrunk to exercise the
+chunked paths, file writers are made to fail midway, and private solvers are checked step by
+step. For that the tests need names that are not public, and they reach them only through this
+module (``tests/test_vocabulary.py`` checks every test file). So this file is the list of what a
+refactoring must keep, or change together with the tests; everything else with a leading
+underscore is private to its module.
+
+Not part of the public contract: no deprecation period, but no change without the tests.
+"""
+
+from __future__ import annotations
+
+# the input gate: the checks every public function calls, and the vertex cap tests lower
+from . import _validate as validate
+from ._validate import as_bool, as_choice, as_float, as_int, as_points, check_growth
+
+# affine: the compiled section-4 construction and the Python loop it compiles
+from .affine import _kernel as affine_kernel
+from .affine.approximation import _construct as affine_construct
+from .affine.approximation import _Curve as AffineConstructionCurve
+
+# curves: one fitted piece, and the exact point-to-polyline distance of the fit check
+from .curves import _Piece as CurvePiece
+from .curves import _to_polyline as distance_to_polyline
+
+# derham: the triangle of one de Rham corner
+from .derham import _triangle as derham_triangle
+
+# elastica: elliptic functions, scan geometry, the fit's problem and noise estimates
+from .elastica import _varpro as elastica_varpro
+from .elastica._elliptic import amplitude_dm, ellipj, ellipj_am, sd2_integral
+from .elastica._geom import chord_walk, point_polyline_distance, walk_to_end
+from .elastica._varpro import _period as elastica_varpro_period
+from .elastica.exact import _as_params as elastica_params
+from .elastica.exact import _positions_and_jacobian as elastica_positions_and_jacobian
+from .elastica.fit import _noise_level as noise_level
+from .elastica.fit import _Problem as ElasticaProblem
+from .elastica.fit import _reverse_params as reverse_params
+from .elastica.fit import _savgol as savgol
+from .elastica.fit import _scan_noise as scan_noise
+from .elastica.segments import _chain as segment_chain
+from .elastica.segments import _ChainProblem as ChainProblem
+
+# geometry: the unchecked shoelace and the two equilateral resampling rules
+from .geometry import _resample_equilateral as resample_equilateral_with_positions
+from .geometry import _resample_walk as resample_walk
+from .geometry import _signed_area as signed_area_unchecked
+
+# io: the registry and the streaming writer (chunk sizes, a sink made to fail)
+from .io import _core as io_core
+from .io._core import _Utf8Sink as Utf8Sink
+from .io.svg import _ABSOLUTE_POLYLINE_D as svg_absolute_polyline_pattern
+from .io.svg import _POLYLINE_D as svg_polyline_pattern
+
+__all__ = [
+    "AffineConstructionCurve",
+    "ChainProblem",
+    "CurvePiece",
+    "ElasticaProblem",
+    "Utf8Sink",
+    "affine_construct",
+    "affine_kernel",
+    "amplitude_dm",
+    "as_bool",
+    "as_choice",
+    "as_float",
+    "as_int",
+    "as_points",
+    "check_growth",
+    "chord_walk",
+    "derham_triangle",
+    "distance_to_polyline",
+    "elastica_params",
+    "elastica_positions_and_jacobian",
+    "elastica_varpro",
+    "elastica_varpro_period",
+    "ellipj",
+    "ellipj_am",
+    "io_core",
+    "lazy_modules",
+    "noise_level",
+    "point_polyline_distance",
+    "resample_equilateral_with_positions",
+    "resample_walk",
+    "reverse_params",
+    "savgol",
+    "scan_noise",
+    "sd2_integral",
+    "segment_chain",
+    "signed_area_unchecked",
+    "svg_absolute_polyline_pattern",
+    "svg_polyline_pattern",
+    "validate",
+    "walk_to_end",
+]
+
+#: the capability modules ``import curvesmith`` loads on first use
+from . import _LAZY as lazy_modules
+
+
+def __getattr__(name: str):
+    """The GIS and CLI internals load on first use (they need the optional extras)."""
+    if name in _ON_DEMAND:
+        module, attr = _ON_DEMAND[name]
+        import importlib
+
+        obj = importlib.import_module(module, __package__)
+        return getattr(obj, attr) if attr else obj
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+# name -> (module, attribute or None for the module itself)
+_ON_DEMAND: dict[str, tuple[str, str | None]] = {
+    "cli_group": (".cli", "_Group"),
+    "geo_io": (".geo._io", None),
+    "geo_engine": (".geo._engine", None),
+    "geo_smooth": (".geo._smooth", None),
+    "geo_coverage": (".geo._coverage", None),
+    "geo_simple": (".geo._simple", None),
+    "clearance_kernel": (".geo._clearance_kernel", None),
+    "lon_arc": (".geo._io", "_lon_arc"),
+    "slices": (".geo._io", "_slices"),
+    "coverage_ragged": (".geo._coverage", "_ragged"),
+    "polygon_ragged": (".geo._smooth", "_polygon_ragged"),
+}
+__all__ += sorted(_ON_DEMAND)
