@@ -50,6 +50,7 @@ def run(ctx) -> None:
     from matplotlib.ticker import FuncFormatter
 
     from .. import geo
+    from .. import plot as _plot
 
     df = geo.us_counties(states=STATES).to_crs(ALBERS)
     polys = df.geometry.values
@@ -129,8 +130,7 @@ def run(ctx) -> None:
 
     fig, axes = plt.subplots(1, 2, figsize=(14, 6.5))
     ax = axes[0]
-    df.boundary.plot(ax=ax, color="0.6", linewidth=0.6)
-    cov.geometry.boundary.plot(ax=ax, color="tab:blue", linewidth=0.6)
+    _plot.layer_before_after(df, cov, labels=("input", "cca coverage smoothing"), ax=ax)
     ax.add_patch(
         Rectangle(zoom[:2], zoom[2] - zoom[0], zoom[3] - zoom[1], fill=False, ec="red", lw=1.5)
     )
@@ -142,22 +142,13 @@ def run(ctx) -> None:
     ax.set_aspect("equal")
 
     ax = axes[1]
-    clip = shapely.box(*zoom)
     for geoms, color, lw, label in [
         (polys, "0.55", 2.5, "input"),
         (runs["Chaikin, feature by feature"][0], "tab:orange", 0.9, "Chaikin per county"),
         (runs["cca, feature by feature"][0], "tab:green", 0.9, "cca per county"),
-        (cov.geometry.geometry.values, "tab:blue", 1.4, "cca coverage (shared arcs)"),
+        (cov, "tab:blue", 1.4, "cca coverage (shared arcs)"),
     ]:
-        lines = shapely.intersection(shapely.boundary(geoms), clip)
-        first = True
-        for part in shapely.get_parts(lines[~shapely.is_empty(lines)]):
-            xy = shapely.get_coordinates(part)
-            ax.plot(xy[:, 0], xy[:, 1], color=color, lw=lw, label=label if first else None)
-            first = False
-    ax.set_xlim(zoom[0], zoom[2])
-    ax.set_ylim(zoom[1], zoom[3])
-    ax.set_aspect("equal")
+        _plot.draw_geometries(ax, geoms, window=zoom, color=color, lw=lw, label=label)
     ax.set_title(
         "Zoom (red box, 1.4 km) on a sharp shared corner:\n"
         "per-county smoothing opens gaps and overlaps"
@@ -176,18 +167,13 @@ def run(ctx) -> None:
 
     # ---- area change per county
     fig, ax = plt.subplots(figsize=(7, 4))
-    for name, color in [
-        ("Chaikin, feature by feature", "tab:orange"),
-        ("Chaikin, coverage mode", "tab:red"),
-        ("cca, coverage mode", "tab:blue"),
-    ]:
-        rel = (shapely.area(runs[name][0]) - area0) / area0
-        ax.plot(np.sort(rel) * 100, np.linspace(0, 1, len(rel)), color=color, label=name)
-    ax.set_xlabel("relative area change per county (%)")
-    ax.set_ylabel("fraction of counties")
-    ax.set_title("Area change per county after 2 iterations (cca: 0 to round-off)")
-    ax.legend()
-    ax.grid(alpha=0.3)
+    names = ("Chaikin, feature by feature", "Chaikin, coverage mode", "cca, coverage mode")
+    _plot.area_change(
+        polys,
+        {name: runs[name][0] for name in names},
+        ax=ax,
+        title="Area change per county after 2 iterations (cca: 0 to round-off)",
+    )
     ctx.figure(
         fig,
         "geo_area_change",
@@ -205,6 +191,7 @@ def _footprints(ctx) -> None:
     import shapely
 
     from .. import geo
+    from .. import plot as _plot
 
     rng = np.random.default_rng(11)
     polys: Any = []  # then an object array
@@ -225,12 +212,13 @@ def _footprints(ctx) -> None:
         "--min-segment 3 (m)": geo.smooth(polys, iterations=3, min_segment=3.0),
     }
     fig, axes = plt.subplots(len(runs), 1, figsize=(12, 9), sharex=True)
+
+    def local(g):  # metres from the block's UTM corner
+        return shapely.transform(g, lambda xy: xy - [4.5e5, 5.2e6])
+
     for ax, (name, out) in zip(axes, runs.items(), strict=True):
-        for g0, g1 in zip(polys, out, strict=True):
-            x0, y0 = g0.exterior.xy
-            x1, y1 = g1.exterior.xy
-            ax.plot(np.asarray(x0) - 4.5e5, np.asarray(y0) - 5.2e6, color="0.6", lw=1)
-            ax.plot(np.asarray(x1) - 4.5e5, np.asarray(y1) - 5.2e6, color="tab:blue", lw=1.2)
+        _plot.draw_geometries(ax, local(polys), color="0.6", lw=1)
+        _plot.draw_geometries(ax, local(out), color="tab:blue", lw=1.2)
         shift = shapely.hausdorff_distance(polys, out)
         n = int(shapely.get_num_coordinates(out).sum())
         err = float(np.max(np.abs(shapely.area(out) / shapely.area(polys) - 1)))

@@ -8,6 +8,8 @@ from typing import Any
 
 import numpy as np
 
+from .. import plot as _plot
+
 TITLE = "Line networks and contours: junctions fixed, no new contacts (curvesmith.geo)"
 
 
@@ -83,12 +85,8 @@ def run(ctx) -> None:
     half = 60.0
     fig, axes = plt.subplots(1, 2, figsize=(14, 6.5))
     ax = axes[0]
-    for g in before:
-        xy = shapely.get_coordinates(g)
-        ax.plot(xy[:, 0], xy[:, 1], color="0.6", lw=2.5)
-    for g in after:
-        xy = shapely.get_coordinates(g)
-        ax.plot(xy[:, 0], xy[:, 1], color="tab:blue", lw=1.0)
+    _plot.draw_geometries(ax, before, color="0.6", lw=2.5)
+    _plot.draw_geometries(ax, after, color="tab:blue", lw=1.0)
     ax.plot(topo_nodes[:, 0], topo_nodes[:, 1], "k.", ms=4)
     ax.add_patch(plt.Rectangle((cx - half, cy - half), 2 * half, 2 * half, fill=False, ec="red"))
     ax.set_title("OSM ways: input (grey), smooth_network (blue), fixed nodes (black)")
@@ -104,13 +102,9 @@ def run(ctx) -> None:
         (bounded, "tab:purple", 1.0, "cca network, --max-shift 1 m"),
     ]:
         dash = "--" if geoms is bounded else "-"
-        for k, g in enumerate(geoms):
-            xy = shapely.get_coordinates(g)
-            ax.plot(xy[:, 0], xy[:, 1], dash, color=color, lw=lw, label=label if k == 0 else None)
+        window = (cx - half, cy - half, cx + half, cy + half)
+        _plot.draw_geometries(ax, geoms, window=window, ls=dash, color=color, lw=lw, label=label)
     ax.plot(topo_nodes[:, 0], topo_nodes[:, 1], "k.", ms=6)
-    ax.set_xlim(cx - half, cx + half)
-    ax.set_ylim(cy - half, cy + half)
-    ax.set_aspect("equal")
     ax.set_title("Zoom (120 m) on the busiest junction")
     ax.legend(loc="lower left", fontsize=8)
     ctx.figure(
@@ -169,9 +163,7 @@ def run(ctx) -> None:
         else:
             geoms = [(raw, "yellow", 1.5), (res.geometry, "tab:red", 1.0)]
         for df, color, lw in geoms:
-            for g in df.geometry.values:
-                xy = shapely.get_coordinates(g)
-                ax.plot(xy[:, 0], xy[:, 1], color=color, lw=lw)
+            _plot.draw_geometries(ax, df, color=color, lw=lw)
         ax.set_aspect("equal")
         if zoom is not None:
             cx, cy = x[nx // 2], y[ny // 2]
@@ -203,7 +195,6 @@ def _crossings(df):
 def steep(ctx) -> None:
     """Steep rough synthetic terrain: per-line smoothing makes levels cross, the network not."""
     import matplotlib.pyplot as plt
-    import shapely
     from scipy.ndimage import gaussian_filter
 
     from .. import geo
@@ -236,18 +227,12 @@ def steep(ctx) -> None:
     half = 12.0
     fig, axes = plt.subplots(1, 3, figsize=(15, 5.2))
     for ax, (name, df) in zip(axes, runs.items(), strict=True):
-        for g in raw.geometry.values:
-            xy = shapely.get_coordinates(g)
-            ax.plot(xy[:, 0], xy[:, 1], color="0.75", lw=3.0)
-        for g in df.geometry.values:
-            xy = shapely.get_coordinates(g)
-            ax.plot(xy[:, 0], xy[:, 1], color="tab:blue", lw=1.2, marker=".", ms=2)
+        window = (cx - half, cy - half, cx + half, cy + half)
+        _plot.draw_geometries(ax, raw, window=window, color="0.75", lw=3.0)
+        _plot.draw_geometries(ax, df, window=window, color="tab:blue", lw=1.2, marker=".", ms=2)
         p = _crossings(df)
         if len(p):
             ax.plot(p[:, 0], p[:, 1], "rx", ms=10, mew=2)
-        ax.set_xlim(cx - half, cx + half)
-        ax.set_ylim(cy - half, cy + half)
-        ax.set_aspect("equal")
         ax.set_title(f"{name}\n{counts[name]} crossing points in all (24 m zoom)")
         ax.set_xlabel("x (m)")
     ctx.figure(
