@@ -8,6 +8,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from .. import derham
+from .. import plot as _plot
 
 TITLE = "De Rham curves: certified lengths and a prescribed length (Merrien)"
 
@@ -48,29 +49,24 @@ def run(ctx) -> None:
     poly = derham.control_polygon(A, ua, C, uc, xs[2.0])
     levels = 14
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11.0, 4.2))
-    lo, up = derham.length_sequences(poly, gamma=2.0, levels=levels)
-    exact = derham.parabola_length(poly)
-    n = np.arange(levels + 1)
-    ax1.plot(n[:7], up[:7], "v-", label="L^n (polygon)")
-    ax1.plot(n[:7], lo[:7], "^-", label="l^n (midpoint polygon)")
-    ax1.axhline(exact, color="k", lw=0.8, label=f"exact parabola length {exact:.10f}")
-    ax1.set_xlabel("level n")
-    ax1.set_ylabel("length")
-    ax1.set_title("gamma = 2: monotone bounds bracket the length")
-    ax1.legend(fontsize=8)
-    ratios = {}
+    _plot.length_bracket(
+        derham.length_sequences(poly, gamma=2.0, levels=levels),
+        exact=derham.parabola_length(poly),
+        levels=6,
+        ax=ax1,
+        title="gamma = 2: monotone bounds bracket the length",
+    )
+    ratios, gaps = {}, {}
     for gamma in GAMMAS:
         lo, up = derham.length_sequences(poly, gamma=gamma, levels=levels)
         gap = up - lo
         ratios[gamma] = float(gap[-1] / gap[-2])
-        ax2.semilogy(
-            n, gap, "o-", ms=3, label=f"gamma = {gamma:g} (last ratio {ratios[gamma]:.3f})"
-        )
-    ax2.semilogy(n, gap[0] * 0.25**n, "k:", label="slope 1/4")
-    ax2.set_xlabel("level n")
-    ax2.set_ylabel("L^n - l^n")
-    ax2.set_title("Width of the certified bracket")
-    ax2.legend(fontsize=8)
+        gaps[f"gamma = {gamma:g} (last ratio {ratios[gamma]:.3f})"] = gap
+    n = np.arange(levels + 1)
+    gaps["slope 1/4"] = gap[0] * 0.25**n
+    _plot.convergence(gaps, ax=ax2, ylabel="L^n - l^n", title="Width of the certified bracket")
+    ax2.lines[-1].set(color="k", ls=":", marker="")
+    ax2.legend(fontsize=8)  # again, with the reference line restyled
     ctx.figure(
         fig,
         "derham_convergence",
