@@ -32,3 +32,20 @@ def test_length_bracket_draws_the_sequences_of_a_result_and_of_length_sequences(
     np.testing.assert_array_equal(up.get_xdata(), np.arange(5))
     np.testing.assert_array_equal(lo.get_ydata(), seq[0][:5])
     assert line.get_ydata()[0] == exact and "exact length" in line.get_label()
+
+
+def test_elastica_fit_draws_data_start_and_fit():
+    from curvesmith import elastica
+
+    truth = elastica.sample((2.0, -1.0, 0.1, 0.3, 0.0, 0.2, 0.7), 60)
+    noisy = truth + np.random.default_rng(5).normal(scale=1e-3, size=truth.shape)
+    res = elastica.fit(noisy)
+    for markers in (False, True):
+        ax = plot.elastica_fit(res, markers=markers)
+        data, start, fit = (np.column_stack(line.get_data()) for line in ax.lines)
+        np.testing.assert_array_equal(data, res.data)
+        np.testing.assert_array_equal(start, elastica.sample(res.start, res.data.shape[0]))
+        np.testing.assert_array_equal(fit, res.points)
+        assert ax.get_title().startswith(f"case ({res.case}), k = {res.params.k:.3f}")
+    ax = plot.elastica_fit(res, start=False, title="t")
+    assert len(ax.lines) == 2 and ax.get_title() == "t"

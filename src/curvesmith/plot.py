@@ -30,6 +30,7 @@ __all__ = [
     "deviation_along",
     "draw_curve",
     "draw_geometries",
+    "elastica_fit",
     "fit_figure",
     "fit_panels",
     "layer_before_after",
@@ -863,6 +864,72 @@ def result_svg(result: Any) -> str | None:
     return text[text.index("<svg") :]
 
 
+def elastica_fit(
+    result: Any,
+    *,
+    start: bool = True,
+    markers: bool = False,
+    ax: Axes | None = None,
+    title: str | None = None,
+) -> Axes:
+    """An elastica fit over its data: the input points, the start of the solve, the fit.
+
+    Parameters
+    ----------
+    result : FitResult
+        :func:`curvesmith.elastica.fit`'s result (its ``data`` are the points as fitted).
+    start : bool, optional
+        Also draw the curve of ``result.start``, where the final solve began (the
+        initial guess of section 4.3 unless a start was given).
+    markers : bool, optional
+        Draw every vertex (squares input, triangles start, circles fit: the paper's
+        Fig. 5) instead of lines, for short curves.
+    ax : matplotlib Axes, optional
+    title : str, optional
+        Default: the case, ``k`` and the rms distance.
+
+    Returns
+    -------
+    matplotlib Axes
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from curvesmith import elastica, plot
+    >>> truth = elastica.sample((0, 0, 0.1, 0.3, 0.0, 0.2, 0.7), 40)
+    >>> ax = plot.elastica_fit(elastica.fit(truth))
+    >>> [line.get_label() for line in ax.lines]
+    ['input', 'start of the final solve', 'discrete elastica (fit)']
+    """
+    from .elastica import sample
+
+    if ax is None:
+        _, (ax,) = new_axes()
+    data = _thin(np.asarray(result.data, dtype=float)[:, :2])
+    if markers:
+        ax.plot(*data.T, "s", color="black", ms=3.5, mfc="none", label="input")
+    else:
+        ax.plot(*data.T, ".", color="black", ms=2, label="input")
+    if start:
+        guess = sample(result.start, result.data.shape[0])
+        style: dict[str, Any] = {"marker": "^", "ls": "", "ms": 3.5, "mfc": "none"}
+        ax.plot(
+            *guess.T,
+            color="tab:green",
+            label="start of the final solve",
+            **(style if markers else {"lw": 0.8}),
+        )
+    style = {"marker": "o", "ls": "", "ms": 2.5} if markers else {"lw": 1.0}
+    ax.plot(*result.points.T, color="tab:red", label="discrete elastica (fit)", **style)
+    if title is None:
+        title = f"case ({result.case}), k = {result.params.k:.3f}, rms = {result.rms:.3g}"
+        title += "" if result.success else " (failed)"
+    ax.set_title(title)
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.legend(fontsize="small")
+    return ax
+
+
 def fit_panels(
     axes: Sequence[Axes], result: Any, data: ArrayLike, *, label: str | None = None
 ) -> None:
@@ -897,11 +964,8 @@ def fit_panels(
         title = f"{len(result.segments)} elastica segments ({verdict} {result.tolerance:g})"
         middle = f"max deviation {result.max_deviation:.3g}, rms {result.rms_deviation:.3g}"
     else:
-        from .elastica import sample
-
-        guess = sample(result.start, result.data.shape[0])
-        ax.plot(*guess.T, "-", color="tab:green", lw=0.8, label="start of the final solve")
-        ax.plot(*result.points.T, "-", color="tab:red", lw=1.0, label="discrete elastica")
+        ax.lines[-1].remove()  # the input, drawn again by elastica_fit
+        elastica_fit(result, ax=ax)
         title = f"case ({result.case})" + ("" if result.success else " (failed)")
         middle = (
             f"max deviation {result.max_deviation:.3g}, rms {result.rms_deviation:.3g} "

@@ -23,14 +23,16 @@ def run(ctx) -> None:
         pts = data.load_points(name)
         res = elastica.fit(pts, resample=resample)
         guess = elastica.sample(res.start, res.data.shape[0])
-        ax.plot(*res.data.T, "s", color="black", ms=3.5, mfc="none", label="input")
-        ax.plot(*guess.T, "^", color="tab:green", ms=3.5, mfc="none", label="initial guess (4.3)")
-        ax.plot(*res.points.T, "o", color="tab:red", ms=2.5, label="discrete elastica (fit)")
-        ax.set_title(f"{label}\ncase ({res.case}), k = {res.params.k:.3f}, rms = {res.rms:.3g}")
+        plot.elastica_fit(
+            res,
+            markers=True,
+            ax=ax,
+            title=f"{label}\ncase ({res.case}), k = {res.params.k:.3f}, rms = {res.rms:.3g}",
+        )
+        ax.lines[1].set_label("initial guess (4.3)")
+        ax.legend(fontsize="small", loc="best")
         ax.set_xlabel("x")
         ax.set_ylabel("y")
-        ax.set_aspect("equal", adjustable="datalim")
-        ax.legend(fontsize="small", loc="best")
         key = name.removeprefix("elastica_").removesuffix(".csv")
         ctx.number(f"elastica_{key}_rms", res.rms, f"rms distance of the fit to {name}")
         ctx.number(f"elastica_{key}_k", res.params.k, f"fitted modulus k for {name}")
