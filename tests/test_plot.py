@@ -49,3 +49,24 @@ def test_elastica_fit_draws_data_start_and_fit():
         assert ax.get_title().startswith(f"case ({res.case}), k = {res.params.k:.3f}")
     ax = plot.elastica_fit(res, start=False, title="t")
     assert len(ax.lines) == 2 and ax.get_title() == "t"
+
+
+def test_keyline_figures_draw_the_estimate_and_the_side_fits():
+    from curvesmith import keyline
+
+    syn = keyline.synthetic_keyline(noise=0.02, seed=4)
+    res = keyline.fit(syn.points, step=1.0)
+    est = res.inflection
+    ax = plot.inflection_estimate(res)
+    poly, rdp, star = (np.column_stack(line.get_data()) for line in ax.lines)
+    np.testing.assert_array_equal(poly, res.points)
+    np.testing.assert_array_equal(rdp, res.points[list(est.labels)])
+    np.testing.assert_array_equal(star[0], res.points[est.index])
+    assert [t.get_text() for t in ax.texts] == [
+        str(k) for k in range(1, min(9, len(est.labels)) + 1)
+    ]
+    ax = plot.keyline_fit(res)
+    drawn = [np.column_stack(line.get_data()) for line in ax.lines]
+    assert len(drawn) == len(res.sides) + 2
+    for (_, fit), got in zip(res.sides, drawn[1:-1], strict=True):
+        np.testing.assert_array_equal(got, fit.points)

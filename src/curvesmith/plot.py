@@ -33,6 +33,8 @@ __all__ = [
     "elastica_fit",
     "fit_figure",
     "fit_panels",
+    "inflection_estimate",
+    "keyline_fit",
     "layer_before_after",
     "length_bracket",
     "new_axes",
@@ -927,6 +929,74 @@ def elastica_fit(
     ax.set_title(title)
     ax.set_aspect("equal", adjustable="datalim")
     ax.legend(fontsize="small")
+    return ax
+
+
+def inflection_estimate(result: Any, *, ax: Axes | None = None, numbered: int = 9) -> Axes:
+    """The RDP inflection estimate of a keyline (section 5.3, Fig. 14).
+
+    The equilateral keyline in its principal-axes frame, the RDP points in the order they
+    were found (the first `numbered` labelled 1, 2, 3, ...), and the estimated inflection.
+
+    Parameters
+    ----------
+    result : KeylineFit
+        :func:`curvesmith.keyline.fit`'s result.
+    ax : matplotlib Axes, optional
+    numbered : int, optional
+        How many RDP points get their number.
+
+    Returns
+    -------
+    matplotlib Axes
+    """
+    if ax is None:
+        _, (ax,) = new_axes(width=10, height=3.5)
+    xy, est = np.asarray(result.points, dtype=float), result.inflection
+    ax.plot(xy[:, 0], xy[:, 1], ".-", color="0.6", ms=2, lw=0.6, label="equilateral keyline")
+    lab = np.asarray(est.labels, dtype=int)
+    ax.plot(*xy[lab].T, "o", mfc="none", color="C0", ms=6, label="RDP points 1, 2, 3, ...")
+    for num, j in enumerate(est.labels[:numbered], start=1):
+        ax.annotate(str(num), xy[j], textcoords="offset points", xytext=(3, 6), fontsize=8)
+    ax.plot(*xy[est.index], "*", color="C3", ms=14, label=f"estimated inflection ({est.index})")
+    ax.set_aspect("equal")
+    ax.set_xlabel("x''")
+    ax.set_ylabel("y''")
+    return ax
+
+
+def keyline_fit(result: Any, *, ax: Axes | None = None) -> Axes:
+    """A keyline's elastica fits: the vertices, each side's fit, the pinned inflection (Fig. 16).
+
+    Parameters
+    ----------
+    result : KeylineFit
+        :func:`curvesmith.keyline.fit`'s result (every side's fit is drawn: left and
+        right, or the pieces between several inflections, or the whole).
+    ax : matplotlib Axes, optional
+
+    Returns
+    -------
+    matplotlib Axes
+
+    Examples
+    --------
+    >>> from curvesmith import keyline, plot
+    >>> syn = keyline.synthetic_keyline(noise=0.02, seed=1)
+    >>> ax = plot.keyline_fit(keyline.fit(syn.points, step=1.0))
+    >>> [line.get_label() for line in ax.lines]
+    ['keyline vertices', 'elastica fit, left', 'elastica fit, right', 'pinned (x0, y0)']
+    """
+    if ax is None:
+        _, (ax,) = new_axes(width=10, height=3.5)
+    xy = np.asarray(result.points, dtype=float)
+    ax.plot(xy[:, 0], xy[:, 1], "s", color="k", ms=2, label="keyline vertices")
+    for k, (name, fit) in enumerate(result.sides):
+        ax.plot(*fit.points.T, "-", color=f"C{k + 2}", lw=1.6, label=f"elastica fit, {name}")
+    ax.plot(*xy[result.inflection.index], "o", color="C0", ms=7, label="pinned (x0, y0)")
+    ax.set_aspect("equal")
+    ax.set_xlabel("x''")
+    ax.set_ylabel("y''")
     return ax
 
 

@@ -16,6 +16,7 @@ import time
 import numpy as np
 
 from .. import keyline
+from .. import plot as _plot
 from ..errors import CurveError
 
 TITLE = "Keylines of pantiles: plane fit, equilateral resampling, inflection, elastica per side"
@@ -84,34 +85,15 @@ def run(ctx) -> None:
 
     # --- one keyline through the pipeline (Figs. 14 and 16)
     res, syn, truth = fits[0], scans[0], truths[0]
-    xy = res.points
-    est = res.inflection
     fig, axes = plt.subplots(2, 1, figsize=(12.0, 3.8), layout="constrained")
-    ax = axes[0]
-    ax.plot(
-        xy[:, 0], xy[:, 1], ".-", color="0.6", ms=2, lw=0.6, label="equilateral keyline (r = 1)"
-    )
-    lab = np.asarray(est.labels)
-    ax.plot(
-        xy[lab, 0], xy[lab, 1], "o", mfc="none", color="C0", ms=6, label="RDP points 1, 2, 3, ..."
-    )
-    for num, j in enumerate(est.labels[:9], start=1):
-        ax.annotate(str(num), xy[j], textcoords="offset points", xytext=(3, 6), fontsize=8)
-    ax.plot(
-        *xy[est.index], "*", color="C3", ms=14, label=f"estimated inflection (vertex {est.index})"
-    )
+    ax = _plot.inflection_estimate(res, ax=axes[0])
+    ax.lines[0].set_label("equilateral keyline (r = 1)")
     ax.plot(*truth[1][:2], "x", color="k", ms=9, mew=2, label="true inflection")
-    ax.set_aspect("equal")
     ax.set_xlabel("x'' [mm]")
     ax.set_ylabel("y'' [mm]")
     ax.set_title(f"{_FAMILY[0][0]}: RDP inflection estimate in the principal-axes frame (Fig. 14)")
     ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))
-    ax = axes[1]
-    ax.plot(xy[:, 0], xy[:, 1], "s", color="k", ms=2, label="keyline vertices")
-    ax.plot(*res.sides[0][1].points.T, "-", color="C2", lw=1.6, label="elastica fit, left side")
-    ax.plot(*res.sides[-1][1].points.T, "-", color="C3", lw=1.6, label="elastica fit, right side")
-    ax.plot(*xy[est.index], "o", color="C0", ms=7, label="pinned (x0, y0)")
-    ax.set_aspect("equal")
+    ax = _plot.keyline_fit(res, ax=axes[1])
     ax.set_xlabel("x'' [mm]")
     ax.set_ylabel("y'' [mm]")
     ax.set_title(
@@ -215,7 +197,6 @@ def run(ctx) -> None:
 
 def _section_scan(ctx) -> None:
     from .. import elastica as _elastica
-    from .. import plot as _plot
 
     """Fit a simulated car-body section (1.5 m in mm, uneven spacing, 0.05 mm noise).
 
