@@ -70,3 +70,23 @@ def test_keyline_figures_draw_the_estimate_and_the_side_fits():
     assert len(drawn) == len(res.sides) + 2
     for (_, fit), got in zip(res.sides, drawn[1:-1], strict=True):
         np.testing.assert_array_equal(got, fit.points)
+
+
+def test_affine_approximation_draws_polyline_spline_and_joins():
+    from curvesmith import affine
+
+    t = np.linspace(0.0, 1.0, 800)
+    s_curve = np.column_stack([12 * t, 3 * np.sin(2 * np.pi * t)])  # one inflection
+    res = affine.approximate(s_curve, vertices=40)
+    ax = plot.affine_approximation(res, s_curve, title="t")
+    curve, poly, spline, *joins = (np.column_stack(line.get_data()) for line in ax.lines)
+    np.testing.assert_array_equal(curve, s_curve)
+    np.testing.assert_array_equal(poly, res.points)
+    s = affine.bspline(res.points)
+    np.testing.assert_allclose(spline[[0, -1]], s([s.t[2], s.t[-3] - 1e-12]), atol=1e-9)
+    assert len(joins) == len(res.joins) >= 1
+    for j, marker in zip(res.joins, joins, strict=True):
+        np.testing.assert_array_equal(marker[0], res.points[j])
+    window = (5.0, -1.0, 7.0, 1.0)
+    ax = plot.affine_approximation(res, window=window)
+    assert ax.get_xlim() == (5.0, 7.0) and ax.get_ylim() == (-1.0, 1.0)

@@ -20,6 +20,7 @@ if TYPE_CHECKING:
     from matplotlib.axes import Axes
 
 __all__ = [
+    "affine_approximation",
     "area_change",
     "before_after",
     "bezier_comb",
@@ -243,6 +244,79 @@ def convergence(
     ax.set_ylabel(ylabel)
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8)
+    if title:
+        ax.set_title(title)
+    return ax
+
+
+def affine_approximation(
+    result: Any,
+    curve: ArrayLike | None = None,
+    *,
+    window: Sequence[float] | None = None,
+    ax: Axes | None = None,
+    title: str | None = None,
+) -> Axes:
+    """An affine arc length polyline with its quadratic B-spline, over the curve it approximates.
+
+    The polyline of :func:`curvesmith.affine.approximate` (its vertices lie on the curve)
+    and its uniform quadratic B-spline, curvature continuous (Käferböck, Fig. 10); the
+    vertices shared by the pieces between inflections are marked (Fig. 12).
+
+    Parameters
+    ----------
+    result : Approximation
+        :func:`curvesmith.affine.approximate`'s result.
+    curve : (N, 2) array_like, optional
+        The dense samples that were approximated, drawn underneath.
+    window : (xmin, ymin, xmax, ymax), optional
+        A zoom (the spline runs just inside the polyline).
+    ax : matplotlib Axes, optional
+    title : str, optional
+
+    Returns
+    -------
+    matplotlib Axes
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from curvesmith import affine, plot
+    >>> t = np.linspace(0, 2, 400)
+    >>> arc = np.column_stack([2 * np.cos(t), np.sin(t)])
+    >>> ax = plot.affine_approximation(affine.approximate(arc, vertices=12), arc)
+    >>> [line.get_label() for line in ax.lines]
+    ['curve', 'affine arc length polyline', 'its quadratic B-spline (G2)']
+    """
+    from .affine import bspline
+
+    if ax is None:
+        _, (ax,) = new_axes()
+    zoom = window is not None
+    if curve is not None:
+        c = as_points(curve, name="curve", min_points=2)
+        ax.plot(*_thin(c).T, color="0.6", lw=1.5 if zoom else 3, label="curve")
+    pts = np.asarray(result.points, dtype=float)
+    closed = bool(result.closed)
+    ax.plot(
+        *_closed_xy(pts, closed).T,
+        "o-",
+        color="tab:blue",
+        ms=3,
+        lw=0.8,
+        label="affine arc length polyline",
+    )
+    s = bspline(pts, closed=closed)
+    u = np.linspace(s.t[2], s.t[-3] - 1e-12, 1500)
+    ax.plot(*s(u).T, color="tab:red", lw=1, label="its quadratic B-spline (G2)")
+    for j in np.asarray(result.joins, dtype=int):
+        ax.plot(*pts[j], "s", color="k", ms=8, label=f"shared vertex x_{j}")
+    ax.set_aspect("equal")
+    if window is not None:
+        ax.set_xlim(window[0], window[2])
+        ax.set_ylim(window[1], window[3])
+    ax.set_xlabel("x")
+    ax.set_ylabel("y")
     if title:
         ax.set_title(title)
     return ax

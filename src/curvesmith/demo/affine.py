@@ -6,18 +6,13 @@ import time
 
 import numpy as np
 
-from .. import affine, data
+from .. import affine, data, plot
 
 TITLE = "Affine arc length polylines: curvature continuous quadratic B-splines (Käferböck)"
 
 
 def _mid_params(t: np.ndarray, samples: int) -> np.ndarray:
     return (t[:-3] + t[1:-2] + t[2:-1] + t[3:]) / 4 / (samples - 1)
-
-
-def _spline_points(points: np.ndarray, closed: bool = False) -> np.ndarray:
-    s = affine.bspline(points, closed=closed)
-    return s(np.linspace(s.t[2], s.t[-3] - 1e-12, 1500))
 
 
 def run(ctx) -> None:
@@ -36,23 +31,10 @@ def run(ctx) -> None:
 
     # Fig. 10: curve, affine arc length polyline, its quadratic B-spline
     fig, axes = plt.subplots(1, 2, figsize=(12, 5.5))
-    for ax, zoom in zip(axes, (False, True), strict=True):
-        ax.plot(*curve.T, color="0.6", lw=1.5 if zoom else 3, label="degree-8 Bézier curve")
-        ax.plot(
-            *res.points.T, "o-", color="tab:blue", ms=3, lw=0.8, label="affine arc length polyline"
-        )
-        ax.plot(
-            *_spline_points(res.points).T,
-            color="tab:red",
-            lw=1,
-            label="its quadratic B-spline (G2)",
-        )
-        ax.set_aspect("equal")
-        ax.set_xlabel("x")
-        ax.set_ylabel("y")
+    for ax, zoom in zip(axes, (None, (8.33, 4.02, 8.49, 4.26)), strict=True):
+        plot.affine_approximation(res, curve, window=zoom, ax=ax)
+        ax.lines[0].set_label("degree-8 Bézier curve")
         if zoom:
-            ax.set_xlim(8.33, 8.49)
-            ax.set_ylim(4.02, 4.26)
             ax.set_title("detail: vertices on the curve, the spline just inside")
         else:
             ax.set_title("60-vertex affine arc length polyline (Fig. 10)")
@@ -130,18 +112,11 @@ def run(ctx) -> None:
     scurve = affine.bezier_curve(scurve_ctrl, np.linspace(0, 1, samples))
     rs = affine.approximate(scurve, vertices=50)
     fig, axes = plt.subplots(1, 2, figsize=(13, 4.8))
-    ax = axes[0]
-    ax.plot(scurve[:, 0], scurve[:, 1], color="0.6", lw=3, label="S-shaped Bézier curve")
-    ax.plot(
-        *rs.points.T, "o-", color="tab:blue", ms=3, lw=0.8, label="two affine arc length pieces"
+    ax = plot.affine_approximation(
+        rs, scurve, ax=axes[0], title="Curve with an inflection, 50 vertices (Fig. 12)"
     )
-    ax.plot(*_spline_points(rs.points).T, color="tab:red", lw=1, label="quadratic B-spline")
-    j = int(rs.joins[0])
-    ax.plot(*rs.points[j], "s", color="k", ms=8, label=f"shared vertex x_{j}")
-    ax.set_aspect("equal")
-    ax.set_xlabel("x")
-    ax.set_ylabel("y")
-    ax.set_title("Curve with an inflection, 50 vertices (Fig. 12)")
+    ax.lines[0].set_label("S-shaped Bézier curve")
+    ax.lines[1].set_label("two affine arc length pieces")
     ax.legend(fontsize=8, loc="lower left")
     ax = axes[1]
     mid = _mid_params(rs.t, samples)
