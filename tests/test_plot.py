@@ -90,3 +90,23 @@ def test_affine_approximation_draws_polyline_spline_and_joins():
     window = (5.0, -1.0, 7.0, 1.0)
     ax = plot.affine_approximation(res, window=window)
     assert ax.get_xlim() == (5.0, 7.0) and ax.get_ylim() == (-1.0, 1.0)
+
+
+def test_alpha_profile_draws_the_profile_through_table_1():
+    from curvesmith import cca
+
+    ax = plot.alpha_profile(title="t")
+    profile, eq5, nodes = ax.lines
+    deg, alpha = profile.get_data()
+    np.testing.assert_array_equal(alpha, cca.alpha_profile(np.deg2rad(deg)))
+    want_x, want_y = cca.profile_nodes()
+    np.testing.assert_allclose(nodes.get_xdata(), np.rad2deg(want_x))
+    np.testing.assert_array_equal(nodes.get_ydata(), want_y)
+    # the regular-polygon values of eq. (5) lie on the profile at n = 4, 6, 12 (Table 1)
+    for n in (4, 6, 12):
+        interior = np.pi * (n - 2) / n
+        k = np.argmin(np.abs(np.deg2rad(eq5.get_xdata()) - interior))
+        assert eq5.get_ydata()[k] == pytest.approx(
+            cca.alpha_profile(np.deg2rad(eq5.get_xdata()[k])), abs=2e-3
+        )
+    assert ax.get_title() == "t"

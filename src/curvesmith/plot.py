@@ -21,6 +21,7 @@ if TYPE_CHECKING:
 
 __all__ = [
     "affine_approximation",
+    "alpha_profile",
     "area_change",
     "before_after",
     "bezier_comb",
@@ -244,6 +245,55 @@ def convergence(
     ax.set_ylabel(ylabel)
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8)
+    if title:
+        ax.set_title(title)
+    return ax
+
+
+def alpha_profile(*, ax: Axes | None = None, title: str | None = None) -> Axes:
+    """CCA's "regular" alpha profile against the interior angle (Gordon, Table 1, Fig. 14).
+
+    The PCHIP profile :func:`curvesmith.cca.alpha_profile` that ``alpha="regular"``
+    uses, through the Table 1 control points, and eq. (5)'s regular-polygon value for
+    every half-angle beside it.
+
+    Parameters
+    ----------
+    ax : matplotlib Axes, optional
+    title : str, optional
+
+    Returns
+    -------
+    matplotlib Axes
+
+    Examples
+    --------
+    >>> from curvesmith import plot
+    >>> ax = plot.alpha_profile()
+    >>> [line.get_label() for line in ax.lines]
+    ['"regular" profile (PCHIP)', 'eq. (5) for every half-angle', 'Table 1 control points']
+    """
+    from . import cca
+
+    if ax is None:
+        _, (ax,) = new_axes(width=6.5, height=4.3)
+    deg = np.linspace(0, 180, 721)
+    ax.plot(deg, cca.alpha_profile(np.deg2rad(deg)), lw=1.8, label='"regular" profile (PCHIP)')
+    beta = np.linspace(np.pi / 6, np.pi / 2, 200)
+    ax.plot(
+        np.rad2deg(2 * beta),
+        cca.solve_regular_alpha(beta),
+        "--",
+        lw=1.0,
+        color="0.4",
+        label="eq. (5) for every half-angle",
+    )
+    nodes, values = cca.profile_nodes()
+    ax.plot(np.rad2deg(nodes), values, "o", color="C3", label="Table 1 control points")
+    ax.set_xlabel("interior angle (degrees)")
+    ax.set_ylabel("alpha")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8, loc="lower right")
     if title:
         ax.set_title(title)
     return ax

@@ -20,30 +20,15 @@ def run(ctx) -> None:
 
 def _profile_figure(ctx) -> None:
     nodes, values = cca.profile_nodes()
-    deg = np.linspace(0, 180, 721)
     fig, (ax,) = plot.new_axes(1, width=6.5, height=4.3)
-    ax.plot(deg, cca.alpha_profile(np.deg2rad(deg)), lw=1.8, label='"regular" profile (PCHIP)')
-    beta = np.linspace(np.pi / 6, np.pi / 2, 200)
-    ax.plot(
-        np.rad2deg(2 * beta),
-        cca.solve_regular_alpha(beta),
-        "--",
-        lw=1.0,
-        color="0.4",
-        label="eq. (5) for every half-angle",
-    )
+    plot.alpha_profile(ax=ax)
     names = ["0", "40 deg control", "n=3 (9-gon aspect 1)", "n=4", "n=6", "n=12", "limit"]
     offsets = [(6, 4), (6, -22), (6, 6), (6, -22), (4, -24), (-6, -26), (-34, -26)]
-    ax.plot(np.rad2deg(nodes), values, "o", color="C3", label="Table 1 control points")
     for x, y, name, off in zip(np.rad2deg(nodes), values, names, offsets, strict=True):
         ax.annotate(f"{name}\n{y:.6g}", (x, y), textcoords="offset points", xytext=off, fontsize=7)
-    ax.set_xlabel("interior angle (degrees)")
-    ax.set_ylabel("alpha")
     ax.set_xlim(-5, 185)
     ax.set_ylim(-0.01, 0.29)
     ax.set_title("CCA1 alpha-profile (Gordon 2010, Table 1 / Fig. 14 left)")
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize=8, loc="lower right")
     ctx.figure(
         fig,
         "cca_profile",
@@ -135,11 +120,26 @@ def _plot_figure(ctx) -> None:
         return float(np.sum(0.5 * (q[1:, 1] + q[:-1, 1]) * np.diff(q[:, 0])))
 
     fig, (ax,) = plot.new_axes(1, width=8.0, height=4.2)
-    ax.plot(x, y, "o-", color="0.55", lw=1.0, ms=3, label=f"data: integral {integral(p):.12g}")
-    ax.plot(*sm.T, lw=1.6, label=f"CCA1 x3, anchors at x=4, 8: integral {integral(sm):.12g}")
-    ax.plot(*ch.T, lw=1.2, label=f"Chaikin x3 (ends kept): integral {integral(ch):.12g}")
+    plot.draw_curve(
+        ax,
+        p,
+        closed=False,
+        markers=True,
+        color="0.55",
+        lw=1.0,
+        label=f"data: integral {integral(p):.12g}",
+    )
+    plot.draw_curve(
+        ax,
+        sm,
+        closed=False,
+        lw=1.6,
+        label=f"CCA1 x3, anchors at x=4, 8: integral {integral(sm):.12g}",
+    )
+    plot.draw_curve(
+        ax, ch, closed=False, lw=1.2, label=f"Chaikin x3 (ends kept): integral {integral(ch):.12g}"
+    )
     ax.plot(x[anchors], y[anchors], "s", color="k", ms=6, label="anchor points")
-    ax.set_aspect("equal")
     ax.set_xlabel("x")
     ax.set_ylabel("y")
     ax.set_title("Smoothing a plot keeps its integral (anchored pieces independently)")
