@@ -28,9 +28,11 @@ def run(ctx) -> None:
         res = derham.interpolate(A, ua, C, uc, length=3.7, gamma=gamma, tol=1e-9, level=7)
         times[gamma] = time.perf_counter() - t0
         xs[gamma], evals[gamma] = res.x, res.evaluations
-        ax.plot(*res.points.T, lw=1.6, label=f"gamma = {gamma:g}: x = {res.x:.6f}")
+        _plot.draw_curve(
+            ax, res.points, closed=False, lw=1.6, label=f"gamma = {gamma:g}: x = {res.x:.6f}"
+        )
         poly = derham.control_polygon(A, ua, C, uc, res.x)
-        ax.plot(*poly.T, ":", lw=0.8, color=ax.lines[-1].get_color())
+        _plot.draw_curve(ax, poly, closed=False, ls=":", lw=0.8, color=ax.lines[-1].get_color())
     ax.plot(*np.array([A, B, C]).T, "ko", ms=4)
     for name, p in zip("ABC", (A, B, C), strict=True):
         ax.annotate(name, (p[0], p[1]), textcoords="offset points", xytext=(6, 4))
