@@ -61,3 +61,13 @@ def det(u, v):
     """``u[..., 0] v[..., 1] - u[..., 1] v[..., 0]``, the 2 x 2 determinant of rows u, v."""
     u, v = np.asarray(u, dtype=float), np.asarray(v, dtype=float)
     return u[..., 0] * v[..., 1] - u[..., 1] * v[..., 0]
+
+
+def exact_area_sign(p) -> int:
+    """Sign of the shoelace sum in exact rational arithmetic."""
+    from fractions import Fraction
+
+    xs = [Fraction(v) for v in np.asarray(p)[:, 0].tolist()]
+    ys = [Fraction(v) for v in np.asarray(p)[:, 1].tolist()]
+    total = sum(xs[i - 1] * ys[i] - xs[i] * ys[i - 1] for i in range(len(xs)))
+    return (total > 0) - (total < 0)

@@ -242,3 +242,22 @@ def test_private_ring_area_of_nothing_is_zero():
     # io and geo call the private helper on rings they build; an empty one has no area
     assert signed_area_unchecked(np.zeros((0, 2))) == 0.0
     assert signed_area_unchecked(np.ones((1, 2))) == 0.0
+
+
+@pytest.mark.parametrize("block", [7, 1 << 12])
+def test_orientation_is_the_exact_sign(monkeypatch, block):
+    """Random, huge, tiny and nearly degenerate rings, one block and many: the exact sign."""
+    from oracles import exact_area_sign
+
+    monkeypatch.setattr(geometry, "ORIENTATION_BLOCK", block)
+    rng = np.random.default_rng(block)
+    for scale in (1e-300, 1e-8, 1.0, 6e6, 1e300):
+        for _ in range(20):
+            n = int(rng.integers(3, 60))
+            ring = rng.normal(size=(n, 2)) * scale
+            assert geometry.orientation(ring) == exact_area_sign(ring)
+    # a sliver whose float shoelace sum is dominated by round-off: only exact arithmetic decides
+    base = np.array([[0.0, 0.0], [1e8, 1.0], [2e8, 2.0 + 2**-25], [1e8 + 0.5, 1.0]])
+    for ring in (base, base[::-1], base + np.array([7e5, 5e6])):
+        assert geometry.orientation(ring) == exact_area_sign(ring) != 0
+    assert geometry.orientation([[0, 0], [1, 1], [2, 2], [3, 3]]) == 0

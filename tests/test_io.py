@@ -9,7 +9,6 @@ import io
 import json
 import math
 import warnings
-from fractions import Fraction
 from pathlib import Path
 
 import numpy as np
@@ -31,6 +30,7 @@ from curvesmith.io import (
     write_geojson,
     write_svg,
 )
+from oracles import exact_area_sign
 
 DATA = Path(__file__).parent / "data" / "io"
 
@@ -58,14 +58,6 @@ def structure(c: Curve):
 def signed_area(p) -> float:
     x, y = np.asarray(p)[:, 0], np.asarray(p)[:, 1]
     return 0.5 * float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y))
-
-
-def exact_area_sign(p) -> int:
-    """Sign of the shoelace sum in exact rational arithmetic."""
-    xs = [Fraction(v) for v in np.asarray(p)[:, 0].tolist()]
-    ys = [Fraction(v) for v in np.asarray(p)[:, 1].tolist()]
-    total = sum(xs[i - 1] * ys[i] - xs[i] * ys[i - 1] for i in range(len(xs)))
-    return (total > 0) - (total < 0)
 
 
 def distance_to_polyline(samples, poly, closed):

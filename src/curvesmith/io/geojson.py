@@ -6,7 +6,6 @@ See :mod:`curvesmith.io` for the format's conventions.
 from __future__ import annotations
 
 import json
-import math
 import re
 import uuid
 import warnings
@@ -17,7 +16,7 @@ import numpy as np
 
 from .._validate import as_choice
 from ..errors import CurveError, CurveFormatError
-from . import _core
+from ..geometry import _orientation  # the exact sign of the shoelace sum
 from ._core import (
     Curve,
     Format,
@@ -302,43 +301,6 @@ def read_geojson(source: Source, *, others: Literal["error", "keep"] = "error") 
     return reader.curves
 
 
-def _area_sign(points: np.ndarray) -> int:
-    """Sign of the signed area of a closed ring (x, y), exact also for extreme coordinates.
-
-    The shoelace sum is evaluated in floating point after an exact power-of-two
-    scaling (no overflow) with ``math.fsum`` over blocks of the ring (bounded memory:
-    a few blocks of temporaries, whatever the ring's size; the correctly rounded block
-    sums add at most ``eps / 2`` of the absolute sum to the error); when its magnitude
-    is below the rounding error bound, the sign is recomputed exactly with fractions.
-    """
-    p = points[:, :2]
-    top = max(float(p.max()), -float(p.min()))
-    if top == 0.0:
-        return 0
-    shift = -math.frexp(top)[1]
-    n = len(p)
-    plus, minus, magnitude = [], [], 0.0
-    block = _core.CHUNK_ROWS
-    for s in range(0, n, block):
-        stop = min(s + block, n)
-        q = np.ldexp(p[s:stop], shift)
-        nxt = np.ldexp(np.concatenate([p[s + 1 : stop + 1], p[:1]])[: stop - s], shift)
-        a, b = q[:, 0] * nxt[:, 1], nxt[:, 0] * q[:, 1]
-        plus.append(math.fsum(a.tolist()))
-        minus.append(math.fsum(b.tolist()))
-        magnitude += float(np.sum(np.abs(a)) + np.sum(np.abs(b)))
-    total = math.fsum(plus) - math.fsum(minus)
-    bound = 4.0 * np.finfo(np.float64).eps * magnitude + n * 1e-300
-    if abs(total) > bound:
-        return 1 if total > 0 else -1
-    from fractions import Fraction
-
-    xs = [Fraction(v) for v in p[:, 0].tolist()]
-    ys = [Fraction(v) for v in p[:, 1].tolist()]
-    exact = sum(xs[i - 1] * ys[i] - xs[i] * ys[i - 1] for i in range(len(xs)))
-    return (exact > 0) - (exact < 0)
-
-
 class _Coords:
     """Coordinate arrays of the features being written, by placeholder.
 
@@ -383,7 +345,7 @@ class _Coords:
 def _oriented_ring(coords: _Coords, points: np.ndarray, ccw: bool, orient: bool) -> str:
     reverse = False
     if orient:
-        sign = _area_sign(points)
+        sign = _orientation(points)
         reverse = (sign < 0 and ccw) or (sign > 0 and not ccw)
     return coords.add(points, True, reverse)
 
