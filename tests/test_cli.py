@@ -2,7 +2,6 @@ import json
 
 import numpy as np
 import pytest
-from click.testing import CliRunner
 
 import curvesmith
 from curvesmith import signed_area, subdivision
@@ -10,11 +9,6 @@ from curvesmith.cli import main
 
 SQUARE = "x,y\n0,0\n4,0\n4,4\n0,4\n0,0\n"
 TRACK = "x,y\n0,0\n1,1\n2,0\n3,1\n4,0\n"
-
-
-@pytest.fixture
-def runner():
-    return CliRunner()
 
 
 def write(tmp_path, name, text):

@@ -10,14 +10,6 @@ shapely = pytest.importorskip("shapely", reason="the GIS figures need the geo ex
 from curvesmith import CurveError, geo, plot  # noqa: E402
 
 
-@pytest.fixture(autouse=True)
-def _close_figures():
-    yield
-    import matplotlib.pyplot as plt
-
-    plt.close("all")
-
-
 def _lines(ax):
     return [np.column_stack(line.get_data()) for line in ax.lines]
 

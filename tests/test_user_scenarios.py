@@ -8,7 +8,6 @@ import json
 
 import numpy as np
 import pytest
-from click.testing import CliRunner
 
 from curvesmith import io as cio
 from curvesmith import signed_area
@@ -56,11 +55,6 @@ SVG = """<?xml version="1.0" encoding="UTF-8"?>
   </g>
 </svg>
 """
-
-
-@pytest.fixture
-def runner():
-    return CliRunner()
 
 
 def one_line_error(res, *fragments):
