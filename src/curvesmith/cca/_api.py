@@ -750,15 +750,15 @@ def _step_compiled(
     lengths = np.diff(offsets)
     halo = prm.max_passes + 8
     blocked = lengths.size and lengths.max() >= 2 * _BLOCK and 4 * halo <= _BLOCK
-    # compacting and the angles of a callable need the curves in their own frames
-    if org_in is not None and (
-        mode == kernel.MODE_GIVEN or (blocked and kernel.any_zero_edge(P, offsets, closed, org_in))
-    ):
-        Q = np.empty_like(P)
-        kernel.to_local(P, offsets, Q)
-        P, org_in = Q, None
     if org_in is None:
         org_in = np.zeros((m, 2))
+    # blocks need the zero-length edges removed first (as the step would), so that they
+    # stay put; compacting and the angles of a callable need the curves in their frames
+    zero = blocked and kernel.any_zero_edge(P, offsets, closed, org_in)
+    if org_in.any() and (zero or mode == kernel.MODE_GIVEN):
+        Q = np.empty_like(P)
+        kernel.to_local(P, offsets, Q)
+        P, org_in = Q, np.zeros((m, 2))
     if mode == kernel.MODE_GIVEN:  # the angles of the compacted curves, in one call
         if kernel.any_zero_edge(P, offsets, closed, org_in):
             P, fixed, offsets = kernel.compact_ragged(P, fixed, offsets, closed)
@@ -770,8 +770,7 @@ def _step_compiled(
         free[offsets[1:][opened] - 1] = False
         alpha_in = np.zeros(P.shape[0])
         alpha_in[free] = prm.alpha_fn(theta[free])
-    elif blocked and kernel.any_zero_edge(P, offsets, closed, org_in):
-        # remove zero-length edges first (as the step would), so that blocks stay put
+    elif zero:
         P, fixed, offsets = kernel.compact_ragged(P, fixed, offsets, closed)
     params = (
         mode, const, brk, coef, prm.restrict, prm.c, prm.C, tilt_n, prm.balance_tol,
@@ -831,21 +830,31 @@ def _run_units(kernel, P, fixed, alpha_in, org_in, org_out, offsets, closed, par
     u_off = np.zeros(units.shape[0] + 1, dtype=np.int64)
     np.cumsum(units[:, 4], out=u_off[1:])
     chunks = _chunks(u_off, prm.threads)
+    ncore = [int((units[a:b, 6] - units[a:b, 5]).sum()) for a, b in chunks]
+    # 3 points per core vertex, some Fig. 11 pairs, a closing one per ring
+    caps = [3 * nc + nc // 16 + (b - a) + 64 for nc, (a, b) in zip(ncore, chunks, strict=True)]
+    base = np.zeros(len(chunks) + 1, dtype=np.int64)
+    np.cumsum(caps, out=base[1:])
+    # one buffer: every group writes into its own slice of it, then the groups' rows
+    # move down to follow each other (the first group's do not move)
+    OUT, of = _buffers(int(base[-1]))
 
-    def step(a, b):
-        ncore = int((units[a:b, 6] - units[a:b, 5]).sum())
+    def step(g):
+        a, b = chunks[g]
         args = (P, fixed, alpha_in, org_in, org_out, units[a:b], *params)
-        cap = 3 * ncore + ncore // 16 + (b - a) + 64  # 3 points per vertex, some Fig. 11 pairs
-        res = kernel.step_units(*args, *_buffers(cap), close_out, add)
-        if res[7] == kernel.FULL:  # at most 4 points per vertex
-            res = kernel.step_units(*args, *_buffers(4 * ncore + (b - a) + 1), close_out, add)
-        return res
+        s, e = base[g], base[g + 1]
+        res = kernel.step_units(*args, OUT[s:e], of[s:e], close_out, add)
+        if res[7] != kernel.FULL:
+            return (*res, True)
+        # at most 4 points per vertex: a buffer of its own
+        res = kernel.step_units(*args, *_buffers(4 * ncore[g] + (b - a) + 1), close_out, add)
+        return (*res, False)
 
     if len(chunks) == 1:
-        parts = [step(*chunks[0])]
+        parts = [step(0)]
     else:
         with ThreadPoolExecutor(len(chunks)) as pool:
-            parts = list(pool.map(lambda ab: step(*ab), chunks))
+            parts = list(pool.map(step, range(len(chunks))))
     if any(r[7] == kernel.ZERO_EDGE for r in parts):
         return None
     counts = [np.concatenate([r[k] for r in parts]) for k in (4, 5, 6)]
@@ -854,9 +863,9 @@ def _run_units(kernel, P, fixed, alpha_in, org_in, org_out, offsets, closed, par
     is_last = (units[:, 7] & kernel.U_LAST) != 0
     oo = np.zeros(m + 1, dtype=np.int64)
     if len(parts) == 1:
-        OUT, of, pos, span = parts[0][:4]
+        R, rf, pos, span = parts[0][:4]
         oo[1:] = span[is_last, 1]
-        return OUT[:pos], of[:pos], oo, tuple(counts)
+        return R[:pos], rf[:pos], oo, tuple(counts)
     # the groups' outputs one after the other; a ring whose units are in two groups gets
     # its closing vertex here
     span = np.concatenate([r[3] for r in parts])
@@ -872,16 +881,25 @@ def _run_units(kernel, P, fixed, alpha_in, org_in, org_out, offsets, closed, par
         extra[split] = 1
     dest = np.zeros(lens.size + 1, dtype=np.int64)
     np.cumsum(lens + extra, out=dest[1:])
-    OUT, of = np.empty((int(dest[-1]), 2)), np.empty(int(dest[-1]), dtype=bool)
-    for r, (a, b) in zip(parts, chunks, strict=True):
-        kernel.move_rows(r[0], r[1], OUT, of, r[3], dest[a:b])
+    total = int(dest[-1])
+    if all(r[8] for r in parts):
+        # group by group the rows move down (dest <= their row; every group's slice
+        # starts after the rows of the groups before it): in place
+        for g, (r, (a, b)) in enumerate(zip(parts, chunks, strict=True)):
+            if g:
+                kernel.move_rows(OUT, of, OUT, of, r[3] + base[g], dest[a:b])
+        R, rf = OUT[:total], of[:total]
+    else:
+        R, rf = np.empty((total, 2)), np.empty(total, dtype=bool)
+        for r, (a, b) in zip(parts, chunks, strict=True):
+            kernel.move_rows(r[0], r[1], R, rf, r[3], dest[a:b])
     if extra.any():
         u = np.flatnonzero(extra)
         at = dest[u] + lens[u]
-        OUT[at] = OUT[dest[first_u[owner[u]]]]
-        of[at] = False
+        R[at] = R[dest[first_u[owner[u]]]]
+        rf[at] = False
     oo[1:] = dest[1:][is_last]
-    return OUT, of, oo, tuple(counts)
+    return R, rf, oo, tuple(counts)
 
 
 def _buffers(cap: int):
