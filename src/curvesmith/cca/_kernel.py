@@ -57,11 +57,17 @@ def _nanmax(a, b):
 
 @njit(cache=True, nogil=True)
 def _profile(theta, brk, coef):
-    # the pieces of the PCHIP profile: index = inner breakpoints below theta, then Horner
-    idx = 0
-    for b in range(1, brk.shape[0] - 1):
-        if theta > brk[b]:
-            idx += 1
+    # the pieces of the PCHIP profile: index = inner breakpoints below theta, then Horner;
+    # the breakpoints increase, so an angle above the last inner one (almost every angle
+    # of a smoothed curve) is above them all
+    last = brk.shape[0] - 2
+    if theta > brk[last]:
+        idx = last
+    else:
+        idx = 0
+        for b in range(1, last):
+            if theta > brk[b]:
+                idx += 1
     dt = theta - brk[idx]
     out = coef[0, idx]
     for k in range(1, 4):
@@ -318,8 +324,10 @@ def step_units(
         if n == 0:
             span[u, 1] = pos
             continue
-        # gather the unit, in the curve's frame
+        # gather the unit, in the curve's frame, and its edges (edge t - 1 once vertex t
+        # is in; the wrap edge n - 1 last); stop computing edges at a zero-length one
         ox, oy = org_in[k, 0], org_in[k, 1]
+        ok = True
         for t in range(n):
             r = lo + t
             if r < 0:
@@ -327,13 +335,31 @@ def step_units(
             elif r >= nc:
                 r -= nc
             row = s0 + r
-            G[t, 0] = P[row, 0] - ox
-            G[t, 1] = P[row, 1] - oy
+            gx = P[row, 0] - ox
+            gy = P[row, 1] - oy
+            G[t, 0] = gx
+            G[t, 1] = gy
             fx[t] = fixed[row]
             if mode == MODE_GIVEN:
                 ga[t] = alpha_in[row]
+            if t > 0 and ok:
+                ex = gx - G[t - 1, 0]
+                ey = gy - G[t - 1, 1]
+                le = math.sqrt(0.0 + ex * ex + ey * ey)
+                if le == 0.0:
+                    ok = False
+                inv = 1.0 / le if le > 0.0 else 0.0
+                length[t - 1], ux[t - 1], uy[t - 1] = le, ex * inv, ey * inv
+        if ok:
+            ex = G[0, 0] - G[n - 1, 0]
+            ey = G[0, 1] - G[n - 1, 1]
+            le = math.sqrt(0.0 + ex * ex + ey * ey)
+            if le == 0.0 and cl:
+                ok = False
+            inv = 1.0 / le if le > 0.0 else 0.0
+            length[n - 1], ux[n - 1], uy[n - 1] = le, ex * inv, ey * inv
         V = G
-        if not _edges(G, n, cl, length, ux, uy):
+        if not ok:
             if n != nc:  # a block: compacting would shift its core
                 return OUT, of, pos, span, nred, nfig, nunsat, ZERO_EDGE
             n = _compact_curve(G, fx, 0, n, cl, Q, qf)
@@ -374,6 +400,9 @@ def step_units(
                 alpha0[i] = al
                 turning[i] = (not fx[i]) and abs(cri) > 0.0
                 tanb[i] = (1.0 + doti) / abs(cri) if turning[i] else 0.0
+                pending[i] = False
+                endish[i] = False
+                tq[i] = -1.0
         if restrict:
             r = _restrict(
                 n, cl, anyfix, alpha, alpha0, half, cr, scross, dot, short, length, fx, c, C,
@@ -458,20 +487,17 @@ def _restrict(
     The counts cover vertices and edges ``lo .. hi - 1`` (the core of a block).
 
     On entry ``alpha0 = alpha``, ``a``, ``K``, ``turning`` and ``tanb`` hold the
-    profile's values, ``fv`` is all 1 and ``check`` all False (both are left so).
+    profile's values, ``fv`` is all 1 and ``check``, ``pending`` and ``endish`` all False
+    (the first two are left so), ``tq`` all -1.
     ``alpha``, ``a`` and ``K`` are decreased in place. ``tq`` (scratch) keeps, per vertex,
     ``tan(C / 2 * tau)`` of its turn ``tau`` once computed (a vertex is the minor one
     of up to two edges, in several passes; the value does not change). Returns
     ``(nred, nunsat)``.
     """
-    for i in range(n):
-        pending[i] = False
-        tq[i] = -1.0
-        if anyfix:
+    if anyfix:
+        for i in range(n):
             j = i + 1 if i + 1 < n else 0
             endish[i] = (fx[i] and turning[j]) or (fx[j] and turning[i])
-        else:
-            endish[i] = False
     nlast = n if cl else n - 1  # edges that exist
     ne = nlast
     for i in range(ne):
@@ -600,7 +626,7 @@ def restrict_curve(alpha, half, cr, scross, dot, short, length, fixed, closed, c
     nred, nunsat = _restrict(
         n, closed, bool(fixed.any()), alpha, alpha.copy(), half, cr, scross, dot, short,
         length, fixed, c, C, limits[0], limits[1], a, K, tanb, fv, np.append(turning, False),
-        *flags, *ints, 0, n, np.empty(n + 1),
+        *flags, *ints, 0, n, np.full(n + 1, -1.0),
     )  # fmt: skip
     return alpha, int(nred), int(nunsat)
 
