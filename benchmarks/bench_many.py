@@ -25,9 +25,11 @@ The machine these figures come from is shared (2 cores, several jobs): compare t
 ratios of one run, not absolute times across runs.
 
 * ``--ring N`` (default 1,000,000; 0 to skip): one ring of N vertices (wavy, jagged,
-  noisy; metres), ``cca.smooth`` against ``subdivision.chaikin`` at 1 and 3 iterations,
-  time per output vertex, wall, CPU and user CPU (the system time of touching fresh
-  memory varies several times over on a loaded machine);
+  noisy; metres), ``cca.smooth`` (default threads and 1 thread) against
+  ``subdivision.chaikin`` at 1 and 3 iterations, CPU and user CPU per output vertex
+  (the system time of touching fresh memory varies several times over on a loaded
+  machine), and against a compiled Chaikin step written here (one loop, what a
+  compiled Chaikin would cost: the library's is numpy);
 * ``--counties``: the US county coverage (plotly-geo) through ``geo.smooth_coverage``
   with and without the output check, and its arc smoothing alone.
 
@@ -233,30 +235,70 @@ def best_user(fn, repeats: int):
     return min(walls), min(cpus), min(users), out
 
 
+def _compiled_chaikin():
+    """A compiled Chaikin step (one loop, output written once): how fast Chaikin can be.
+
+    ``subdivision.chaikin`` is numpy (a few whole-array passes per coordinate); this is
+    the floor a compiled Chaikin would reach, printed as a second peer so that the
+    ratio against the library's Chaikin is read with it.
+    """
+    from numba import njit
+
+    @njit(cache=True, nogil=True)
+    def step(p, out):
+        n = p.shape[0]
+        for i in range(n):
+            j = i + 1 if i + 1 < n else 0
+            for d in range(2):
+                s = 0.25 * (p[j, d] - p[i, d])
+                out[2 * i, d] = p[i, d] + s
+                out[2 * i + 1, d] = p[j, d] - s
+
+    def chaikin(ring: np.ndarray, iterations: int) -> np.ndarray:
+        p = np.ascontiguousarray(ring, dtype=float)
+        for _ in range(iterations):
+            out = np.empty((2 * p.shape[0], 2))
+            step(p, out)
+            p = out
+        return p
+
+    chaikin(np.zeros((3, 2)), 1)  # compile (or load from the cache) outside the timings
+    return chaikin
+
+
 def bench_ring(n: int, repeats: int) -> None:
     print(
         f"\n== one ring of {n} vertices: cca.smooth vs subdivision.chaikin (same run), "
-        "time per output vertex =="
+        "CPU time per output vertex, best of the repeats (user: without the system time "
+        "of touching fresh memory, which varies several times over on a loaded machine) =="
     )
+    compiled = _compiled_chaikin()
     print(
-        f"{'shape':>7} {'it':>3} {'cca wall':>9} {'cca cpu':>8} {'chaikin wall':>12} "
-        f"{'chaikin cpu':>11} {'x wall':>7} {'x cpu':>6} {'x user':>6}  (target x <= 2)"
+        f"{'shape':>7} {'it':>3} {'cca ns':>7} {'user':>6} {'thr=1':>6} {'user':>6} "
+        f"{'chaikin':>7} {'user':>6} {'nb':>5} {'x cpu':>6} {'x user':>6} {'thr=1 x':>7} "
+        f"{'x nb':>5}  (cca threads default / 1; chaikin numpy / compiled; target x <= 2)"
     )
     for name, ring in long_rings(n, seed=5).items():
         for it in (1, 3):
-            tw, tc, tu, out = best_user(
-                lambda ring=ring, it=it: cca.smooth(ring, closed=True, iterations=it), repeats
-            )
-            cw, cc, cu, ch = best_user(
-                lambda ring=ring, it=it: subdivision.chaikin(ring, closed=True, iterations=it),
-                repeats,
-            )
-            fw = (tw / len(out)) / (cw / len(ch))
-            fc = (tc / len(out)) / (cc / len(ch))
-            fu = (tu / len(out)) / (cu / len(ch)) if cu > 0 else float("nan")
+            runs = {
+                "cca": lambda ring=ring, it=it: cca.smooth(ring, closed=True, iterations=it),
+                "cca1": lambda ring=ring, it=it: cca.smooth(
+                    ring, closed=True, iterations=it, threads=1
+                ),
+                "ch": lambda ring=ring, it=it: subdivision.chaikin(
+                    ring, closed=True, iterations=it
+                ),
+                "nb": lambda ring=ring, it=it: compiled(ring, it),
+            }
+            per = {}
+            for key, fn in runs.items():
+                _, c, u, out = best_user(fn, repeats)
+                per[key] = (c / len(out) * 1e9, u / len(out) * 1e9)
+            (cc, cu), (c1, u1), (hc, hu), (nc, _) = per["cca"], per["cca1"], per["ch"], per["nb"]
             print(
-                f"{name:>7} {it:>3} {tw:>9.3f} {tc:>8.3f} {cw:>12.3f} {cc:>11.3f} "
-                f"{fw:>7.2f} {fc:>6.2f} {fu:>6.2f}"
+                f"{name:>7} {it:>3} {cc:>7.1f} {cu:>6.1f} {c1:>6.1f} {u1:>6.1f} {hc:>7.1f} "
+                f"{hu:>6.1f} {nc:>5.1f} {cc / hc:>6.2f} {cu / hu:>6.2f} {c1 / hc:>7.2f} "
+                f"{cc / nc:>5.1f}"
             )
 
 

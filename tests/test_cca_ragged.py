@@ -173,3 +173,50 @@ def test_close_rings_repeats_the_first_vertex():
                 np.testing.assert_array_equal(ck[-1], ck[0])
             else:
                 np.testing.assert_array_equal(ck, a[ao[k] : ao[k + 1]])
+
+
+@pytest.mark.parametrize("alpha", ["regular", 0.25, "callable"])
+def test_blocks_threads_and_closing_vertices_give_the_single_call_bits(monkeypatch, alpha):
+    # Small blocks (128 core vertices) and thread groups that cut long rings and lines in
+    # the middle: every group writes into its slice of one buffer and the rows move down
+    # in place; a ring cut between two groups gets its closing vertex afterwards. Each
+    # curve must still be, bit for bit, what cca.smooth gives it alone (in the input's
+    # frame: the kernel subtracts and adds the origins itself), with the same counts.
+    from curvesmith.cca import _api
+
+    rng = np.random.default_rng(31)
+    items = []
+    for k in range(7):
+        n = int(rng.integers(5, 13)) if k % 2 else int(rng.integers(700, 1500))
+        t = 2 * np.pi * np.arange(n) / n
+        r = 1 + 0.3 * rng.uniform(size=n)
+        p = np.c_[r * np.cos(t), r * np.sin(t)] * 10.0 ** (k - 2) + rng.uniform(-1e6, 1e6, 2)
+        if k == 4:
+            p = np.insert(p, 300, p[300], axis=0)  # a duplicate: compacted before blocking
+        items.append((p, k != 2))  # curve 2: a long open line
+    xy, off, closed = _batch(items)
+    anchors = [[], [1], [100, 640], [], [5], [], [0, 3]]
+    fn = (lambda a: 0.1 + 0.05 * np.cos(a)) if alpha == "callable" else alpha
+    singles = [
+        cca.smooth_with_info(p, closed=c, iterations=2, alpha=fn, anchors=anchors[k] or None)
+        for k, (p, c) in enumerate(items)
+    ]
+    monkeypatch.setattr(_api, "_BLOCK", 128)
+    monkeypatch.setattr(_api, "_THREAD_MIN", 100)
+    assert len(_api._chunks(np.array([0, len(xy) // 2, len(xy)]), 3)) == 2
+    for threads in (1, 2, 3):
+        for close_rings in (False, True):
+            res = cca.smooth_ragged_with_info(
+                xy, off, closed=closed, iterations=2, alpha=fn, anchors=anchors,
+                threads=threads, close_rings=close_rings,
+            )  # fmt: skip
+            for k, one in enumerate(singles):
+                got = res.curve(k)
+                if close_rings and closed[k]:
+                    np.testing.assert_array_equal(got[-1], got[0])
+                    got = got[:-1]
+                np.testing.assert_array_equal(got, one.points)
+                assert res.reductions[k] == one.reductions
+                assert res.fig11_edges[k] == one.fig11_edges
+                assert res.unsatisfied[k] == one.unsatisfied
+    assert res.reductions.sum() > 0

@@ -272,7 +272,10 @@ def _smooth_one(
     raw = as_points(points, closed=closed, min_points=1, dim=(2, 3))
     # Coordinates so small or so large that squared edge lengths would underflow or overflow
     # are scaled by a power of two (exact) and scaled back at the end; CCA1 commutes with it.
-    top = float(np.abs(raw).max())
+    if raw.shape[1] == 2 and engine == "compiled":
+        top = float(_kernel().abs_max_per_curve(raw, np.array([0, raw.shape[0]]))[0])
+    else:
+        top = float(np.abs(raw).max())
     exp2 = math.frexp(top)[1] if top > 0 and not _TINY < top < _HUGE else 0
     if exp2:
         raw = np.ldexp(raw, -exp2)
@@ -288,7 +291,7 @@ def _smooth_one(
     if raw.shape[1] == 2 and raw.shape[0] > 1 and engine == "compiled":
         # the compiled check first: most curves have no duplicates to remove
         one = np.array([0, raw.shape[0]], dtype=np.int64)
-        if _kernel().any_zero_edge(raw, one, np.array([closed])):
+        if _kernel().any_zero_edge(raw, one, np.array([closed]), np.zeros((1, 2))):
             p, fixed = dedupe(raw, fixed, closed)
         else:
             p = raw
@@ -312,23 +315,30 @@ def _smooth_one(
     check_growth(p.shape[0], iterations, lambda n: 3 * n, limit=_validate.MAX_VERTICES)
     fixed_in = fixed
     origin = p[0].copy()
-    q = p - origin
-    frame = None
-    if q.shape[1] == 3:
-        frame = plane_frame(q)
-        if frame is not None:
-            q = q @ frame.T  # (N, 2) coordinates in the plane
     prm = _Params(alpha_fn, restrict, c, C, tilt, balance_tol, max_passes, min_factor, threads)
-    offsets = np.array([0, q.shape[0]], dtype=np.int64)
-    out, fixed, _, steps = _iterate(
-        np.ascontiguousarray(q), fixed, offsets, np.array([closed]), iterations, prm, engine
-    )
+    offsets = np.array([0, p.shape[0]], dtype=np.int64)
+    frame = None
+    if p.shape[1] == 2 and engine == "compiled":
+        # the kernel subtracts the origin as it reads and adds it back as it writes
+        out, fixed, _, steps = _iterate(
+            np.ascontiguousarray(p), fixed, offsets, np.array([closed]), iterations, prm,
+            engine, origins=origin.reshape(1, 2),
+        )  # fmt: skip
+    else:
+        q = p - origin
+        if q.shape[1] == 3:
+            frame = plane_frame(q)
+            if frame is not None:
+                q = q @ frame.T  # (N, 2) coordinates in the plane
+        out, fixed, _, steps = _iterate(
+            np.ascontiguousarray(q), fixed, offsets, np.array([closed]), iterations, prm, engine
+        )
+        if frame is not None:
+            out = out @ frame
+        out += origin
     red_steps = [int(nred[0]) for nred, _, _ in steps]
     fig11_total = sum(int(nfig[0]) for _, nfig, _ in steps)
     unsat_total = sum(int(nunsat[0]) for _, _, nunsat in steps)
-    if frame is not None:
-        out = out @ frame
-    out += origin
     if fixed_in.any():
         out[fixed] = p[fixed_in]  # fixed vertices (ends, anchors) are returned bit-exact
     if exp2:
@@ -563,7 +573,7 @@ def smooth_ragged_with_info(
         if extreme.any():
             exp2[extreme] = np.frexp(top[extreme])[1]
             p = np.ldexp(p, -exp2[curve_ids(off)])
-    if p.shape[0] and kernel.any_zero_edge(p, off, cl):  # duplicates: zero-length edges
+    if p.shape[0] and kernel.any_zero_edge(p, off, cl, np.zeros((m, 2))):  # duplicates
         p, fixed, off = dedupe_ragged(p, fixed, off, cl)
     lengths = np.diff(off)
     need = np.where(cl, 3, 2)
@@ -593,14 +603,13 @@ def smooth_ragged_with_info(
         return RaggedCCAResult(out, off, 0, zeros, zeros.copy(), zeros.copy(), True, "0 CCA1 steps")
     check_growth(p.shape[0], iterations, lambda n: 3 * n, limit=_validate.MAX_VERTICES)
     fixed_in = fixed
-    q = np.empty_like(p)
-    origin = kernel.to_local(p, off, q)
+    origin = np.zeros((m, 2))  # every curve in the frame of its first vertex
+    origin[lengths > 0] = p[off[:-1][lengths > 0]]
     prm = _Params(alpha_fn, restrict, c, C, tilt, balance_tol, max_passes, min_factor, threads)
     out, fixed, off_out, steps = _iterate(
-        q, fixed, off, cl, iterations, prm, "compiled", close_out=close_rings
-    )
-    del q
-    kernel.add_origins(out, off_out, origin)
+        np.ascontiguousarray(p), fixed, off, cl, iterations, prm, "compiled",
+        close_out=close_rings, origins=origin,
+    )  # fmt: skip
     if fixed_in.any():
         cid_out = curve_ids(off_out)
         _restore_fixed(out, fixed, cid_out, p, fixed_in, curve_ids(off), off_out, off)
@@ -662,11 +671,16 @@ class _Params:
     threads: int
 
 
-def _iterate(P, fixed, offsets, closed, iterations, prm: _Params, engine: str, close_out=False):
+def _iterate(
+    P, fixed, offsets, closed, iterations, prm: _Params, engine: str, close_out=False, origins=None
+):
     """``iterations`` CCA1 steps on a batch of ``(N, d)`` points.
 
     Returns the points, their fixed mask, the offsets and the per-step counts; with
     ``close_out`` (compiled engine) the last step repeats the first vertex of every ring.
+    With ``origins`` ``(M, 2)`` (compiled engine, 2D) the points are in the input's frame:
+    the first step reads every curve minus its origin and the last one adds it back as it
+    writes (the same bits as subtracting before and adding after, with no extra passes).
     """
     steps = []
     for it in range(1, iterations + 1):
@@ -674,8 +688,11 @@ def _iterate(P, fixed, offsets, closed, iterations, prm: _Params, engine: str, c
         if P.shape[1] != 2 or engine == "numpy":
             P, fixed, offsets, counts = _step_numpy(P, fixed, offsets, closed, prm, tilt_n)
         else:
-            last = close_out and it == iterations
-            P, fixed, offsets, counts = _step_compiled(P, fixed, offsets, closed, prm, tilt_n, last)
+            last = it == iterations
+            P, fixed, offsets, counts = _step_compiled(
+                P, fixed, offsets, closed, prm, tilt_n, close_out and last,
+                origins if it == 1 else None, origins if last else None,
+            )  # fmt: skip
         steps.append(counts)
     return P, fixed, offsets, steps
 
@@ -715,129 +732,174 @@ def _kernel():
     return kernel
 
 
-def _step_compiled(P, fixed, offsets, closed, prm: _Params, tilt_n, close_out=False):
+def _step_compiled(
+    P, fixed, offsets, closed, prm: _Params, tilt_n, close_out=False, org_in=None, org_out=None
+):
+    """One compiled step; ``org_in`` / ``org_out`` (M, 2): origins subtracted / added."""
     kernel = _kernel()
     brk, coef = profile_tables()
+    m = offsets.size - 1
     constant = getattr(prm.alpha_fn, "constant", None)
     alpha_in = np.zeros(0)
     if prm.alpha_fn is _profiles_eval:
         mode, const = kernel.MODE_REGULAR, 0.0
     elif constant is not None:
         mode, const = kernel.MODE_CONSTANT, float(constant)
-    else:  # a user callable: the angles of the compacted curves, evaluated in one call
+    else:
         mode, const = kernel.MODE_GIVEN, 0.0
-        if kernel.any_zero_edge(P, offsets, closed):
+    lengths = np.diff(offsets)
+    halo = prm.max_passes + 8
+    blocked = lengths.size and lengths.max() >= 2 * _BLOCK and 4 * halo <= _BLOCK
+    if org_in is None:
+        org_in = np.zeros((m, 2))
+    # blocks need the zero-length edges removed first (as the step would), so that they
+    # stay put; compacting and the angles of a callable need the curves in their frames
+    zero = blocked and kernel.any_zero_edge(P, offsets, closed, org_in)
+    if org_in.any() and (zero or mode == kernel.MODE_GIVEN):
+        Q = np.empty_like(P)
+        kernel.to_local(P, offsets, Q)
+        P, org_in = Q, np.zeros((m, 2))
+    if mode == kernel.MODE_GIVEN:  # the angles of the compacted curves, in one call
+        if kernel.any_zero_edge(P, offsets, closed, org_in):
             P, fixed, offsets = kernel.compact_ragged(P, fixed, offsets, closed)
+            lengths = np.diff(offsets)
         theta = kernel.angles_ragged(P, offsets, closed)
         free = ~fixed
-        lengths = np.diff(offsets)
         opened = ~closed & (lengths > 0)
         free[offsets[:-1][opened]] = False
         free[offsets[1:][opened] - 1] = False
         alpha_in = np.zeros(P.shape[0])
         alpha_in[free] = prm.alpha_fn(theta[free])
-    if alpha_in.size == 0:
-        alpha_in = np.zeros(0)
+    elif zero:
+        P, fixed, offsets = kernel.compact_ragged(P, fixed, offsets, closed)
     params = (
         mode, const, brk, coef, prm.restrict, prm.c, prm.C, tilt_n, prm.balance_tol,
         prm.max_passes, prm.min_factor,
     )  # fmt: skip
-    lengths = np.diff(offsets)
-    halo = prm.max_passes + 8
-    if lengths.size and lengths.max() >= 2 * _BLOCK and 4 * halo <= _BLOCK:
-        if mode != kernel.MODE_GIVEN and kernel.any_zero_edge(P, offsets, closed):
-            # remove zero-length edges first (as the step would), so that blocks stay put
-            P, fixed, offsets = kernel.compact_ragged(P, fixed, offsets, closed)
-        blocks = _blocks(offsets, closed, halo)
-        res = _run_units(kernel, P, fixed, alpha_in, closed, params, close_out, prm, blocks)
+    add = org_out is not None
+    org_out = org_out if add else org_in
+    run = (P, fixed, alpha_in, org_in, org_out, offsets, closed, params, close_out, add, prm)
+    if blocked:
+        res = _run_units(kernel, *run, _blocks(offsets, closed, halo))
         if res is not None:
             return res
-    return _run_units(kernel, P, fixed, alpha_in, closed, params, close_out, prm, None, offsets)
+    return _run_units(kernel, *run, None)
 
 
-def _run_units(kernel, P, fixed, alpha_in, closed, params, close_out, prm, blocks, offsets=None):
+def _units(offsets, closed, blocks):
+    """The unit table of :func:`curvesmith.cca._kernel.step_units` and the units' owners."""
+    lengths = np.diff(offsets)
+    m = lengths.size
+    K = _kernel()
+    if blocks is None:
+        owner = np.arange(m, dtype=np.int64)
+        start = np.zeros(m, dtype=np.int64)
+        ulen = lengths
+        core = np.stack([np.zeros(m, dtype=np.int64), lengths], axis=1)
+        ucl = closed
+        first = last = np.ones(m, dtype=bool)
+    else:
+        start, u_off, ucl, core, owner = blocks
+        ulen = np.diff(u_off)
+        first = np.ones(owner.size, dtype=bool)
+        first[1:] = owner[1:] != owner[:-1]
+        last = np.ones(owner.size, dtype=bool)
+        last[:-1] = owner[1:] != owner[:-1]
+    flags = (
+        ucl * K.U_CLOSED + first * K.U_FIRST + last * K.U_LAST + closed[owner] * K.U_RING
+    ).astype(np.int64)
+    table = np.stack(
+        [owner, offsets[:-1][owner], lengths[owner], start, ulen, core[:, 0], core[:, 1], flags],
+        axis=1,
+    ).astype(np.int64)
+    return table, owner
+
+
+def _run_units(kernel, P, fixed, alpha_in, org_in, org_out, offsets, closed, params, close_out,
+               add, prm, blocks):  # fmt: skip
     """Run the kernel over units (whole curves, or blocks of long curves), in threads.
 
-    Without ``blocks`` the units are the curves of ``offsets``. With ``blocks`` (from
-    :func:`_blocks`) the units are gathered rows with cores, and the cores' outputs are
-    put together curve by curve; returns None if a block met a zero-length edge (its
-    own wrap edge: the ring passes twice through one point), then the caller runs the
-    whole curves.
+    Without ``blocks`` the units are the curves. With ``blocks`` (from :func:`_blocks`)
+    the units are blocks with cores, whose outputs the kernel writes one after the
+    other; returns None if a block met a zero-length edge (its own wrap edge: the ring
+    passes twice through one point), then the caller runs the whole curves. One group
+    of units (one thread) writes its output in place: no copies.
     """
-    if blocks is None:
-        u_off, u_closed = offsets, closed
-        core = np.zeros((offsets.size - 1, 2), dtype=np.int64)
-        core[:, 1] = np.diff(offsets)
-        UP, Ufixed, Ualpha = P, fixed, alpha_in
-    else:
-        ranges, u_off, u_closed, core, owner = blocks
-        UP = np.concatenate([P[a:b] for a, b in ranges])
-        Ufixed = np.concatenate([fixed[a:b] for a, b in ranges])
-        Ualpha = np.concatenate([alpha_in[a:b] for a, b in ranges]) if alpha_in.size else alpha_in
+    units, owner = _units(offsets, closed, blocks)
+    m = offsets.size - 1
+    u_off = np.zeros(units.shape[0] + 1, dtype=np.int64)
+    np.cumsum(units[:, 4], out=u_off[1:])
     chunks = _chunks(u_off, prm.threads)
+    ncore = [int((units[a:b, 6] - units[a:b, 5]).sum()) for a, b in chunks]
+    # 3 points per core vertex, some Fig. 11 pairs, a closing one per ring
+    caps = [3 * nc + nc // 16 + (b - a) + 64 for nc, (a, b) in zip(ncore, chunks, strict=True)]
+    base = np.zeros(len(chunks) + 1, dtype=np.int64)
+    np.cumsum(caps, out=base[1:])
+    # one buffer: every group writes into its own slice of it, then the groups' rows
+    # move down to follow each other (the first group's do not move)
+    OUT, of = _buffers(int(base[-1]))
 
-    def step(a, b):
-        s, e = u_off[a], u_off[b]
-        sub_off = u_off[a : b + 1] - s
-        al = Ualpha[s:e] if Ualpha.size else Ualpha
-        args = (UP[s:e], Ufixed[s:e], sub_off, u_closed[a:b], *params[:4], al, *params[4:])
-        n, m_curves = e - s, b - a
-        close = close_out and blocks is None
-        cap = 3 * n + n // 16 + m_curves + 64  # 3 points per vertex, some Fig. 11 pairs
-        res = kernel.step_ragged(*args, *_buffers(cap), close, core[a:b])
-        if res[2] < 0:  # at most 4 points per vertex
-            res = kernel.step_ragged(*args, *_buffers(4 * n + m_curves + 1), close, core[a:b])
-        return res
+    def step(g):
+        a, b = chunks[g]
+        args = (P, fixed, alpha_in, org_in, org_out, units[a:b], *params)
+        s, e = base[g], base[g + 1]
+        res = kernel.step_units(*args, OUT[s:e], of[s:e], close_out, add)
+        if res[7] != kernel.FULL:
+            return (*res, True)
+        # at most 4 points per vertex: a buffer of its own
+        res = kernel.step_units(*args, *_buffers(4 * ncore[g] + (b - a) + 1), close_out, add)
+        return (*res, False)
 
     if len(chunks) == 1:
-        parts = [step(*chunks[0])]
+        parts = [step(0)]
     else:
         with ThreadPoolExecutor(len(chunks)) as pool:
-            parts = list(pool.map(lambda ab: step(*ab), chunks))
-    span = np.concatenate([r[7] for r in parts])
-    if blocks is not None and np.any(span[:, 0] < 0):
+            parts = list(pool.map(step, range(len(chunks))))
+    if any(r[7] == kernel.ZERO_EDGE for r in parts):
         return None
     counts = [np.concatenate([r[k] for r in parts]) for k in (4, 5, 6)]
-    if blocks is None:
-        if len(parts) == 1:
-            OUT, of = parts[0][0][: parts[0][2]], parts[0][1][: parts[0][2]]
-            return OUT, of, parts[0][3], tuple(counts)
-        bases = np.cumsum([0] + [r[2] for r in parts])[:-1]
-        OUT = np.concatenate([r[0][: r[2]] for r in parts])
-        of = np.concatenate([r[1][: r[2]] for r in parts])
-        oo = [np.zeros(1, dtype=np.int64)]
-        for r, base in zip(parts, bases, strict=True):
-            oo.append(r[3][1:] + base)
-        return OUT, of, np.concatenate(oo), tuple(counts)
-    # the cores' outputs one after the other, in unit order, moved by the kernel (in place
-    # with one part: the buffer is not copied, so no fresh pages are touched)
-    lens = span[:, 1] - span[:, 0]
-    dest = np.zeros(lens.size + 1, dtype=np.int64)
-    np.cumsum(lens, out=dest[1:])
-    total = int(dest[-1])
-    if len(parts) == 1:
-        OUT, of = parts[0][0], parts[0][1]
-        kernel.move_rows(OUT, of, OUT, of, span, dest[:-1])
-        OUT, of = OUT[:total], of[:total]
-    else:
-        OUT, of = np.empty((total, 2)), np.empty(total, dtype=bool)
-        u = 0
-        for r in parts:
-            nu = r[7].shape[0]
-            kernel.move_rows(r[0], r[1], OUT, of, r[7], dest[u : u + nu])
-            u += nu
-    m = int(owner[-1]) + 1 if owner.size else 0
-    n_out = np.bincount(owner, weights=lens, minlength=m).astype(np.int64)
+    if blocks is not None:
+        counts = [np.bincount(owner, weights=c, minlength=m).astype(np.int64) for c in counts]
+    is_last = (units[:, 7] & kernel.U_LAST) != 0
     oo = np.zeros(m + 1, dtype=np.int64)
-    np.cumsum(n_out, out=oo[1:])
-    counts = tuple(np.bincount(owner, weights=c, minlength=m).astype(np.int64) for c in counts)
-    if close_out and closed.any():
-        OUT, new_oo = _close(OUT, oo, closed)
-        flags = np.zeros(OUT.shape[0], dtype=bool)
-        add = closed.astype(np.int64)
-        flags[np.arange(of.size) + np.repeat(np.cumsum(add) - add, np.diff(oo))] = of
-        of, oo = flags, new_oo
-    return OUT, of, oo, counts
+    if len(parts) == 1:
+        R, rf, pos, span = parts[0][:4]
+        oo[1:] = span[is_last, 1]
+        return R[:pos], rf[:pos], oo, tuple(counts)
+    # the groups' outputs one after the other; a ring whose units are in two groups gets
+    # its closing vertex here
+    span = np.concatenate([r[3] for r in parts])
+    lens = span[:, 1] - span[:, 0]
+    extra = np.zeros(lens.size, dtype=np.int64)
+    if close_out:
+        first_u = np.flatnonzero((units[:, 7] & kernel.U_FIRST) != 0)
+        group = np.zeros(units.shape[0], dtype=np.int64)
+        for g, (a, _) in enumerate(chunks[1:], start=1):
+            group[a:] = g
+        split = is_last & ((units[:, 7] & kernel.U_RING) != 0)
+        split &= group != group[first_u[owner]]
+        extra[split] = 1
+    dest = np.zeros(lens.size + 1, dtype=np.int64)
+    np.cumsum(lens + extra, out=dest[1:])
+    total = int(dest[-1])
+    if all(r[8] for r in parts):
+        # group by group the rows move down (dest <= their row; every group's slice
+        # starts after the rows of the groups before it): in place
+        for g, (r, (a, b)) in enumerate(zip(parts, chunks, strict=True)):
+            if g:
+                kernel.move_rows(OUT, of, OUT, of, r[3] + base[g], dest[a:b])
+        R, rf = OUT[:total], of[:total]
+    else:
+        R, rf = np.empty((total, 2)), np.empty(total, dtype=bool)
+        for r, (a, b) in zip(parts, chunks, strict=True):
+            kernel.move_rows(r[0], r[1], R, rf, r[3], dest[a:b])
+    if extra.any():
+        u = np.flatnonzero(extra)
+        at = dest[u] + lens[u]
+        R[at] = R[dest[first_u[owner[u]]]]
+        rf[at] = False
+    oo[1:] = dest[1:][is_last]
+    return R, rf, oo, tuple(counts)
 
 
 def _buffers(cap: int):
@@ -856,57 +918,44 @@ def _blocks(offsets: np.ndarray, closed: np.ndarray, halo: int):
     smoothed as a closed curve; its own wrap edge, not an edge of the curve, disturbs
     only the halo; the last block of an open curve stays open at the true end). The
     values are computed by the same arithmetic as for the whole curve, so the result
-    is the same to the last bit, and long curves can use ``threads`` threads.
+    is the same to the last bit, and long curves can use ``threads`` threads. A block
+    stays in the cache while its steps run over it.
 
-    Returns the row ranges of the input that make up the units, one after the other
-    (adjacent ranges merged), the units' offsets, closed flags, cores ``(U, 2)`` and
-    owner curves.
+    Returns, per unit, its first vertex relative to its curve's first row (negative
+    for the first block of a ring: it wraps around), the units' offsets (their
+    lengths), closed flags, cores ``(U, 2)`` and owner curves.
     """
     lengths = np.diff(offsets)
     long = np.flatnonzero(lengths >= 2 * _BLOCK)
-    ranges: list[tuple[int, int]] = []
-
-    def add(a: int, b: int) -> None:
-        if b <= a:
-            return
-        if ranges and ranges[-1][1] == a:
-            ranges[-1] = (ranges[-1][0], b)
-        else:
-            ranges.append((a, b))
-
-    u_len, u_closed, core, owner = [], [], [], []
+    u_start, u_len, u_closed, core, owner = [], [], [], [], []
     prev = 0  # first curve not yet listed
     for k in [*long.tolist(), lengths.size]:
         if k > prev:  # the short curves before k: whole units
-            add(int(offsets[prev]), int(offsets[k]))
             sl = lengths[prev:k]
+            u_start.append(np.zeros_like(sl))
             u_len.append(sl)
             u_closed.append(closed[prev:k])
             core.append(np.stack([np.zeros_like(sl), sl], axis=1))
             owner.append(np.arange(prev, k))
         if k == lengths.size:
             break
-        n, s0 = int(lengths[k]), int(offsets[k])
-        bl, bc, bcore = [], [], []
+        n = int(lengths[k])
+        bs, bl, bc, bcore = [], [], [], []
         for s in range(0, n, _BLOCK):
             e = min(n, s + _BLOCK)
             if closed[k]:
                 lo, hi = s - halo, e + halo
                 c = (halo, halo + e - s)
                 piece_closed = True
-                if lo < 0:
-                    add(s0 + n + lo, s0 + n)
-                add(s0 + max(lo, 0), s0 + min(hi, n))
-                if hi > n:
-                    add(s0, s0 + hi - n)
             else:
                 lo, hi = max(0, s - halo), min(n, e + halo)
                 c = (s - lo, e - lo)
                 piece_closed = hi < n  # the true end of an open curve stays open
-                add(s0 + lo, s0 + hi)
+            bs.append(lo)
             bl.append(hi - lo)
             bc.append(piece_closed)
             bcore.append(c)
+        u_start.append(np.array(bs))
         u_len.append(np.array(bl))
         u_closed.append(np.array(bc, dtype=bool))
         core.append(np.array(bcore, dtype=np.int64))
@@ -916,7 +965,7 @@ def _blocks(offsets: np.ndarray, closed: np.ndarray, halo: int):
     u_off = np.zeros(lens.size + 1, dtype=np.int64)
     np.cumsum(lens, out=u_off[1:])
     return (
-        ranges,
+        np.concatenate(u_start).astype(np.int64),
         u_off,
         np.concatenate(u_closed).astype(bool),
         np.concatenate(core).astype(np.int64).reshape(-1, 2),

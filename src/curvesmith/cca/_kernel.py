@@ -1,12 +1,14 @@
 """The 2D CCA1 step, compiled with numba, over a ragged batch of curves.
 
-One call does one CCA1 step on every curve of a batch given as coordinate
-columns ``x, y`` (all curves one after the other, each relative to its own
-origin), ``offsets`` (curve ``k`` is ``offsets[k] .. offsets[k + 1] - 1``), a
-per-vertex ``fixed`` mask and a per-curve ``closed`` flag. The work per curve
-is a few loops over its vertices in scratch arrays sized for the largest curve,
-so a curve of 5 vertices costs a few hundred nanoseconds, not the ~1 ms of
-numpy's per-call overhead.
+One call (:func:`step_units`) does one CCA1 step on every unit of a batch: the
+points ``P`` of all curves one after the other, a per-vertex ``fixed`` mask, and a
+table of units, each a whole curve or a block (with halos) of a long one. Each
+unit is gathered into scratch arrays sized for the largest unit, in the frame of
+its curve's first vertex (the origin is subtracted as the unit is read and, on the
+last step, added back as the output is written: the same bits as two separate
+passes, without them). The work per unit is a few loops over its vertices, so a
+curve of 5 vertices costs a few hundred nanoseconds, not the ~1 ms of numpy's
+per-call overhead, and a block of a long curve stays in the cache.
 
 The arithmetic is the N-d numpy step's (:func:`curvesmith.cca._stepnd.step`
 with :func:`curvesmith.cca._restrict.restrict_passes`) operation by operation,
@@ -33,7 +35,7 @@ from numba import njit
 
 from ._restrict import SHRINK
 
-#: Alpha modes of :func:`step_ragged`.
+#: Alpha modes of :func:`step_units`.
 MODE_REGULAR, MODE_CONSTANT, MODE_GIVEN = 0, 1, 2
 
 
@@ -55,11 +57,17 @@ def _nanmax(a, b):
 
 @njit(cache=True, nogil=True)
 def _profile(theta, brk, coef):
-    # the pieces of the PCHIP profile: index = inner breakpoints below theta, then Horner
-    idx = 0
-    for b in range(1, brk.shape[0] - 1):
-        if theta > brk[b]:
-            idx += 1
+    # the pieces of the PCHIP profile: index = inner breakpoints below theta, then Horner;
+    # the breakpoints increase, so an angle above the last inner one (almost every angle
+    # of a smoothed curve) is above them all
+    last = brk.shape[0] - 2
+    if theta > brk[last]:
+        idx = last
+    else:
+        idx = 0
+        for b in range(1, last):
+            if theta > brk[b]:
+                idx += 1
     dt = theta - brk[idx]
     out = coef[0, idx]
     for k in range(1, 4):
@@ -74,13 +82,14 @@ def _zero_gap(dx, dy):
 
 
 @njit(cache=True, nogil=True)
-def _has_zero_edge(P, s, n, closed):
+def _has_zero_edge(P, s, n, closed, ox=0.0, oy=0.0):
+    # an edge of length 0 (sqrt(x) == 0 exactly when x == 0), in the frame of origin (ox, oy)
     last = n if closed else n - 1
     for i in range(last):
         j = s + i + 1 if i + 1 < n else s
-        ex = P[j, 0] - P[s + i, 0]
-        ey = P[j, 1] - P[s + i, 1]
-        if math.sqrt(ex * ex + ey * ey) == 0.0:
+        ex = (P[j, 0] - ox) - (P[s + i, 0] - ox)
+        ey = (P[j, 1] - oy) - (P[s + i, 1] - oy)
+        if ex * ex + ey * ey == 0.0:
             return True
     return False
 
@@ -153,11 +162,11 @@ def compact_ragged(P, fixed, offsets, closed):
 
 
 @njit(cache=True, nogil=True)
-def any_zero_edge(P, offsets, closed):
-    """Whether some curve has a zero-length edge."""
+def any_zero_edge(P, offsets, closed, org):
+    """Whether some curve has a zero-length edge, in the frame of its origin ``org[k]``."""
     for k in range(offsets.shape[0] - 1):
         s, n = offsets[k], offsets[k + 1] - offsets[k]
-        if n > 0 and _has_zero_edge(P, s, n, closed[k]):
+        if n > 0 and _has_zero_edge(P, s, n, closed[k], org[k, 0], org[k, 1]):
             return True
     return False
 
@@ -186,17 +195,57 @@ def _unit(ex, ey):
     return ex * inv, ey * inv
 
 
+#: Flags of a unit (column 7 of the unit table of :func:`step_units`): the unit is
+#: smoothed as a closed curve; it is the first / last unit of its curve; its curve is a ring.
+U_CLOSED, U_FIRST, U_LAST, U_RING = 1, 2, 4, 8
+#: Statuses of :func:`step_units`: done; the output buffer is too small; a block met a
+#: zero-length edge (its own wrap edge: the ring passes twice through one point).
+DONE, FULL, ZERO_EDGE = 0, -1, -2
+
+
 @njit(cache=True, nogil=True)
-def step_ragged(
+def _edges(V, n, closed, length, ux, uy):
+    """Edge lengths and unit vectors of ``V[:n]`` (edge ``n - 1`` wraps); False at a zero edge.
+
+    A zero-length edge that exists (every edge of a ring, all but the wrap edge of an
+    open curve) stops the loop: the curve must be compacted first.
+    """
+    for i in range(n):
+        j = i + 1 if i + 1 < n else 0
+        ex = V[j, 0] - V[i, 0]
+        ey = V[j, 1] - V[i, 1]
+        le = math.sqrt(0.0 + ex * ex + ey * ey)
+        if le == 0.0 and (closed or i < n - 1):
+            return False
+        inv = 1.0 / le if le > 0.0 else 0.0
+        length[i], ux[i], uy[i] = le, ex * inv, ey * inv
+    return True
+
+
+@njit(cache=True, nogil=True)
+def _put(OUT, of, pos, x, y, f, add, ox, oy):
+    # one output row; with ``add`` in the frame of the input (the curve's origin added)
+    if add:
+        OUT[pos, 0] = x + ox
+        OUT[pos, 1] = y + oy
+    else:
+        OUT[pos, 0] = x
+        OUT[pos, 1] = y
+    of[pos] = f
+
+
+@njit(cache=True, nogil=True)
+def step_units(
     P,
     fixed,
-    offsets,
-    closed,
+    alpha_in,
+    org_in,
+    org_out,
+    units,
     mode,
     const,
     brk,
     coef,
-    alpha_in,
     restrict,
     c,
     C,
@@ -207,43 +256,47 @@ def step_ragged(
     OUT,
     of,
     close_out,
-    core,
+    add_out,
 ):
-    """One CCA1 step on every curve of a ragged batch of ``(N, 2)`` points.
+    """One CCA1 step on every unit of a ragged batch of ``(N, 2)`` points.
 
-    ``core`` ``(M, 2)``: per curve the vertices ``lo .. hi - 1`` whose output and counts
-    are wanted (``0, n`` for a whole curve; a block of a long curve with halos, see
-    :func:`curvesmith.cca._api._blocks`). ``span`` (returned) holds, per curve, the
-    output rows of the core; a block that meets a zero-length edge gets ``-1, -1``.
+    A unit is a whole curve or a block of a long one (see
+    :func:`curvesmith.cca._api._blocks`). ``units`` ``(U, 8)`` int64, per unit: its curve
+    ``k``, the curve's first row ``s0`` and length ``n``, the unit's first vertex ``lo``
+    relative to ``s0`` (negative, or running past ``n``, wraps around a ring) and its
+    length ``L``, its core ``clo .. chi - 1`` (the vertices whose output and counts are
+    wanted: ``0, L`` for a whole curve), and :data:`U_CLOSED` | ... flags. The units of a
+    curve come one after the other.
 
-    ``OUT, of``: the output buffers, ``(cap, 2)`` float64 and ``(cap,)`` bool, allocated
-    by the caller (numpy's allocator asks for huge pages: first touching fresh 4 KiB
-    pages costs more than the step's arithmetic). At most 4 rows per input vertex and 1
-    per ring are needed; when ``cap`` is too small the step stops and returns ``m = -1``.
-    ``close_out``: repeat
-    the first output vertex of every closed curve at its end (shapely's ring layout).
+    Each unit is gathered into scratch arrays sized for the largest unit (so a block
+    stays in the cache), minus ``org_in[k]`` (zeros: unchanged; subtracting ``+0.0``
+    is exact). Only the core is emitted, into ``OUT, of`` (``(cap, 2)`` float64 and
+    ``(cap,)`` bool, allocated by the caller: numpy's allocator asks for huge pages),
+    plus ``org_out[k]`` when ``add_out``. With ``close_out`` the first output vertex of
+    every ring whose first and last units are both in this call is repeated after its
+    last unit (shapely's ring layout).
 
-    Returns ``OUT, ofixed, m, ooffsets, nred, nfig, nunsat``: the new points in
-    ``OUT[:m]`` and the fixed mask of the output in ``ofixed[:m]`` (each fixed vertex
-    is emitted once, as itself; the buffers hold up to 4 points per input vertex and
-    are returned whole, so the caller takes views, not copies), the offsets of the
-    output curves and, per curve, the number of local alpha
-    decreases, of Fig. 11 edges and of edges left violating a restriction.
+    Returns ``OUT, ofixed, m, span, nred, nfig, nunsat, status``: the new points in
+    ``OUT[:m]`` and their fixed mask (each fixed vertex is emitted once, as itself),
+    per unit the output rows ``span[u, 0] .. span[u, 1] - 1`` (with the closing
+    vertex) and the number of local alpha decreases, of Fig. 11 edges and of edges
+    left violating a restriction, all over its core; ``status`` :data:`DONE`,
+    :data:`FULL` (at most 4 rows per input vertex and 1 per ring are needed: the
+    caller retries with a larger buffer) or :data:`ZERO_EDGE`.
     """
-    ncurves = offsets.shape[0] - 1
-    nmax = 1
-    for k in range(ncurves):
-        nmax = max(nmax, offsets[k + 1] - offsets[k])
+    nu = units.shape[0]
+    lmax = 1
+    for u in range(nu):
+        lmax = max(lmax, units[u, 4])
     cap = OUT.shape[0]
-    oo = np.empty(ncurves + 1, dtype=np.int64)
-    nred = np.zeros(ncurves, dtype=np.int64)
-    nfig = np.zeros(ncurves, dtype=np.int64)
-    nunsat = np.zeros(ncurves, dtype=np.int64)
-    span = np.zeros((ncurves, 2), dtype=np.int64)
-    # scratch, sized for the largest curve
-    m1 = nmax + 1
-    Q = np.empty((m1, 2))
-    qf = np.empty(m1, dtype=np.bool_)
+    nred = np.zeros(nu, dtype=np.int64)
+    nfig = np.zeros(nu, dtype=np.int64)
+    nunsat = np.zeros(nu, dtype=np.int64)
+    span = np.zeros((nu, 2), dtype=np.int64)
+    # scratch, sized for the largest unit
+    m1 = lmax + 1
+    G, Q = np.empty((m1, 2)), np.empty((m1, 2))
+    qf, ga = np.empty(m1, dtype=np.bool_), np.empty(m1)
     length, ux, uy = np.empty(m1), np.empty(m1), np.empty(m1)
     cr, dot, scross = np.empty(m1), np.empty(m1), np.empty(m1)
     alpha, alpha0, short, half = np.empty(m1), np.empty(m1), np.empty(m1), np.empty(m1)
@@ -260,47 +313,67 @@ def step_ragged(
     fv[:] = 1.0
     check[:] = False
     pos = 0
-    oo[0] = 0
-    for k in range(ncurves):
-        s, n = offsets[k], offsets[k + 1] - offsets[k]
-        cl = closed[k]
+    cstart = -1  # output row of the first vertex of the current curve (-1: not in this call)
+    for u in range(nu):
+        k, s0, nc, lo, n = units[u, 0], units[u, 1], units[u, 2], units[u, 3], units[u, 4]
+        clo, chi, flags = units[u, 5], units[u, 6], units[u, 7]
+        cl = (flags & U_CLOSED) != 0
+        if flags & U_FIRST:
+            cstart = pos
+        span[u, 0] = pos
         if n == 0:
-            oo[k + 1] = pos
+            span[u, 1] = pos
             continue
-        start = pos
-        lo, hi = core[k, 0], core[k, 1]
-        # the curve: rows b .. b + n - 1 of V (the input, or its copy without zero edges)
-        if _has_zero_edge(P, s, n, cl):
-            if lo != 0 or hi != n:  # a block: compacting would shift its core
-                span[k, 0], span[k, 1] = -1, -1
-                oo[k + 1] = pos
-                continue
-            n = _compact_curve(P, fixed, s, n, cl, Q, qf)
-            hi = n
-            V, b = Q, 0
+        # gather the unit, in the curve's frame, and its edges (edge t - 1 once vertex t
+        # is in; the wrap edge n - 1 last); stop computing edges at a zero-length one
+        ox, oy = org_in[k, 0], org_in[k, 1]
+        ok = True
+        for t in range(n):
+            r = lo + t
+            if r < 0:
+                r += nc
+            elif r >= nc:
+                r -= nc
+            row = s0 + r
+            gx = P[row, 0] - ox
+            gy = P[row, 1] - oy
+            G[t, 0] = gx
+            G[t, 1] = gy
+            fx[t] = fixed[row]
+            if mode == MODE_GIVEN:
+                ga[t] = alpha_in[row]
+            if t > 0 and ok:
+                ex = gx - G[t - 1, 0]
+                ey = gy - G[t - 1, 1]
+                le = math.sqrt(0.0 + ex * ex + ey * ey)
+                if le == 0.0:
+                    ok = False
+                inv = 1.0 / le if le > 0.0 else 0.0
+                length[t - 1], ux[t - 1], uy[t - 1] = le, ex * inv, ey * inv
+        if ok:
+            ex = G[0, 0] - G[n - 1, 0]
+            ey = G[0, 1] - G[n - 1, 1]
+            le = math.sqrt(0.0 + ex * ex + ey * ey)
+            if le == 0.0 and cl:
+                ok = False
+            inv = 1.0 / le if le > 0.0 else 0.0
+            length[n - 1], ux[n - 1], uy[n - 1] = le, ex * inv, ey * inv
+        V = G
+        if not ok:
+            if n != nc:  # a block: compacting would shift its core
+                return OUT, of, pos, span, nred, nfig, nunsat, ZERO_EDGE
+            n = _compact_curve(G, fx, 0, n, cl, Q, qf)
+            chi = n
+            V = Q
             for t in range(n):
                 fx[t] = qf[t]
-        else:
-            V, b = P, s
-            for t in range(n):
-                fx[t] = fixed[s + t]
+            _edges(Q, n, cl, length, ux, uy)
         if not cl:
             fx[0] = True
             fx[n - 1] = True
         anyfix = False
-        # edges and unit vectors; the turn at every vertex, from the edge before it
-        ex = V[b, 0] - V[b + n - 1, 0]
-        ey = V[b, 1] - V[b + n - 1, 1]
-        le = math.sqrt(0.0 + ex * ex + ey * ey)
-        inv = 1.0 / le if le > 0.0 else 0.0
-        length[n - 1], ux[n - 1], uy[n - 1] = le, ex * inv, ey * inv
+        # the turn at every vertex, from the edge before it
         for i in range(n):
-            if i < n - 1:
-                ex = V[b + i + 1, 0] - V[b + i, 0]
-                ey = V[b + i + 1, 1] - V[b + i, 1]
-                le = math.sqrt(0.0 + ex * ex + ey * ey)
-                inv = 1.0 / le if le > 0.0 else 0.0
-                length[i], ux[i], uy[i] = le, ex * inv, ey * inv
             h = i - 1 if i > 0 else n - 1
             cri = ux[h] * uy[i] - uy[h] * ux[i]
             doti = 0.0 + ux[h] * ux[i] + uy[h] * uy[i]
@@ -318,7 +391,7 @@ def step_ragged(
             elif mode == MODE_CONSTANT:
                 al = const
             else:
-                al = alpha_in[s + i]
+                al = ga[i]
             alpha[i] = al
             # cut length and signed cut area (kept current by the restriction passes)
             a[i] = al * sh
@@ -327,48 +400,42 @@ def step_ragged(
                 alpha0[i] = al
                 turning[i] = (not fx[i]) and abs(cri) > 0.0
                 tanb[i] = (1.0 + doti) / abs(cri) if turning[i] else 0.0
+                pending[i] = False
+                endish[i] = False
+                tq[i] = -1.0
         if restrict:
             r = _restrict(
                 n, cl, anyfix, alpha, alpha0, half, cr, scross, dot, short, length, fx, c, C,
                 max_passes, min_factor, a, K, tanb, fv, turning, endish, pending, check,
-                cand, edges, edges2, lo, hi, tq,
+                cand, edges, edges2, clo, chi, tq,
             )  # fmt: skip
-            nred[k], nunsat[k] = r
-        # emit: vertex i -> [L_i, R_i] or [V_i]; edge i -> [G_i] or the Fig. 11 pair
+            nred[u], nunsat[u] = r
+        # emit the core: vertex i -> [L_i, R_i] or [V_i]; edge i -> [G_i] or the Fig. 11 pair
+        ax, ay = org_out[k, 0], org_out[k, 1]
         nf = 0
-        span[k, 1] = -2
-        for i in range(n):
+        for i in range(clo, chi):
             if pos + 5 > cap:  # at most 4 points per vertex and a closing one
-                return OUT, of, -1, oo, nred, nfig, nunsat, span  # the caller retries
-            if i == lo:
-                span[k, 0] = pos
-            if i == hi:
-                span[k, 1] = pos
+                return OUT, of, -1, span, nred, nfig, nunsat, FULL
             h = i - 1 if i > 0 else n - 1
             j = i + 1 if i + 1 < n else 0
-            vx, vy = V[b + i, 0], V[b + i, 1]
+            vx, vy = V[i, 0], V[i, 1]
             ai = a[i]
             rx = vx + ai * ux[i]
             ry = vy + ai * uy[i]
             if fx[i] or ai == 0.0:
-                OUT[pos, 0], OUT[pos, 1] = vx, vy
-                of[pos] = fx[i]
+                _put(OUT, of, pos, vx, vy, fx[i], add_out, ax, ay)
                 pos += 1
             else:
-                OUT[pos, 0] = vx - ai * ux[h]
-                OUT[pos, 1] = vy - ai * uy[h]
-                OUT[pos + 1, 0] = rx
-                OUT[pos + 1, 1] = ry
-                of[pos] = False
-                of[pos + 1] = False
+                _put(OUT, of, pos, vx - ai * ux[h], vy - ai * uy[h], False, add_out, ax, ay)
+                _put(OUT, of, pos + 1, rx, ry, False, add_out, ax, ay)
                 pos += 2
             if not cl and i == n - 1:
                 continue  # no wrap edge on an open curve
             A = 0.5 * (K[i] + K[j])
             w = 0.5 * (length[i] - ai - a[j])
             winv = 1.0 / w if w > 0.0 else 0.0
-            lx = V[b + j, 0] - a[j] * ux[i]
-            ly = V[b + j, 1] - a[j] * uy[i]
+            lx = V[j, 0] - a[j] * ux[i]
+            ly = V[j, 1] - a[j] * uy[i]
             mx = 0.5 * (rx + lx)
             my = 0.5 * (ry + ly)
             k1, k2 = K[i], K[j]
@@ -379,14 +446,11 @@ def step_ragged(
             )
             if not fig:
                 sv = A * winv
-                OUT[pos, 0] = mx + sv * uy[i]
-                OUT[pos, 1] = my - sv * ux[i]
-                of[pos] = False
+                _put(OUT, of, pos, mx + sv * uy[i], my - sv * ux[i], False, add_out, ax, ay)
                 pos += 1
                 continue
             # Fig. 11: two congruent triangles on the halves, on opposite sides
-            if lo <= i < hi:
-                nf += 1
+            nf += 1
             s1 = 1.0 if k1 > 0.0 else (-1.0 if k1 < 0.0 else 0.0)
             phi = tilt_n
             if restrict:
@@ -398,22 +462,19 @@ def step_ragged(
             h1, h2 = hb + carry, hb - carry
             q1x, q1y = 0.5 * (rx + mx), 0.5 * (ry + my)
             q2x, q2y = 0.5 * (mx + lx), 0.5 * (my + ly)
-            OUT[pos, 0] = q1x + s1 * h1 * uy[i]
-            OUT[pos, 1] = q1y - s1 * h1 * ux[i]
-            OUT[pos + 1, 0] = q2x - s1 * h2 * uy[i]
-            OUT[pos + 1, 1] = q2y + s1 * h2 * ux[i]
-            of[pos] = False
-            of[pos + 1] = False
+            _put(OUT, of, pos, q1x + s1 * h1 * uy[i], q1y - s1 * h1 * ux[i], False, add_out, ax, ay)
+            _put(
+                OUT, of, pos + 1, q2x - s1 * h2 * uy[i], q2y + s1 * h2 * ux[i], False, add_out,
+                ax, ay,
+            )  # fmt: skip
             pos += 2
-        nfig[k] = nf
-        if span[k, 1] == -2:
-            span[k, 1] = pos
-        if close_out and cl:
-            OUT[pos, 0], OUT[pos, 1] = OUT[start, 0], OUT[start, 1]
+        nfig[u] = nf
+        if close_out and (flags & U_LAST) and (flags & U_RING) and cstart >= 0:
+            OUT[pos, 0], OUT[pos, 1] = OUT[cstart, 0], OUT[cstart, 1]
             of[pos] = False
             pos += 1
-        oo[k + 1] = pos
-    return OUT, of, pos, oo, nred, nfig, nunsat, span
+        span[u, 1] = pos
+    return OUT, of, pos, span, nred, nfig, nunsat, DONE
 
 
 @njit(cache=True, nogil=True)
@@ -426,20 +487,17 @@ def _restrict(
     The counts cover vertices and edges ``lo .. hi - 1`` (the core of a block).
 
     On entry ``alpha0 = alpha``, ``a``, ``K``, ``turning`` and ``tanb`` hold the
-    profile's values, ``fv`` is all 1 and ``check`` all False (both are left so).
+    profile's values, ``fv`` is all 1 and ``check``, ``pending`` and ``endish`` all False
+    (the first two are left so), ``tq`` all -1.
     ``alpha``, ``a`` and ``K`` are decreased in place. ``tq`` (scratch) keeps, per vertex,
     ``tan(C / 2 * tau)`` of its turn ``tau`` once computed (a vertex is the minor one
     of up to two edges, in several passes; the value does not change). Returns
     ``(nred, nunsat)``.
     """
-    for i in range(n):
-        pending[i] = False
-        tq[i] = -1.0
-        if anyfix:
+    if anyfix:
+        for i in range(n):
             j = i + 1 if i + 1 < n else 0
             endish[i] = (fx[i] and turning[j]) or (fx[j] and turning[i])
-        else:
-            endish[i] = False
     nlast = n if cl else n - 1  # edges that exist
     ne = nlast
     for i in range(ne):
@@ -568,7 +626,7 @@ def restrict_curve(alpha, half, cr, scross, dot, short, length, fixed, closed, c
     nred, nunsat = _restrict(
         n, closed, bool(fixed.any()), alpha, alpha.copy(), half, cr, scross, dot, short,
         length, fixed, c, C, limits[0], limits[1], a, K, tanb, fv, np.append(turning, False),
-        *flags, *ints, 0, n, np.empty(n + 1),
+        *flags, *ints, 0, n, np.full(n + 1, -1.0),
     )  # fmt: skip
     return alpha, int(nred), int(nunsat)
 
@@ -602,16 +660,6 @@ def to_local(P, offsets, Q):
                 Q[i, 0] = P[i, 0] - ox
                 Q[i, 1] = P[i, 1] - oy
     return origin
-
-
-@njit(cache=True, nogil=True)
-def add_origins(P, offsets, origin):
-    """``P += origin`` of every curve, in place."""
-    for k in range(offsets.shape[0] - 1):
-        ox, oy = origin[k, 0], origin[k, 1]
-        for i in range(offsets[k], offsets[k + 1]):
-            P[i, 0] += ox
-            P[i, 1] += oy
 
 
 @njit(cache=True, nogil=True)
