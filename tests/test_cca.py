@@ -10,11 +10,20 @@ from hypothesis import given
 from hypothesis import strategies as st
 from scipy.interpolate import PchipInterpolator
 
-import curvesmith._validate
 from curvesmith import cca
-from curvesmith.cca import _input, _kernel, _restrict  # noqa: F401  (cca._kernel, ...)
 from curvesmith.errors import CurveError
 from curvesmith.geometry import interior_angles, is_convex
+from curvesmith.internals import (
+    cca_api,
+    cca_blocks,
+    cca_chunks,
+    cca_input,
+    cca_kernel,
+    cca_restrict,
+    cca_smooth_one,
+    cca_stepnd,
+    validate,
+)
 from oracles import exact_area
 
 # --------------------------------------------------------------------------- helpers
@@ -103,15 +112,14 @@ def numpy_reference(points, *, closed, iterations=1, libm=False, **kwargs):
     ``libm=True`` the reference takes the C library's, and the compiled kernel must then
     give the same bits.
     """
-    from curvesmith.cca import _api, _stepnd
 
     if libm:
-        saved = _stepnd.np, _restrict.np
-        _stepnd.np = _restrict.np = _LibmTrig()
+        saved = cca_stepnd.np, cca_restrict.np
+        cca_stepnd.np = cca_restrict.np = _LibmTrig()
         try:
             return numpy_reference(points, closed=closed, iterations=iterations, **kwargs)
         finally:
-            _stepnd.np, _restrict.np = saved
+            cca_stepnd.np, cca_restrict.np = saved
 
     args = {
         "alpha": "regular",
@@ -126,7 +134,7 @@ def numpy_reference(points, *, closed, iterations=1, libm=False, **kwargs):
         "threads": 1,
     }
     args.update(kwargs)
-    return _api._smooth_one(points, closed=closed, iterations=iterations, engine="numpy", **args)
+    return cca_smooth_one(points, closed=closed, iterations=iterations, engine="numpy", **args)
 
 
 # --------------------------------------------------------------------------- strategies
@@ -871,7 +879,7 @@ def test_closed_must_be_a_bool_and_iterations_are_capped(monkeypatch):
     for bad in ("no", None, 1):
         with pytest.raises(CurveError, match="closed must be True or False"):
             cca.smooth(p, closed=bad)
-    monkeypatch.setattr(curvesmith._validate, "MAX_VERTICES", 100)
+    monkeypatch.setattr(validate, "MAX_VERTICES", 100)
     assert cca.smooth(p, closed=True, iterations=2).shape[0] <= 100
     with pytest.raises(CurveError, match=r"at most 100 output vertices, got 3 \(step 3"):
         cca.smooth(p, closed=True, iterations=3)
@@ -919,14 +927,13 @@ def test_kernel_matches_numpy_step_on_long_curves(points, closed, kwargs):
 
 def test_thread_groups_are_bit_identical(monkeypatch):
     # a batch split into groups of whole curves, one per thread: the same bits and counts
-    from curvesmith.cca import _api
 
     curves = [_jagged_ring(300 + 7 * k, 40 + k, spikes=2) for k in range(9)]
     xy = np.concatenate(curves)
     off = np.concatenate([[0], np.cumsum([len(c) for c in curves])])
     one = cca.smooth_ragged_with_info(xy, off, closed=True, iterations=2, threads=1)
-    monkeypatch.setattr(_api, "_THREAD_MIN", 100)
-    assert len(_api._chunks(off, 3)) == 3
+    monkeypatch.setattr(cca_api, "THREAD_MIN", 100)
+    assert len(cca_chunks(off, 3)) == 3
     three = cca.smooth_ragged_with_info(xy, off, closed=True, iterations=2, threads=3)
     np.testing.assert_array_equal(three.coords, one.coords)
     np.testing.assert_array_equal(three.offsets, one.offsets)
@@ -939,16 +946,16 @@ def test_threads_is_validated():
         cca.smooth(regular(5), closed=True, threads=0)
     with pytest.raises(CurveError, match="threads must be an integer"):
         cca.smooth(regular(5), closed=True, threads=1.5)
-    assert 1 <= cca._input.default_threads() <= 4
+    assert 1 <= cca_input.default_threads() <= 4
 
 
 def test_default_threads_respects_omp_num_threads(monkeypatch):
     monkeypatch.setenv("OMP_NUM_THREADS", "1")
-    assert cca._input.default_threads() == 1
+    assert cca_input.default_threads() == 1
     monkeypatch.setenv("OMP_NUM_THREADS", "64")
-    assert cca._input.default_threads() == min(4, len(os.sched_getaffinity(0)))
+    assert cca_input.default_threads() == min(4, len(os.sched_getaffinity(0)))
     monkeypatch.setenv("OMP_NUM_THREADS", "auto")  # not a count: ignored
-    assert cca._input.default_threads() == min(4, len(os.sched_getaffinity(0)))
+    assert cca_input.default_threads() == min(4, len(os.sched_getaffinity(0)))
 
 
 def _restriction_inputs(p):
@@ -998,10 +1005,10 @@ def test_unsatisfied_counts_every_violated_edge(seed):
     fixed = np.zeros(167, dtype=bool)
     on, limits = np.ones(167, dtype=bool), (16, 0.95)
     with np.errstate(all="ignore"):
-        alpha, _, generic, _, _ = cca._restrict.restrict_passes(
+        alpha, _, generic, _, _ = cca_restrict.restrict_passes(
             inputs[0], inputs[1], [inputs[2]], *inputs[3:], fixed, on, 2.0, 0.5, limits
         )
-    lean = cca._kernel.restrict_curve(*inputs, fixed, True, 2.0, 0.5, limits)
+    lean = cca_kernel.restrict_curve(*inputs, fixed, True, 2.0, 0.5, limits)
     np.testing.assert_array_equal(lean[0], alpha)
     strict = _violated_edges(alpha, *inputs[1:], 2.0, 0.5, rtol=1e-9)
     loose = _violated_edges(alpha, *inputs[1:], 2.0, 0.5, rtol=-1e-9)
@@ -1064,31 +1071,29 @@ def test_edge_whose_square_underflows_counts_as_a_duplicate():
 def test_blocks_of_long_curves_are_bit_identical(monkeypatch, points, closed, kwargs):
     # Blocks of 128 core vertices (halos of max_passes + 8) instead of 32768: the same
     # arithmetic element by element, so the same bits and counts, in 1 or 3 threads.
-    from curvesmith.cca import _api
 
     whole = cca.smooth_with_info(points, closed=closed, iterations=3, **kwargs)
-    monkeypatch.setattr(_api, "_BLOCK", 128)
-    monkeypatch.setattr(_api, "_THREAD_MIN", 100)
+    monkeypatch.setattr(cca_api, "BLOCK", 128)
+    monkeypatch.setattr(cca_api, "THREAD_MIN", 100)
     for workers in (1, 3):
         res = cca.smooth_with_info(points, closed=closed, iterations=3, threads=workers, **kwargs)
         np.testing.assert_array_equal(res.points, whole.points)
         assert res.reductions_per_step == whole.reductions_per_step
         assert res.fig11_edges == whole.fig11_edges
         assert res.unsatisfied == whole.unsatisfied
-    assert len(_api._blocks(np.array([0, len(points)]), np.array([closed]), 24)[1]) > 5
+    assert len(cca_blocks(np.array([0, len(points)]), np.array([closed]), 24)[1]) > 5
 
 
 def test_blocks_with_zero_length_edges(monkeypatch):
     # a duplicate vertex is removed before blocking; a ring passing twice through one
     # point gives a block whose own wrap edge has zero length: the whole curve runs
-    from curvesmith.cca import _api
 
     p = _jagged_ring(900, 28)
     dup = np.insert(p, 300, p[300], axis=0)
     twice = p.copy()
     twice[279] = twice[104]
     wants = [cca.smooth(q, closed=True, iterations=2) for q in (dup, twice)]
-    monkeypatch.setattr(_api, "_BLOCK", 128)
+    monkeypatch.setattr(cca_api, "BLOCK", 128)
     for q, want in zip((dup, twice), wants, strict=True):
         np.testing.assert_array_equal(cca.smooth(q, closed=True, iterations=2), want)
     xy = np.concatenate([dup, p[:50], twice])

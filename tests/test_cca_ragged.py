@@ -7,6 +7,7 @@ from hypothesis import strategies as st
 
 from curvesmith import cca
 from curvesmith.errors import CurveError
+from curvesmith.internals import cca_api, cca_chunks
 from oracles import exact_area
 
 
@@ -182,7 +183,6 @@ def test_blocks_threads_and_closing_vertices_give_the_single_call_bits(monkeypat
     # in place; a ring cut between two groups gets its closing vertex afterwards. Each
     # curve must still be, bit for bit, what cca.smooth gives it alone (in the input's
     # frame: the kernel subtracts and adds the origins itself), with the same counts.
-    from curvesmith.cca import _api
 
     rng = np.random.default_rng(31)
     items = []
@@ -201,9 +201,9 @@ def test_blocks_threads_and_closing_vertices_give_the_single_call_bits(monkeypat
         cca.smooth_with_info(p, closed=c, iterations=2, alpha=fn, anchors=anchors[k] or None)
         for k, (p, c) in enumerate(items)
     ]
-    monkeypatch.setattr(_api, "_BLOCK", 128)
-    monkeypatch.setattr(_api, "_THREAD_MIN", 100)
-    assert len(_api._chunks(np.array([0, len(xy) // 2, len(xy)]), 3)) == 2
+    monkeypatch.setattr(cca_api, "BLOCK", 128)
+    monkeypatch.setattr(cca_api, "THREAD_MIN", 100)
+    assert len(cca_chunks(np.array([0, len(xy) // 2, len(xy)]), 3)) == 2
     for threads in (1, 2, 3):
         for close_rings in (False, True):
             res = cca.smooth_ragged_with_info(

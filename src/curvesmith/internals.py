@@ -21,6 +21,17 @@ from .affine import _kernel as affine_kernel
 from .affine.approximation import _construct as affine_construct
 from .affine.approximation import _Curve as AffineConstructionCurve
 
+# cca: the compiled 2D kernel, the numpy reference (restriction rules, N-d step), the
+# block and thread split of long curves and batches (BLOCK, THREAD_MIN are shrunk in tests)
+from .cca import _api as cca_api
+from .cca import _input as cca_input
+from .cca import _kernel as cca_kernel
+from .cca import _restrict as cca_restrict
+from .cca import _stepnd as cca_stepnd
+from .cca._api import _blocks as cca_blocks
+from .cca._api import _chunks as cca_chunks
+from .cca._api import _smooth_one as cca_smooth_one
+
 # curves: one fitted piece, and the exact point-to-polyline distance of the fit check
 from .curves import _Piece as CurvePiece
 from .curves import _to_polyline as distance_to_polyline
@@ -68,6 +79,14 @@ __all__ = [
     "as_float",
     "as_int",
     "as_points",
+    "cca_api",
+    "cca_blocks",
+    "cca_chunks",
+    "cca_input",
+    "cca_kernel",
+    "cca_restrict",
+    "cca_smooth_one",
+    "cca_stepnd",
     "check_growth",
     "chord_walk",
     "derham_triangle",

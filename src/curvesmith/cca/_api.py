@@ -30,9 +30,9 @@ from ._profiles import alpha_function, profile_tables
 #: Coordinates outside (_TINY, _HUGE) in absolute value are rescaled by a power of two.
 _TINY, _HUGE = 2.0**-400, 2.0**400
 #: Below this many vertices a batch step runs in one thread.
-_THREAD_MIN = 65536
+THREAD_MIN = 65536
 #: Core vertices per block of a long curve (see :func:`_blocks`).
-_BLOCK = 32768
+BLOCK = 32768
 
 
 @dataclass(frozen=True)
@@ -77,7 +77,7 @@ AlphaSpec = str | float | Callable[[np.ndarray], object]
 
 
 def smooth(
-    points,
+    points: ArrayLike,
     *,
     closed: bool,
     iterations: int = 1,
@@ -186,7 +186,7 @@ def smooth(
 
 
 def smooth_with_info(
-    points,
+    points: ArrayLike,
     *,
     closed: bool,
     iterations: int = 1,
@@ -400,13 +400,13 @@ class RaggedCCAResult(RichRepr):
 
 
 def smooth_ragged(
-    coords,
-    offsets,
+    coords: ArrayLike,
+    offsets: ArrayLike,
     *,
-    closed,
+    closed: bool | ArrayLike,
     iterations: int = 1,
     alpha: AlphaSpec = "regular",
-    anchors=None,
+    anchors: ArrayLike | None = None,
     corner_ratio: float = 2.0,
     inflection_ratio: float = 0.5,
     restrict: bool = True,
@@ -503,13 +503,13 @@ def smooth_ragged(
 
 
 def smooth_ragged_with_info(
-    coords,
-    offsets,
+    coords: ArrayLike,
+    offsets: ArrayLike,
     *,
-    closed,
+    closed: bool | ArrayLike,
     iterations: int = 1,
     alpha: AlphaSpec = "regular",
-    anchors=None,
+    anchors: ArrayLike | None = None,
     corner_ratio: float = 2.0,
     inflection_ratio: float = 0.5,
     restrict: bool = True,
@@ -749,7 +749,7 @@ def _step_compiled(
         mode, const = kernel.MODE_GIVEN, 0.0
     lengths = np.diff(offsets)
     halo = prm.max_passes + 8
-    blocked = lengths.size and lengths.max() >= 2 * _BLOCK and 4 * halo <= _BLOCK
+    blocked = lengths.size and lengths.max() >= 2 * BLOCK and 4 * halo <= BLOCK
     if org_in is None:
         org_in = np.zeros((m, 2))
     # blocks need the zero-length edges removed first (as the step would), so that they
@@ -913,7 +913,7 @@ def _blocks(offsets: np.ndarray, closed: np.ndarray, halo: int):
     CCA1 is local: the output of vertex ``i`` (its cut points and the apex on edge
     ``i``) depends on vertices ``i - 1 .. i + 2`` and on the local alpha decreases,
     and each restriction pass moves a decrease by at most one vertex. So a curve of
-    at least ``2 * _BLOCK`` vertices is cut into blocks of ``_BLOCK`` core vertices,
+    at least ``2 * BLOCK`` vertices is cut into blocks of ``BLOCK`` core vertices,
     each computed with ``halo = max_passes + 8`` vertices on both sides (a block is
     smoothed as a closed curve; its own wrap edge, not an edge of the curve, disturbs
     only the halo; the last block of an open curve stays open at the true end). The
@@ -926,7 +926,7 @@ def _blocks(offsets: np.ndarray, closed: np.ndarray, halo: int):
     lengths), closed flags, cores ``(U, 2)`` and owner curves.
     """
     lengths = np.diff(offsets)
-    long = np.flatnonzero(lengths >= 2 * _BLOCK)
+    long = np.flatnonzero(lengths >= 2 * BLOCK)
     u_start, u_len, u_closed, core, owner = [], [], [], [], []
     prev = 0  # first curve not yet listed
     for k in [*long.tolist(), lengths.size]:
@@ -941,8 +941,8 @@ def _blocks(offsets: np.ndarray, closed: np.ndarray, halo: int):
             break
         n = int(lengths[k])
         bs, bl, bc, bcore = [], [], [], []
-        for s in range(0, n, _BLOCK):
-            e = min(n, s + _BLOCK)
+        for s in range(0, n, BLOCK):
+            e = min(n, s + BLOCK)
             if closed[k]:
                 lo, hi = s - halo, e + halo
                 c = (halo, halo + e - s)
@@ -977,7 +977,7 @@ def _chunks(offsets: np.ndarray, threads: int) -> list[tuple[int, int]]:
     """Groups of whole curves with about equal vertex counts, one per thread."""
     m = offsets.size - 1
     n = int(offsets[-1])
-    if threads <= 1 or n < _THREAD_MIN or m < 2:
+    if threads <= 1 or n < THREAD_MIN or m < 2:
         return [(0, m)]
     cuts = np.searchsorted(offsets, np.linspace(0, n, threads + 1)[1:-1])
     bounds = np.unique(np.concatenate([[0], np.clip(cuts, 1, m - 1), [m]]))

@@ -7,6 +7,7 @@ import os
 import numpy as np
 
 from ..errors import CurveError
+from ..geometry import principal_axes
 
 
 def default_threads() -> int:
@@ -80,8 +81,8 @@ def dedupe(p: np.ndarray, fixed: np.ndarray, closed: bool) -> tuple[np.ndarray, 
 
 def plane_frame(q: np.ndarray) -> np.ndarray | None:
     """Orthonormal (2, 3) in-plane frame if the 3D points are planar to rounding, else None."""
-    centred = q - q.mean(axis=0)
-    _, _, vt = np.linalg.svd(centred, full_matrices=False)
+    centre, _, vt = principal_axes(q)
+    centred = q - centre
     extent = float(np.max(np.abs(centred))) if centred.size else 0.0
     if extent == 0.0:
         return vt[:2].copy()

@@ -15,6 +15,7 @@ from collections.abc import Callable
 from functools import lru_cache
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .._validate import as_float, as_int
 from ..errors import CurveError
@@ -34,7 +35,7 @@ def _triangle_alpha() -> float:
 TRIANGLE_ALPHA: float = _triangle_alpha()
 
 
-def solve_regular_alpha(beta):
+def solve_regular_alpha(beta: ArrayLike):
     """Solve eq. (5) for alpha given the half interior angle ``beta``.
 
     Eq. (5), ``(4 - 2 tan(gamma) sin(2 beta)) alpha^2 - 4 alpha + 1 = 0`` with
@@ -168,7 +169,7 @@ def _eval_profile_pieces(theta: np.ndarray) -> np.ndarray:
     return out
 
 
-def alpha_profile(angle):
+def alpha_profile(angle: ArrayLike):
     """The ``"regular"`` alpha-profile of section 4 (Table 1, Fig. 14).
 
     Monotone cubic (PCHIP, :class:`scipy.interpolate.PchipInterpolator`)
