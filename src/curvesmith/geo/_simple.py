@@ -5,7 +5,15 @@ exact sign filters, that no two of its edges meet except neighbours at their sha
 vertex. A polygon made of one such ring (at least three vertices) is valid in the sense
 of :func:`shapely.is_valid`. ``False`` means "not proven": the caller asks GEOS.
 
-The proof splits the ring at its x-turning vertices into chains whose x strictly
+A ring is first tried as star-shaped (``_simple_kernel._star_simple``): about its area
+centroid, or its vertex mean, every edge must turn one strict way (the filtered
+orientation determinant below) and the direction from the centre must pass the +x ray
+exactly once (comparisons only). The direction then turns monotonically through one
+revolution, so it is one-to-one on the ring and the ring is simple. This costs one pass
+over the vertices (two for the centroid) and clears nearly all footprints and their
+smoothed rings; the centre is only a candidate, never trusted.
+
+Otherwise the proof splits the ring at its x-turning vertices into chains whose x strictly
 increases or decreases (a vertical edge or a repeated vertex makes the ring doubtful).
 A strictly x-monotone chain cannot meet itself. Two chains are the graphs of two
 piecewise linear functions over the overlap of their x ranges; their difference is
