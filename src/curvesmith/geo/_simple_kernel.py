@@ -135,7 +135,10 @@ def _star_around(X, s, n, cx, cy):
 
 @njit(cache=True, nogil=True)
 def _star_simple(X, s, n):
-    """True when the ring is proven star-shaped about its area centroid or its vertex mean.
+    """1 when the ring is proven star-shaped about its area centroid or its vertex mean.
+
+    0: not proven; -1: a coordinate is NaN, infinite or at least ``_BIG`` (doubtful for
+    every proof here).
 
     About a centre c, every edge ``p -> q`` must have ``orient(p, q, c)`` of one strict
     sign (the filtered determinant of :func:`_orient`, from the same rounded differences
@@ -157,7 +160,10 @@ def _star_simple(X, s, n):
     my = 0.0
     px, py = X[s + n - 1, 0] - ox, X[s + n - 1, 1] - oy
     for i in range(n):
-        qx, qy = X[s + i, 0] - ox, X[s + i, 1] - oy
+        xi, yi = X[s + i, 0], X[s + i, 1]
+        if not (abs(xi) < _BIG and abs(yi) < _BIG):
+            return -1  # NaN, infinite or near overflow: doubtful
+        qx, qy = xi - ox, yi - oy
         cr = px * qy - qx * py
         acc += cr
         sx += (px + qx) * cr
@@ -169,19 +175,13 @@ def _star_simple(X, s, n):
         cx = ox + sx / (3.0 * acc)
         cy = oy + sy / (3.0 * acc)
         if abs(cx) < _BIG and abs(cy) < _BIG and _star_around(X, s, n, cx, cy):
-            return True
-    return _star_around(X, s, n, ox + mx / n, oy + my / n)
+            return 1
+    return 1 if _star_around(X, s, n, ox + mx / n, oy + my / n) else 0
 
 
 @njit(cache=True, nogil=True)
-def _ring_simple(X, s, n, max_chains, starts, lens, ups, bb, co, cx, cy, cid):
-    if n < 3:
-        return False
-    for i in range(n):
-        if not (abs(X[s + i, 0]) < _BIG and abs(X[s + i, 1]) < _BIG):
-            return False  # NaN, infinite or near overflow: doubtful
-    if _star_simple(X, s, n):
-        return True
+def _chains_simple(X, s, n, max_chains, starts, lens, ups, bb, co, cx, cy, cid):
+    """The x-monotone chain proof of a ring of finite coordinates below ``_BIG``."""
     e = X[s, 0] - X[s + n - 1, 0]
     if e > 0.0:
         d_prev = 1
@@ -267,7 +267,16 @@ def rings_simple(X, offsets, closing, max_chains):
             if n < 1 or X[s, 0] != X[s + n - 1, 0] or X[s, 1] != X[s + n - 1, 1]:
                 continue  # not closed: doubtful
             n -= 1
-        out[k] = _ring_simple(X, s, n, max_chains, starts, lens, ups, bb, co, cx, cy, cid)
+        if n < 3:
+            continue
+        # the star proof first (one or two passes); the chains (scratch arrays) only when
+        # it cannot decide -- called here, not inside one ring function: numba compiles the
+        # star path much tighter so
+        star = _star_simple(X, s, n)
+        if star == 1:
+            out[k] = True
+        elif star == 0:
+            out[k] = _chains_simple(X, s, n, max_chains, starts, lens, ups, bb, co, cx, cy, cid)
     return out
 
 
@@ -285,9 +294,5 @@ def rings_star(X, offsets, closing):
             n -= 1
         if n < 3:
             continue
-        ok = True
-        for i in range(n):
-            if not (abs(X[s + i, 0]) < _BIG and abs(X[s + i, 1]) < _BIG):
-                ok = False
-        out[k] = ok and _star_simple(X, s, n)
+        out[k] = _star_simple(X, s, n) == 1
     return out
