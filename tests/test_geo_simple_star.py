@@ -282,3 +282,44 @@ def test_star_proof_degenerate_cases():
         xy, off = _ragged([ring])
         got = bool(_simple_kernel.rings_star(np.ascontiguousarray(xy), off, True)[0])
         assert got is expected, name
+
+
+def test_given_centres_never_clear_a_ring_geos_rejects_and_are_written_back():
+    """The hint of ``rings_certainly_simple(..., centres)`` can be any point (a smoothed
+    ring's input centre, a vertex, a point on an edge, far away, NaN, inf, huge)."""
+    rng = np.random.default_rng(7)
+    rings = (
+        _star_rings(rng, 1500)
+        + _near_touch_rings(rng, 1500)
+        + _radial_rings(rng, 1500)
+        + _through_centre_rings(rng, 1500)
+        + _winding_rings(rng, 500)
+    )
+    rings = rings + _smoothed(rings[:3000])
+    xy, off = _ragged(rings)
+    valid = _geos_valid(rings)
+    own = np.full((len(rings), 2), np.nan)
+    cleared = rings_certainly_simple(xy, off, True, own)
+    assert not np.any(cleared & ~valid)
+    star = _simple_kernel.rings_star(np.ascontiguousarray(xy), off, True)
+    assert np.array_equal(np.isfinite(own).all(axis=1), star)  # written back for star proofs
+    assert np.isnan(own[~star]).all()
+    hints = {
+        "own": own,
+        "vertex": np.array([r[int(rng.integers(0, len(r) - 1))] for r in rings]),
+        "on an edge": np.array([0.5 * (r[0] + r[1]) for r in rings]),
+        "random near": np.array([r.mean(axis=0) + rng.normal(0, 0.3, 2) for r in rings]),
+        "far": np.array([r[0] + 1e6 for r in rings]),
+        "huge": np.full((len(rings), 2), 1e300),
+        "inf": np.full((len(rings), 2), np.inf),
+    }
+    for name, h in hints.items():
+        h = np.ascontiguousarray(h, dtype=float)
+        got = rings_certainly_simple(xy, off, True, h.copy())
+        assert not np.any(got & ~valid), name
+        assert np.all(got[cleared]), name  # a hint never loses a proof
+    # a hint about which the ring is star-shaped proves it in the one pass
+    again = own.copy()
+    assert np.array_equal(rings_certainly_simple(xy, off, True, again), cleared)
+    with pytest.raises(ValueError, match="centres"):
+        rings_certainly_simple(xy, off, True, np.zeros((3, 2)))

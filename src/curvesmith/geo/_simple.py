@@ -55,7 +55,9 @@ def _compiled():
     return _kernel
 
 
-def rings_certainly_simple(xy: np.ndarray, offsets: np.ndarray, closing: bool) -> np.ndarray:
+def rings_certainly_simple(
+    xy: np.ndarray, offsets: np.ndarray, closing: bool, centres: np.ndarray | None = None
+) -> np.ndarray:
     """Per ring: True when the ring is proven simple (see the module notes).
 
     Parameters
@@ -66,15 +68,26 @@ def rings_certainly_simple(xy: np.ndarray, offsets: np.ndarray, closing: bool) -
         Ring ``k`` is ``xy[offsets[k]:offsets[k + 1]]``.
     closing : bool
         Whether every ring repeats its first vertex at its end (shapely's layout).
+    centres : (M, 2) float64 ndarray, optional
+        Per ring a point to try the star proof about first, in one pass (NaN: none; a
+        ring smoothed from a ring proven star-shaped is usually star-shaped about the
+        same centre). Overwritten in place with the centre that proved each ring by the
+        star proof, NaN for the others. The proof is exact whatever the centre.
 
     Returns
     -------
     (M,) bool ndarray
     """
     k = _compiled()
+    offsets = np.ascontiguousarray(offsets, dtype=np.int64)
+    m = max(offsets.shape[0] - 1, 0)
+    if centres is None:
+        centres = np.full((m, 2), np.nan)
+    elif centres.shape != (m, 2) or centres.dtype != np.float64 or not centres.flags.c_contiguous:
+        raise ValueError(
+            f"centres must be a C-contiguous float64 array of shape ({m}, 2) (it is written "
+            f"in place), got {centres.dtype} {centres.shape}"
+        )
     return k.rings_simple(
-        np.ascontiguousarray(xy, dtype=np.float64),
-        np.ascontiguousarray(offsets, dtype=np.int64),
-        bool(closing),
-        MAX_CHAINS,
+        np.ascontiguousarray(xy, dtype=np.float64), offsets, bool(closing), MAX_CHAINS, centres
     )

@@ -135,14 +135,17 @@ def _star_around(X, s, n, cx, cy):
 
 @njit(cache=True, nogil=True)
 def _star_simple(X, s, n):
-    """1 when the ring is proven star-shaped about its area centroid or its vertex mean.
+    """``(1, cx, cy)``: the ring is proven star-shaped about ``c``, its centroid or mean.
 
-    0: not proven; -1: a coordinate is NaN, infinite or at least ``_BIG`` (doubtful for
-    every proof here).
+    ``c`` is the area centroid or else the vertex mean. ``(0, nan, nan)``: not proven;
+    ``(-1, nan, nan)``: a coordinate is NaN, infinite or at least ``_BIG`` (doubtful
+    for every proof here).
 
     About a centre c, every edge ``p -> q`` must have ``orient(p, q, c)`` of one strict
     sign (the filtered determinant of :func:`_orient`, from the same rounded differences
-    ``p - c``) and the direction from c must pass the +x ray exactly once. The direction
+    ``p - c``) and the direction from c must pass the +x ray exactly once
+    (:func:`_star_around`, exact for any c on its own: a product that overflows makes
+    the filter's bound infinite or NaN, and no comparison with it accepts). The direction
     then turns monotonically, by less than pi per edge, through one revolution: it is
     one-to-one on the ring, so no two points of the ring coincide and the ring is simple.
     The ray is counted with comparisons only: ``p - c`` lies in the half-plane
@@ -162,7 +165,7 @@ def _star_simple(X, s, n):
     for i in range(n):
         xi, yi = X[s + i, 0], X[s + i, 1]
         if not (abs(xi) < _BIG and abs(yi) < _BIG):
-            return -1  # NaN, infinite or near overflow: doubtful
+            return -1, np.nan, np.nan  # NaN, infinite or near overflow: doubtful
         qx, qy = xi - ox, yi - oy
         cr = px * qy - qx * py
         acc += cr
@@ -175,8 +178,12 @@ def _star_simple(X, s, n):
         cx = ox + sx / (3.0 * acc)
         cy = oy + sy / (3.0 * acc)
         if abs(cx) < _BIG and abs(cy) < _BIG and _star_around(X, s, n, cx, cy):
-            return 1
-    return 1 if _star_around(X, s, n, ox + mx / n, oy + my / n) else 0
+            return 1, cx, cy
+    cx = ox + mx / n
+    cy = oy + my / n
+    if _star_around(X, s, n, cx, cy):
+        return 1, cx, cy
+    return 0, np.nan, np.nan
 
 
 @njit(cache=True, nogil=True)
@@ -246,7 +253,12 @@ def _chains_simple(X, s, n, max_chains, starts, lens, ups, bb, co, cx, cy, cid):
 
 
 @njit(cache=True, nogil=True)
-def rings_simple(X, offsets, closing, max_chains):
+def rings_simple(X, offsets, closing, max_chains, centres):
+    """Per ring: proven simple.
+
+    ``centres`` ``(M, 2)``: a centre to try the star proof about first (NaN: none);
+    overwritten with the centre that proved the ring by the star proof, or NaN.
+    """
     m = offsets.shape[0] - 1
     out = np.zeros(m, dtype=np.bool_)
     nmax = 1
@@ -272,7 +284,12 @@ def rings_simple(X, offsets, closing, max_chains):
         # the star proof first (one or two passes); the chains (scratch arrays) only when
         # it cannot decide -- called here, not inside one ring function: numba compiles the
         # star path much tighter so
-        star = _star_simple(X, s, n)
+        hx, hy = centres[k, 0], centres[k, 1]
+        if hx == hx and hy == hy and _star_around(X, s, n, hx, hy):
+            out[k] = True  # star-shaped about the given centre: one pass
+            continue
+        star, zx, zy = _star_simple(X, s, n)
+        centres[k, 0], centres[k, 1] = zx, zy
         if star == 1:
             out[k] = True
         elif star == 0:
@@ -294,5 +311,5 @@ def rings_star(X, offsets, closing):
             n -= 1
         if n < 3:
             continue
-        out[k] = _star_simple(X, s, n) == 1
+        out[k] = _star_simple(X, s, n)[0] == 1
     return out

@@ -328,16 +328,18 @@ class _Facts:
     ``present``: which entries are not None; the other arrays are over the present ones:
     ``types`` (``get_type_id``), ``empty``, ``holes`` (``get_num_interior_rings``, 0 for
     non-polygons) and, when no geometry was repaired or lost repeated vertices, ``xy`` and
-    ``offsets`` (``get_coordinates`` and where each geometry's coordinates start),
-    otherwise ``None``.
+    ``offsets`` (``get_coordinates`` and where each geometry's coordinates start) and
+    ``centres`` (per geometry the centre its ring was proven star-shaped about, NaN if
+    none; :func:`curvesmith.geo._simple.rings_certainly_simple`), otherwise ``None``.
     """
 
     present: np.ndarray
     types: np.ndarray
     empty: np.ndarray
     holes: np.ndarray
-    xy: np.ndarray | None
-    offsets: np.ndarray | None
+    xy: np.ndarray | None = None
+    offsets: np.ndarray | None = None
+    centres: np.ndarray | None = None
 
 
 def _prepare(
@@ -352,7 +354,7 @@ def _prepare(
     empty = shapely.is_empty(g)
     holes = shapely.get_num_interior_rings(g)
     if not present.any():
-        return geoms, _Facts(present, types, empty, holes, None, None)
+        return geoms, _Facts(present, types, empty, holes)
     pos = np.nonzero(present)[0]
     is_point = (types == shapely.GeometryType.POINT) | (types == shapely.GeometryType.MULTIPOINT)
     nonempty = ~empty
@@ -372,7 +374,8 @@ def _prepare(
     xy, owner = shapely.get_coordinates(g, return_index=True)
     off = np.zeros(len(g) + 1, dtype=np.int64)
     np.cumsum(np.bincount(owner, minlength=len(g)), out=off[1:])
-    proven = _certainly_valid_polygons(types, holes, xy, off)
+    centres = np.full((len(g), 2), np.nan)
+    proven = _certainly_valid_polygons(types, holes, xy, off, centres)
     valid = proven.copy()
     doubt = np.flatnonzero(~valid)
     if doubt.size:
@@ -409,8 +412,8 @@ def _prepare(
     if changed:  # repaired geometries may have changed type, emptiness and rings
         types, empty = shapely.get_type_id(g), shapely.is_empty(g)
         holes = shapely.get_num_interior_rings(g)
-        return geoms, _Facts(present, types, empty, holes, None, None)
-    return geoms, _Facts(present, types, empty, holes, xy, off)
+        return geoms, _Facts(present, types, empty, holes)
+    return geoms, _Facts(present, types, empty, holes, xy, off, centres)
 
 
 def _repeating(xy: np.ndarray, owner: np.ndarray) -> np.ndarray:
@@ -419,13 +422,14 @@ def _repeating(xy: np.ndarray, owner: np.ndarray) -> np.ndarray:
     return np.unique(owner[1:][rep])
 
 
-def _certainly_valid_polygons(types, holes, xy, off) -> np.ndarray:
+def _certainly_valid_polygons(types, holes, xy, off, centres=None) -> np.ndarray:
     """Per geometry: True for a Polygon without holes whose ring is proven simple.
 
     ``types, holes``: ``get_type_id`` and ``get_num_interior_rings`` of the geometries;
     ``xy``: their ``get_coordinates``, geometry ``i`` in rows ``off[i]:off[i + 1]``.
     False means "ask GEOS" (other types, holes, doubtful rings; see
-    :mod:`curvesmith.geo._simple`).
+    :mod:`curvesmith.geo._simple`). ``centres`` (``(len(types), 2)``, NaN): filled with
+    the centres of the star proofs.
     """
     shapely = _shapely()
     from ._simple import rings_certainly_simple
@@ -434,7 +438,10 @@ def _certainly_valid_polygons(types, holes, xy, off) -> np.ndarray:
     cand = (types == shapely.GeometryType.POLYGON) & (holes == 0)
     if not cand.any():
         return out
-    out[cand] = rings_certainly_simple(xy, off, True)[cand]
+    if centres is None:
+        centres = np.full((len(types), 2), np.nan)
+    out[cand] = rings_certainly_simple(xy, off, True, centres)[cand]
+    centres[~cand] = np.nan
     return out
 
 
@@ -618,13 +625,13 @@ def _smooth_feature_array(
             and sel.size == len(g)
             and not np.any((types != T.POLYGON) | (facts.holes != 0))
         ):
-            ragged = facts.xy, facts.offsets
+            ragged = facts.xy, facts.offsets, facts.centres
         counts = np.diff(ragged[1]) if ragged is not None else shapely.get_num_coordinates(g[sel])
         for part in _chunks(counts):
             k = sel[part]
             if ragged is not None:
                 a, b = ragged[1][part.start], ragged[1][part.stop]
-                rag = ragged[0][a:b], ragged[1][part.start : part.stop + 1] - a
+                rag = ragged[0][a:b], ragged[1][part.start : part.stop + 1] - a, ragged[2][part]
                 res, red, n, ch = _smooth_polygonal(
                     g[k], idx[k], smoother, levels, batch, single_rings=rag
                 )
@@ -694,13 +701,16 @@ def _polygon_ragged(g: np.ndarray, was_polygon: np.ndarray):
 def _smooth_polygonal(g, feat_index, smoother, levels, batch, single_rings=None):
     """Smooth the (Multi)Polygons ``g``.
 
-    ``single_rings``: ``(xy, offsets)`` when every one is a Polygon without holes and these
-    are its coordinates (``get_coordinates``).
+    ``single_rings``: ``(xy, offsets, centres)`` when every one is a Polygon without holes
+    and these are its coordinates (``get_coordinates``) and the centres of its input's
+    star proof (the output proof tries them first).
     """
     shapely = _shapely()
     method, alpha, fixed = batch
+    centres = None
     if single_rings is not None:
-        coords, ring_off = single_rings
+        coords, ring_off, centres = single_rings
+        centres = centres.copy()  # the proof overwrites it
         was_polygon = np.ones(len(g), dtype=bool)
         poly_off = geom_off = np.arange(len(g) + 1, dtype=np.int64)
     else:
@@ -726,7 +736,8 @@ def _smooth_polygonal(g, feat_index, smoother, levels, batch, single_rings=None)
     # a feature of one ring proven simple by the compiled test is valid; GEOS checks the rest
     from ._simple import rings_certainly_simple
 
-    doubt = one[~rings_certainly_simple(new_xy, new_off, True)[first_ring_of_geom[one]]]
+    proven = rings_certainly_simple(new_xy, new_off, True, centres)
+    doubt = one[~proven[first_ring_of_geom[one]]]
     hard[doubt] = ~shapely.is_valid(res[doubt])
     reductions: list[GeometryReduction] = []
     rings = _RaggedView(coords, ring_off, drop_last=True)
