@@ -617,21 +617,20 @@ def _smooth_feature_array(
         # is smoothed as on its own, so chunking does not change a bit)
         sel = np.flatnonzero(mask)
         # a layer of Polygons without holes: the coordinates _prepare read are the rings
-        ragged = None
+        rxy = roff = rcen = None
         if (
             smooth_kind is _smooth_polygonal
             and facts is not None
-            and facts.xy is not None
             and sel.size == len(g)
             and not np.any((types != T.POLYGON) | (facts.holes != 0))
         ):
-            ragged = facts.xy, facts.offsets, facts.centres
-        counts = np.diff(ragged[1]) if ragged is not None else shapely.get_num_coordinates(g[sel])
+            rxy, roff, rcen = facts.xy, facts.offsets, facts.centres
+        counts = np.diff(roff) if roff is not None else shapely.get_num_coordinates(g[sel])
         for part in _chunks(counts):
             k = sel[part]
-            if ragged is not None:
-                a, b = ragged[1][part.start], ragged[1][part.stop]
-                rag = ragged[0][a:b], ragged[1][part.start : part.stop + 1] - a, ragged[2][part]
+            if rxy is not None and roff is not None and rcen is not None:
+                a, b = roff[part.start], roff[part.stop]
+                rag = rxy[a:b], roff[part.start : part.stop + 1] - a, rcen[part]
                 res, red, n, ch = _smooth_polygonal(
                     g[k], idx[k], smoother, levels, batch, single_rings=rag
                 )
