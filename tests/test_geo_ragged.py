@@ -206,3 +206,43 @@ def test_assemble_polygons_is_from_ragged_array():
         out = assemble_polygons(xy, ring_off, poly_off, geom_off, was_polygon)
         assert (shapely.get_type_id(out) == shapely.get_type_id(sub)).all()
         assert shapely.equals_identical(out, sub).all()
+
+
+def test_single_ring_layer_takes_prepares_arrays_in_chunks_and_repeats_change_nothing(
+    monkeypatch,
+):
+    """A layer of Polygons without holes reuses _prepare's coordinates and star centres
+    (no second get_coordinates); chunks, a repeated vertex (the layer then takes the
+    general path) and a None change no bit of any feature."""
+    from curvesmith.geo import _smooth
+
+    polys = [p for p in _footprints(400, 2) if not len(p.interiors)]
+    arr = np.array(polys, dtype=object)
+    general = _smooth._polygon_ragged
+
+    def refuse(*args):
+        raise AssertionError("the single-ring layer must not read its coordinates again")
+
+    monkeypatch.setattr(_smooth, "_polygon_ragged", refuse)
+    whole = geo.smooth(arr, iterations=2, full_output=True)
+    monkeypatch.setattr(_smooth, "CHUNK_VERTICES", 41)
+    parts = geo.smooth(arr, iterations=2, full_output=True)
+    monkeypatch.setattr(_smooth, "_polygon_ragged", general)
+    xy = shapely.get_coordinates(arr[5])
+    rep = arr.copy()
+    rep[5] = shapely.Polygon(np.insert(xy, 2, xy[2], axis=0))  # vertex 2 twice
+    with_none = np.concatenate([rep[:9], [None], rep[9:]])
+    other = geo.smooth(with_none, iterations=2, full_output=True)
+    assert other.geometry[9] is None
+    other_geoms = np.delete(np.asarray(other.geometry, dtype=object), 9)
+    for res in (parts, other):
+        assert res.n_curves == whole.n_curves
+        assert res.max_area_change == whole.max_area_change
+    assert parts.reductions == whole.reductions
+    assert [(r.ring, r.start, r.stop, r.iterations) for r in other.reductions] == [
+        (r.ring, r.start, r.stop, r.iterations) for r in whole.reductions
+    ]
+    for a, b, c in zip(whole.geometry, parts.geometry, other_geoms, strict=True):
+        assert a.geom_type == b.geom_type == c.geom_type == "Polygon"
+        np.testing.assert_array_equal(shapely.get_coordinates(a), shapely.get_coordinates(b))
+        np.testing.assert_array_equal(shapely.get_coordinates(a), shapely.get_coordinates(c))

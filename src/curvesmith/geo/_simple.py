@@ -5,7 +5,15 @@ exact sign filters, that no two of its edges meet except neighbours at their sha
 vertex. A polygon made of one such ring (at least three vertices) is valid in the sense
 of :func:`shapely.is_valid`. ``False`` means "not proven": the caller asks GEOS.
 
-The proof splits the ring at its x-turning vertices into chains whose x strictly
+A ring is first tried as star-shaped (``_simple_kernel._star_simple``): about its area
+centroid, or its vertex mean, every edge must turn one strict way (the filtered
+orientation determinant below) and the direction from the centre must pass the +x ray
+exactly once (comparisons only). The direction then turns monotonically through one
+revolution, so it is one-to-one on the ring and the ring is simple. This costs one pass
+over the vertices (two for the centroid) and clears nearly all footprints and their
+smoothed rings; the centre is only a candidate, never trusted.
+
+Otherwise the proof splits the ring at its x-turning vertices into chains whose x strictly
 increases or decreases (a vertical edge or a repeated vertex makes the ring doubtful).
 A strictly x-monotone chain cannot meet itself. Two chains are the graphs of two
 piecewise linear functions over the overlap of their x ranges; their difference is
@@ -47,7 +55,9 @@ def _compiled():
     return _kernel
 
 
-def rings_certainly_simple(xy: np.ndarray, offsets: np.ndarray, closing: bool) -> np.ndarray:
+def rings_certainly_simple(
+    xy: np.ndarray, offsets: np.ndarray, closing: bool, centres: np.ndarray | None = None
+) -> np.ndarray:
     """Per ring: True when the ring is proven simple (see the module notes).
 
     Parameters
@@ -58,15 +68,26 @@ def rings_certainly_simple(xy: np.ndarray, offsets: np.ndarray, closing: bool) -
         Ring ``k`` is ``xy[offsets[k]:offsets[k + 1]]``.
     closing : bool
         Whether every ring repeats its first vertex at its end (shapely's layout).
+    centres : (M, 2) float64 ndarray, optional
+        Per ring a point to try the star proof about first, in one pass (NaN: none; a
+        ring smoothed from a ring proven star-shaped is usually star-shaped about the
+        same centre). Overwritten in place with the centre that proved each ring by the
+        star proof, NaN for the others. The proof is exact whatever the centre.
 
     Returns
     -------
     (M,) bool ndarray
     """
     k = _compiled()
+    offsets = np.ascontiguousarray(offsets, dtype=np.int64)
+    m = max(offsets.shape[0] - 1, 0)
+    if centres is None:
+        centres = np.full((m, 2), np.nan)
+    elif centres.shape != (m, 2) or centres.dtype != np.float64 or not centres.flags.c_contiguous:
+        raise ValueError(
+            f"centres must be a C-contiguous float64 array of shape ({m}, 2) (it is written "
+            f"in place), got {centres.dtype} {centres.shape}"
+        )
     return k.rings_simple(
-        np.ascontiguousarray(xy, dtype=np.float64),
-        np.ascontiguousarray(offsets, dtype=np.int64),
-        bool(closing),
-        MAX_CHAINS,
+        np.ascontiguousarray(xy, dtype=np.float64), offsets, bool(closing), MAX_CHAINS, centres
     )

@@ -98,9 +98,97 @@ def _pair(cx, cy, cid, oa, la, ob, lb, xlo, xhi):
 
 
 @njit(cache=True, nogil=True)
-def _ring_simple(X, s, n, max_chains, starts, lens, ups, bb, co, cx, cy, cid):
-    if n < 3:
-        return False
+def _star_around(X, s, n, cx, cy):
+    """True when every edge ``p -> q`` turns one strict way about ``c``, passing +x once.
+
+    See :func:`_star_simple`.
+    """
+    px, py = X[s + n - 1, 0] - cx, X[s + n - 1, 1] - cy
+    hp = py > 0.0 or (py == 0.0 and px > 0.0)
+    sg = 0
+    wraps = 0
+    for i in range(n):
+        qx, qy = X[s + i, 0] - cx, X[s + i, 1] - cy
+        left = px * qy
+        right = py * qx
+        det = left - right
+        size = abs(left) + abs(right)
+        if not size > _TINY:
+            return False
+        err = _CCW_ERR * size
+        if det > err:
+            o = 1
+        elif -det > err:
+            o = -1
+        else:
+            return False
+        if o != sg:
+            if sg != 0:
+                return False
+            sg = o
+        hq = qy > 0.0 or (qy == 0.0 and qx > 0.0)
+        if hq and not hp:
+            wraps += 1
+        px, py, hp = qx, qy, hq
+    return wraps == 1
+
+
+@njit(cache=True, nogil=True)
+def _star_simple(X, s, n):
+    """``(1, cx, cy)``: the ring is proven star-shaped about ``c``, its centroid or mean.
+
+    ``c`` is the area centroid or else the vertex mean. ``(0, nan, nan)``: not proven;
+    ``(-1, nan, nan)``: a coordinate is NaN, infinite or at least ``_BIG`` (doubtful
+    for every proof here).
+
+    About a centre c, every edge ``p -> q`` must have ``orient(p, q, c)`` of one strict
+    sign (the filtered determinant of :func:`_orient`, from the same rounded differences
+    ``p - c``) and the direction from c must pass the +x ray exactly once
+    (:func:`_star_around`, exact for any c on its own: a product that overflows makes
+    the filter's bound infinite or NaN, and no comparison with it accepts). The direction
+    then turns monotonically, by less than pi per edge, through one revolution: it is
+    one-to-one on the ring, so no two points of the ring coincide and the ring is simple.
+    The ray is counted with comparisons only: ``p - c`` lies in the half-plane
+    ``[0, pi)`` when ``dy > 0`` or ``dy == 0 < dx`` (a rounded difference has the exact
+    sign), and as every step is less than pi, the direction passes the ray once per
+    move from ``[pi, 2 pi)`` into ``[0, pi)``. The centre can be any point: it is only
+    a candidate, never trusted (the centroid, computed in the first vertex's frame, may
+    overflow for coordinates beyond ~1e100; the vertex mean cannot).
+    """
+    ox, oy = X[s, 0], X[s, 1]
+    acc = 0.0
+    sx = 0.0
+    sy = 0.0
+    mx = 0.0
+    my = 0.0
+    px, py = X[s + n - 1, 0] - ox, X[s + n - 1, 1] - oy
+    for i in range(n):
+        xi, yi = X[s + i, 0], X[s + i, 1]
+        if not (abs(xi) < _BIG and abs(yi) < _BIG):
+            return -1, np.nan, np.nan  # NaN, infinite or near overflow: doubtful
+        qx, qy = xi - ox, yi - oy
+        cr = px * qy - qx * py
+        acc += cr
+        sx += (px + qx) * cr
+        sy += (py + qy) * cr
+        mx += qx
+        my += qy
+        px, py = qx, qy
+    if abs(acc) > _TINY:
+        cx = ox + sx / (3.0 * acc)
+        cy = oy + sy / (3.0 * acc)
+        if abs(cx) < _BIG and abs(cy) < _BIG and _star_around(X, s, n, cx, cy):
+            return 1, cx, cy
+    cx = ox + mx / n
+    cy = oy + my / n
+    if _star_around(X, s, n, cx, cy):
+        return 1, cx, cy
+    return 0, np.nan, np.nan
+
+
+@njit(cache=True, nogil=True)
+def _chains_simple(X, s, n, max_chains, starts, lens, ups, bb, co, cx, cy, cid):
+    """The x-monotone chain proof of a ring of finite coordinates below ``_BIG``."""
     e = X[s, 0] - X[s + n - 1, 0]
     if e > 0.0:
         d_prev = 1
@@ -110,9 +198,7 @@ def _ring_simple(X, s, n, max_chains, starts, lens, ups, bb, co, cx, cy, cid):
         return False
     nch = 0
     for i in range(n):
-        xi, yi = X[s + i, 0], X[s + i, 1]
-        if not (abs(xi) < _BIG and abs(yi) < _BIG):
-            return False  # NaN, infinite or near overflow: doubtful
+        xi = X[s + i, 0]
         j = s + i + 1 if i + 1 < n else s
         e = X[j, 0] - xi
         if e > 0.0:
@@ -167,7 +253,12 @@ def _ring_simple(X, s, n, max_chains, starts, lens, ups, bb, co, cx, cy, cid):
 
 
 @njit(cache=True, nogil=True)
-def rings_simple(X, offsets, closing, max_chains):
+def rings_simple(X, offsets, closing, max_chains, centres):
+    """Per ring: proven simple.
+
+    ``centres`` ``(M, 2)``: a centre to try the star proof about first (NaN: none);
+    overwritten with the centre that proved the ring by the star proof, or NaN.
+    """
     m = offsets.shape[0] - 1
     out = np.zeros(m, dtype=np.bool_)
     nmax = 1
@@ -188,5 +279,37 @@ def rings_simple(X, offsets, closing, max_chains):
             if n < 1 or X[s, 0] != X[s + n - 1, 0] or X[s, 1] != X[s + n - 1, 1]:
                 continue  # not closed: doubtful
             n -= 1
-        out[k] = _ring_simple(X, s, n, max_chains, starts, lens, ups, bb, co, cx, cy, cid)
+        if n < 3:
+            continue
+        # the star proof first (one or two passes); the chains (scratch arrays) only when
+        # it cannot decide -- called here, not inside one ring function: numba compiles the
+        # star path much tighter so
+        hx, hy = centres[k, 0], centres[k, 1]
+        if hx == hx and hy == hy and _star_around(X, s, n, hx, hy):
+            out[k] = True  # star-shaped about the given centre: one pass
+            continue
+        star, zx, zy = _star_simple(X, s, n)
+        centres[k, 0], centres[k, 1] = zx, zy
+        if star == 1:
+            out[k] = True
+        elif star == 0:
+            out[k] = _chains_simple(X, s, n, max_chains, starts, lens, ups, bb, co, cx, cy, cid)
+    return out
+
+
+@njit(cache=True, nogil=True)
+def rings_star(X, offsets, closing):
+    """Per ring: the star-shaped proof alone (:func:`_star_simple`), for the tests."""
+    m = offsets.shape[0] - 1
+    out = np.zeros(m, dtype=np.bool_)
+    for k in range(m):
+        s = offsets[k]
+        n = offsets[k + 1] - s
+        if closing:
+            if n < 1 or X[s, 0] != X[s + n - 1, 0] or X[s, 1] != X[s + n - 1, 1]:
+                continue
+            n -= 1
+        if n < 3:
+            continue
+        out[k] = _star_simple(X, s, n)[0] == 1
     return out

@@ -318,16 +318,46 @@ def as_geometry_array(geometry: Any) -> tuple[np.ndarray, Callable[[np.ndarray],
 
 def prepare(geoms: np.ndarray, *, make_valid: bool, what: str = "geometry") -> np.ndarray:
     """Check types, 2D-ness and validity; drop repeated vertices. Returns a new array."""
+    return _prepare(geoms, make_valid=make_valid, what=what)[0]
+
+
+@dataclass(frozen=True)
+class _Facts:
+    """What :func:`_prepare` learnt about the geometries it returns, for the smoothing.
+
+    ``present``: which entries are not None; the other arrays are over the present ones:
+    ``types`` (``get_type_id``), ``empty``, ``holes`` (``get_num_interior_rings``, 0 for
+    non-polygons) and, when no geometry was repaired or lost repeated vertices, ``xy`` and
+    ``offsets`` (``get_coordinates`` and where each geometry's coordinates start) and
+    ``centres`` (per geometry the centre its ring was proven star-shaped about, NaN if
+    none; :func:`curvesmith.geo._simple.rings_certainly_simple`), otherwise ``None``.
+    """
+
+    present: np.ndarray
+    types: np.ndarray
+    empty: np.ndarray
+    holes: np.ndarray
+    xy: np.ndarray | None = None
+    offsets: np.ndarray | None = None
+    centres: np.ndarray | None = None
+
+
+def _prepare(
+    geoms: np.ndarray, *, make_valid: bool, what: str = "geometry"
+) -> tuple[np.ndarray, _Facts]:
+    """:func:`prepare`, and the facts it computed on the way (no shapely call twice)."""
     shapely = _shapely()
     geoms = np.asarray(geoms, dtype=object).copy()
-    present = np.array([g is not None for g in geoms], dtype=bool)
-    if not present.any():
-        return geoms
+    present = ~shapely.is_missing(geoms)
     g = geoms[present]
-    pos = np.nonzero(present)[0]
     types = shapely.get_type_id(g)
+    empty = shapely.is_empty(g)
+    holes = shapely.get_num_interior_rings(g)
+    if not present.any():
+        return geoms, _Facts(present, types, empty, holes)
+    pos = np.nonzero(present)[0]
     is_point = (types == shapely.GeometryType.POINT) | (types == shapely.GeometryType.MULTIPOINT)
-    nonempty = ~shapely.is_empty(g)
+    nonempty = ~empty
     if np.any(is_point & nonempty):
         k = int(pos[np.nonzero(is_point & nonempty)[0][0]])
         raise CurveError(
@@ -342,10 +372,15 @@ def prepare(geoms: np.ndarray, *, make_valid: bool, what: str = "geometry") -> n
         )
     # single-ring polygons proven simple by the compiled test are valid; GEOS checks the rest
     xy, owner = shapely.get_coordinates(g, return_index=True)
-    valid = _certainly_valid_polygons(g, xy, owner)
+    off = np.zeros(len(g) + 1, dtype=np.int64)
+    np.cumsum(np.bincount(owner, minlength=len(g)), out=off[1:])
+    centres = np.full((len(g), 2), np.nan)
+    proven = _certainly_valid_polygons(types, holes, xy, off, centres)
+    valid = proven.copy()
     doubt = np.flatnonzero(~valid)
     if doubt.size:
         valid[doubt] = shapely.is_valid(g[doubt])
+    changed = False
     if not valid.all():
         if not make_valid:
             k = int(np.nonzero(~valid)[0][0])
@@ -358,35 +393,55 @@ def prepare(geoms: np.ndarray, *, make_valid: bool, what: str = "geometry") -> n
         g = g.copy()
         g[~valid] = fixed
         xy, owner = shapely.get_coordinates(g, return_index=True)
+        changed = True
     # remove_repeated_points (a new GEOS geometry each) only where a vertex repeats the
-    # previous one: the others would come back with the same coordinates
-    rep = np.all(xy[1:] == xy[:-1], axis=1) & (owner[1:] == owner[:-1])
-    if rep.any():
-        rows = np.unique(owner[1:][rep])
+    # previous one: the others would come back with the same coordinates. A ring proven
+    # simple has none (every pair of consecutive vertices is an edge of non-zero length)
+    if changed:
+        rows = _repeating(xy, owner)
+    else:
+        todo = np.flatnonzero(~proven)
+        t_xy, t_off = _take(xy, off, todo)
+        t_owner = np.repeat(np.arange(todo.size), np.diff(t_off))
+        rows = todo[_repeating(t_xy, t_owner)]
+    if rows.size:
         g = g.copy()
         g[rows] = shapely.remove_repeated_points(g[rows], 0.0)
+        changed = True
     geoms[present] = g
-    return geoms
+    if changed:  # repaired geometries may have changed type, emptiness and rings
+        types, empty = shapely.get_type_id(g), shapely.is_empty(g)
+        holes = shapely.get_num_interior_rings(g)
+        return geoms, _Facts(present, types, empty, holes)
+    return geoms, _Facts(present, types, empty, holes, xy, off, centres)
 
 
-def _certainly_valid_polygons(g, xy, owner) -> np.ndarray:
+def _repeating(xy: np.ndarray, owner: np.ndarray) -> np.ndarray:
+    """The ``owner`` values (geometries) with a vertex repeating the previous one."""
+    rep = np.all(xy[1:] == xy[:-1], axis=1) & (owner[1:] == owner[:-1])
+    return np.unique(owner[1:][rep])
+
+
+def _certainly_valid_polygons(types, holes, xy, off, centres=None) -> np.ndarray:
     """Per geometry: True for a Polygon without holes whose ring is proven simple.
 
-    ``xy, owner``: ``shapely.get_coordinates(g, return_index=True)``. False means "ask
-    GEOS" (other types, holes, doubtful rings; see :mod:`curvesmith.geo._simple`).
+    ``types, holes``: ``get_type_id`` and ``get_num_interior_rings`` of the geometries;
+    ``xy``: their ``get_coordinates``, geometry ``i`` in rows ``off[i]:off[i + 1]``.
+    False means "ask GEOS" (other types, holes, doubtful rings; see
+    :mod:`curvesmith.geo._simple`). ``centres`` (``(len(types), 2)``, NaN): filled with
+    the centres of the star proofs.
     """
     shapely = _shapely()
     from ._simple import rings_certainly_simple
 
-    out = np.zeros(len(g), dtype=bool)
-    cand = (shapely.get_type_id(g) == shapely.GeometryType.POLYGON) & (
-        shapely.get_num_interior_rings(g) == 0
-    )
+    out = np.zeros(len(types), dtype=bool)
+    cand = (types == shapely.GeometryType.POLYGON) & (holes == 0)
     if not cand.any():
         return out
-    off = np.zeros(len(g) + 1, dtype=np.int64)
-    np.cumsum(np.bincount(owner, minlength=len(g)), out=off[1:])
-    out[cand] = rings_certainly_simple(xy, off, True)[cand]
+    if centres is None:
+        centres = np.full((len(types), 2), np.nan)
+    out[cand] = rings_certainly_simple(xy, off, True, centres)[cand]
+    centres[~cand] = np.nan
     return out
 
 
@@ -526,7 +581,9 @@ def _smooth_feature_array(
     iterations: int,
     alpha: Any,
     fixed: FixedVertices | None = None,
+    facts: _Facts | None = None,
 ) -> tuple[np.ndarray, list[GeometryReduction], int, float]:
+    """Smooth every feature; ``facts``: :func:`_prepare`'s facts about `geoms`, if known."""
     shapely = _shapely()
     out = geoms.copy()
     smoother = make_smoother(method, alpha, fixed)
@@ -536,13 +593,15 @@ def _smooth_feature_array(
     max_change = 0.0
     if iterations == 0:
         return out, reductions, 0, 0.0
-    present = np.array([g is not None for g in geoms], dtype=bool)
+    present = facts.present if facts is not None else ~shapely.is_missing(geoms)
     idx = np.nonzero(present)[0]
     if len(idx) == 0:
         return out, reductions, 0, 0.0
     g = geoms[idx]
-    types = shapely.get_type_id(g)
-    empty = shapely.is_empty(g)
+    if facts is not None:
+        types, empty = facts.types, facts.empty
+    else:
+        types, empty = shapely.get_type_id(g), shapely.is_empty(g)
     T = shapely.GeometryType
     poly = ~empty & ((types == T.POLYGON) | (types == T.MULTIPOLYGON))
     line = ~empty & ((types == T.LINESTRING) | (types == T.MULTILINESTRING))
@@ -557,9 +616,26 @@ def _smooth_feature_array(
         # and the ragged arrays are those of one chunk, not of the whole layer (each curve
         # is smoothed as on its own, so chunking does not change a bit)
         sel = np.flatnonzero(mask)
-        for part in _chunks(shapely.get_num_coordinates(g[sel])):
+        # a layer of Polygons without holes: the coordinates _prepare read are the rings
+        rxy = roff = rcen = None
+        if (
+            smooth_kind is _smooth_polygonal
+            and facts is not None
+            and sel.size == len(g)
+            and not np.any((types != T.POLYGON) | (facts.holes != 0))
+        ):
+            rxy, roff, rcen = facts.xy, facts.offsets, facts.centres
+        counts = np.diff(roff) if roff is not None else shapely.get_num_coordinates(g[sel])
+        for part in _chunks(counts):
             k = sel[part]
-            res, red, n, ch = smooth_kind(g[k], idx[k], smoother, levels, batch)
+            if rxy is not None and roff is not None and rcen is not None:
+                a, b = roff[part.start], roff[part.stop]
+                rag = rxy[a:b], roff[part.start : part.stop + 1] - a, rcen[part]
+                res, red, n, ch = _smooth_polygonal(
+                    g[k], idx[k], smoother, levels, batch, single_rings=rag
+                )
+            else:
+                res, red, n, ch = smooth_kind(g[k], idx[k], smoother, levels, batch)
             out[idx[k]] = res
             reductions += red
             n_curves += n
@@ -621,12 +697,24 @@ def _polygon_ragged(g: np.ndarray, was_polygon: np.ndarray):
     return coords, ring_off.astype(np.int64), poly_off, geom_off
 
 
-def _smooth_polygonal(g, feat_index, smoother, levels, batch):
+def _smooth_polygonal(g, feat_index, smoother, levels, batch, single_rings=None):
+    """Smooth the (Multi)Polygons ``g``.
+
+    ``single_rings``: ``(xy, offsets, centres)`` when every one is a Polygon without holes
+    and these are its coordinates (``get_coordinates``) and the centres of its input's
+    star proof (the output proof tries them first).
+    """
     shapely = _shapely()
     method, alpha, fixed = batch
-    T = shapely.GeometryType
-    was_polygon = shapely.get_type_id(g) == T.POLYGON
-    coords, ring_off, poly_off, geom_off = _polygon_ragged(g, was_polygon)
+    centres = None
+    if single_rings is not None:
+        coords, ring_off, centres = single_rings
+        centres = centres.copy()  # the proof overwrites it
+        was_polygon = np.ones(len(g), dtype=bool)
+        poly_off = geom_off = np.arange(len(g) + 1, dtype=np.int64)
+    else:
+        was_polygon = shapely.get_type_id(g) == shapely.GeometryType.POLYGON
+        coords, ring_off, poly_off, geom_off = _polygon_ragged(g, was_polygon)
     n_rings = len(ring_off) - 1
     ring_poly = np.searchsorted(poly_off, np.arange(n_rings), side="right") - 1
     ring_geom = np.searchsorted(geom_off, ring_poly, side="right") - 1
@@ -647,7 +735,8 @@ def _smooth_polygonal(g, feat_index, smoother, levels, batch):
     # a feature of one ring proven simple by the compiled test is valid; GEOS checks the rest
     from ._simple import rings_certainly_simple
 
-    doubt = one[~rings_certainly_simple(new_xy, new_off, True)[first_ring_of_geom[one]]]
+    proven = rings_certainly_simple(new_xy, new_off, True, centres)
+    doubt = one[~proven[first_ring_of_geom[one]]]
     hard[doubt] = ~shapely.is_valid(res[doubt])
     reductions: list[GeometryReduction] = []
     rings = _RaggedView(coords, ring_off, drop_last=True)
@@ -951,9 +1040,9 @@ def smooth(
                 f"fixed needs method='cca' (Chaikin moves every vertex), got {method!r}"
             )
         fixed_spec = FixedVertices(fixed, geoms)
-    geoms = prepare(geoms, make_valid=make_valid)
+    geoms, facts = _prepare(geoms, make_valid=make_valid)
     out, reductions, n, change = _smooth_feature_array(
-        geoms, method=method, iterations=iterations, alpha=alpha, fixed=fixed_spec
+        geoms, method=method, iterations=iterations, alpha=alpha, fixed=fixed_spec, facts=facts
     )
     result = wrap(out if zm is None else zm.restore(out))
     if full_output:
