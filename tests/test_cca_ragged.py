@@ -220,3 +220,25 @@ def test_blocks_threads_and_closing_vertices_give_the_single_call_bits(monkeypat
                 assert res.fig11_edges[k] == one.fig11_edges
                 assert res.unsatisfied[k] == one.unsatisfied
     assert res.reductions.sum() > 0
+
+
+@pytest.mark.parametrize("iterations", [0, 2])
+def test_extreme_coordinate_scales_in_one_batch(iterations):
+    """Curves at 1e140, 1e-140 and 1 side by side: each scaled by its own power of two,
+    every curve bit for bit what cca.smooth gives it alone (a broadcasting error once)."""
+    rng = np.random.default_rng(140)
+    items = []
+    for k, scale in enumerate([1e140, 1.0, 1e-140, 2.0**-1000, 1e300]):
+        n = 9 + k
+        t = np.sort(rng.uniform(0, 2 * np.pi, n))
+        p = np.c_[np.cos(t), np.sin(t)] * (1 + 0.2 * rng.uniform(size=(n, 1))) * scale
+        items.append((p, k != 1))
+    xy = np.concatenate([p for p, _ in items])
+    off = np.r_[0, np.cumsum([len(p) for p, _ in items])]
+    closed = np.array([c for _, c in items])
+    out, oo = cca.smooth_ragged(xy, off, closed=closed, iterations=iterations, anchors=None)
+    for k, (p, c) in enumerate(items):
+        np.testing.assert_array_equal(
+            out[oo[k] : oo[k + 1]], cca.smooth(p, closed=c, iterations=iterations)
+        )
+        assert np.isfinite(out[oo[k] : oo[k + 1]]).all()

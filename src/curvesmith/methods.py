@@ -39,7 +39,16 @@ from numpy.typing import ArrayLike
 from ._validate import as_choice
 from .errors import CurveError
 
-__all__ = ["METHODS", "GisMethod", "MethodName", "SmoothingMethod", "get", "gis_names", "needs"]
+__all__ = [
+    "METHODS",
+    "GisMethod",
+    "MethodName",
+    "SmoothingMethod",
+    "as_gis",
+    "get",
+    "gis_names",
+    "needs",
+]
 
 #: The names of :data:`METHODS`, for annotations (a test keeps the two equal).
 MethodName = Literal["cca", "chaikin", "derham", "lane_riesenfeld"]
@@ -180,6 +189,7 @@ _CCA_PARAMETERS = (
     "max_passes",
     "min_factor",
     "threads",
+    "close_rings",  # the ragged function's: rings written with their first vertex repeated
 )
 
 #: Every smoothing method by name (read-only).
@@ -249,6 +259,16 @@ def get(name: str, *, gis: bool = False) -> SmoothingMethod:
         Naming ``method`` and listing the valid names.
     """
     return METHODS[as_choice(name, gis_names() if gis else tuple(METHODS), name="method")]
+
+
+def as_gis(name: str) -> GisMethod | None:
+    """`name` (typed as :data:`GisMethod`) if it names a method for GIS layers, else None.
+
+    >>> as_gis("chaikin"), as_gis("derham")
+    ('chaikin', None)
+    """
+    m = get(name)
+    return m.name if m.gis else None  # type: ignore[return-value]  # the table's gis rows
 
 
 def gis_names() -> tuple[str, ...]:

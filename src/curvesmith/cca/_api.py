@@ -572,7 +572,7 @@ def smooth_ragged_with_info(
         extreme = (top > 0) & ~((top > _TINY) & (top < _HUGE))
         if extreme.any():
             exp2[extreme] = np.frexp(top[extreme])[1]
-            p = np.ldexp(p, -exp2[curve_ids(off)])
+            p = np.ldexp(p, -exp2[curve_ids(off)][:, None])
     if p.shape[0] and kernel.any_zero_edge(p, off, cl, np.zeros((m, 2))):  # duplicates
         p, fixed, off = dedupe_ragged(p, fixed, off, cl)
     lengths = np.diff(off)
@@ -597,7 +597,7 @@ def smooth_ragged_with_info(
     if iterations == 0 or m == 0:
         out = p.copy()
         if exp2.any():
-            out = np.ldexp(out, exp2[curve_ids(off)])
+            out = np.ldexp(out, exp2[curve_ids(off)][:, None])
         if close_rings:
             out, off = _close(out, off, cl)
         return RaggedCCAResult(out, off, 0, zeros, zeros.copy(), zeros.copy(), True, "0 CCA1 steps")
@@ -614,7 +614,7 @@ def smooth_ragged_with_info(
         cid_out = curve_ids(off_out)
         _restore_fixed(out, fixed, cid_out, p, fixed_in, curve_ids(off), off_out, off)
     if exp2.any():
-        out = np.ldexp(out, exp2[curve_ids(off_out)])
+        out = np.ldexp(out, exp2[curve_ids(off_out)][:, None])
     if close_rings:  # the closing vertex is the first one, bit for bit
         out[off_out[1:][cl] - 1] = out[off_out[:-1][cl]]
     red = np.sum([s[0] for s in steps], axis=0)

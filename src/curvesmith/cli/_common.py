@@ -265,8 +265,9 @@ def gis_method(method: str, *, what: str) -> methods.GisMethod:
     ...
     curvesmith.errors.CurveError: --method derham is not available for GIS files; use cca or chaikin
     """
-    if not methods.get(method).gis:
+    gis = methods.as_gis(method)
+    if gis is None:
         raise CurveError(
             f"--method {method} is not available for {what}; use {' or '.join(methods.gis_names())}"
         )
-    return method  # type: ignore[return-value]  # checked against the table just above
+    return gis

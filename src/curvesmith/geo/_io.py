@@ -1256,10 +1256,11 @@ def keep_polygons_valid(
             invalid_input.append((feature, shapely.is_valid_reason(polys_in[k])))
             continue
         reason = shapely.is_valid_reason(polys_out[k])
-        if not fixable or not methods.get(method).gis:
+        gis = methods.as_gis(method)
+        if not fixable or gis is None:
             still.append((feature, reason))
             continue
-        redo = smooth(polys_in[k], method=method, iterations=iterations, alpha=alpha)
+        redo = smooth(polys_in[k], method=gis, iterations=iterations, alpha=alpha)
         rings = _rings_of(redo)
         if not shapely.is_valid(redo) or set(rings) != {
             (after[i].part, after[i].ring) for i in idx

@@ -9,16 +9,16 @@ from typing import Any
 
 import numpy as np
 
+from .. import methods
 from .._rich import RichRepr
 from ..errors import CurveError, require
 from ..geometry import _signed_area
+from ..methods import GisMethod
 from ._corners import with_corners
 from ._engine import Level, levels_for, resolve_arcs
 from ._zm import split_zm
 
 __all__ = ["GeometryReduction", "SmoothResult", "smooth"]
-
-METHODS = ("cca", "chaikin")
 
 
 @dataclass(frozen=True)
@@ -89,15 +89,15 @@ def make_smoother(
     the same curves for a list of pieces in one call of the ragged engine (used by
     :func:`curvesmith.geo._engine.resolve_arcs`).
     """
-    if method == "cca":
-        from .. import cca
+    spec = methods.get(method, gis=True)
+    if spec.keeps_vertices:  # CCA: anchors, and a ragged form for many pieces at once
 
         def f(pts: np.ndarray, closed: bool, level: Level) -> np.ndarray:
             anchors = None
             if fixed is not None:
                 mask = fixed.mask(pts)
                 anchors = np.flatnonzero(mask) if mask.any() else None
-            out = cca.smooth(
+            out = spec.smooth(
                 pts,
                 closed=closed,
                 iterations=level.iterations,
@@ -113,15 +113,14 @@ def make_smoother(
             np.cumsum(lens, out=off[1:])
             xy = np.concatenate(pieces)
             mask = fixed.mask(xy) if fixed is not None else None
-            out, oo = smooth_batch("cca", alpha, xy, off, closed, level, mask)
+            out, oo = smooth_batch(method, alpha, xy, off, closed, level, mask)
             return [out[a:b] for a, b in itertools.pairwise(oo.tolist())]
 
         f.batch = many  # type: ignore[attr-defined]  # the CCA smoother's ragged form
         return f
-    from .. import subdivision
 
     def g(pts: np.ndarray, closed: bool, level: Level) -> np.ndarray:
-        out = subdivision.chaikin(
+        out = spec.smooth(
             pts, closed=closed, iterations=level.iterations, preserve_endpoints=not closed
         )
         return out if closed else _pin_ends(out, pts)
@@ -146,33 +145,120 @@ def smooth_batch(
     their offsets (rings with their first vertex repeated only with ``close_rings``);
     every curve is what the single-curve smoother gives it.
     """
-    if method == "cca" and level.iterations > 0:
-        from .. import cca
-
-        anchors = fixed_mask if fixed_mask is not None and fixed_mask.any() else None
-        return cca.smooth_ragged(
-            coords,
-            offsets,
-            closed=closed,
-            iterations=level.iterations,
-            alpha=scale_alpha(alpha, level.alpha_scale),
-            anchors=anchors,
-            close_rings=close_rings,
-        )
+    spec = methods.get(method, gis=True)
+    if level.iterations > 0 and spec.name == "cca":
+        refused = _cca_refused(coords, offsets, closed)
+        if refused is not None:  # a few slivers whose vertices CCA cannot tell apart
+            return _smooth_batch_except(
+                refused, method, alpha, coords, offsets, closed, level, fixed_mask, close_rings
+            )
     if level.iterations == 0:
         from .._ragged import as_ragged
 
         rag = as_ragged(coords, offsets, closed=closed, dim=2)
         xy, off = rag.points, rag.offsets
     else:
-        from .. import subdivision
-
-        xy, off = subdivision.chaikin_ragged(
-            coords, offsets, closed=closed, iterations=level.iterations, preserve_endpoints=True
+        given = {
+            "alpha": scale_alpha(alpha, level.alpha_scale),
+            "anchors": fixed_mask if fixed_mask is not None and fixed_mask.any() else None,
+            "preserve_endpoints": True,  # open pieces keep their ends
+            "close_rings": close_rings,
+        }
+        xy, off = spec.smooth_ragged(
+            coords,
+            offsets,
+            closed=closed,
+            iterations=level.iterations,
+            **{k: v for k, v in given.items() if k in spec.parameters},
         )
+        if "close_rings" in spec.parameters:
+            return xy, off
     if close_rings and closed is True:
         xy, off = _close_rings(xy, off)
+    elif close_rings:
+        xy, off = _close_ragged(
+            xy, off, np.broadcast_to(np.asarray(closed, dtype=bool), off.size - 1)
+        )
     return xy, off
+
+
+def _cca_refused(coords: np.ndarray, offsets: np.ndarray, closed: Any) -> np.ndarray | None:
+    """The curves CCA would refuse (a mask), or None if there are none.
+
+    CCA needs 3 distinct vertices on a ring (2 on a line) once vertices closer than its
+    steps can tell apart count as one. Such a curve is a sliver (``make_valid`` leaves
+    rings such as ``(4 0, 5 0, 4 0)`` and triangles with a side of 5e-324): its area is
+    below the round-off of its coordinates, and it is kept as it is. One cheap pass finds
+    the candidates (short curves, a zero gap between neighbours, or between a ring's ends
+    that are not the same point); CCA's own de-duplication counts their vertices.
+    """
+    from ..cca._input import dedupe_ragged, zero_gap
+
+    n_rows, n = coords.shape[0], offsets.size - 1
+    if n_rows < 2 or n == 0:
+        return None
+    off = np.asarray(offsets, dtype=np.int64)
+    cl = np.broadcast_to(np.asarray(closed, dtype=bool), (n,))
+    gap = np.zeros(n_rows, dtype=bool)
+    gap[1:] = zero_gap(coords[1:] - coords[:-1])
+    lens = np.diff(off)
+    nonempty = lens > 0
+    gap[off[:-1][nonempty]] = False  # a curve's first vertex follows another curve
+    ring = cl & (lens > 1)
+    first, last = coords[off[:-1][ring]], coords[off[1:][ring] - 1]
+    ends = zero_gap(last - first) & (last != first).any(axis=1)
+    cand = np.zeros(n, dtype=bool)
+    cand[nonempty] = np.logical_or.reduceat(gap, off[:-1][nonempty])
+    cand[np.flatnonzero(ring)[ends]] = True
+    cand |= lens < np.where(cl, 4, 2)  # 3 rows of a ring: 2 points and the closing one
+    if not cand.any():
+        return None
+    idx = np.flatnonzero(cand)
+    sub_xy, sub_off = _take(coords, off, idx)
+    _, _, kept = dedupe_ragged(sub_xy, np.zeros(len(sub_xy), dtype=bool), sub_off, cl[idx])
+    refused = np.zeros(n, dtype=bool)
+    refused[idx] = np.diff(kept) < np.where(cl[idx], 3, 2)
+    return refused if refused.any() else None
+
+
+def _smooth_batch_except(
+    refused, method, alpha, coords, offsets, closed, level, fixed_mask, close_rings
+):
+    """:func:`smooth_batch` with the `refused` curves kept as they are (iterations 0)."""
+    off = np.asarray(offsets, dtype=np.int64)
+    cl = np.broadcast_to(np.asarray(closed, dtype=bool), (off.size - 1,))
+    parts = []
+    for sel, lev in ((np.flatnonzero(~refused), level), (np.flatnonzero(refused), Level(0))):
+        xy, oo = _take(coords, off, sel)
+        mask = None
+        if fixed_mask is not None:
+            mask, _ = _take(fixed_mask[:, None], off, sel)
+            mask = mask[:, 0]
+        c = cl[sel]
+        parts.append((sel, smooth_batch(method, alpha, xy, oo, c, lev, mask, close_rings)))
+    (a_sel, (a_xy, a_off)), (b_sel, (b_xy, b_off)) = parts
+    lens = np.zeros(off.size - 1, dtype=np.int64)
+    lens[a_sel], lens[b_sel] = np.diff(a_off), np.diff(b_off)
+    new_off = np.zeros(off.size, dtype=np.int64)
+    np.cumsum(lens, out=new_off[1:])
+    out = np.empty((int(new_off[-1]), coords.shape[1]))
+    for sel, xy, oo in ((a_sel, a_xy, a_off), (b_sel, b_xy, b_off)):
+        ln = np.diff(oo)
+        out[np.repeat(new_off[sel] - oo[:-1], ln) + np.arange(oo[-1])] = xy
+    return out, new_off
+
+
+def _close_ragged(xy: np.ndarray, off: np.ndarray, closed: np.ndarray):
+    """Repeat the first vertex at the end of the closed curves (shapely's ring layout)."""
+    lens = np.diff(off) + closed.astype(np.int64)
+    new_off = np.zeros(off.size, dtype=np.int64)
+    np.cumsum(lens, out=new_off[1:])
+    out = np.empty((int(new_off[-1]), xy.shape[1]))
+    ln = np.diff(off)
+    out[np.repeat(new_off[:-1] - off[:-1], ln) + np.arange(off[-1])] = xy
+    ring = np.flatnonzero(closed & (ln > 0))
+    out[new_off[1:][ring] - 1] = xy[off[:-1][ring]]
+    return out, new_off
 
 
 class FixedVertices:
@@ -255,13 +341,13 @@ def scale_alpha(alpha: Any, scale: float) -> Any:
 
 def check_method(method: str, iterations: int, alpha: Any) -> int:
     """Validate the common smoothing options; return iterations as int."""
-    from .._validate import as_choice, as_int
+    from .._validate import as_int
 
-    as_choice(method, METHODS, name="method")
+    takes_alpha = "alpha" in methods.get(method, gis=True).parameters
     iterations = as_int(iterations, name="iterations", minimum=0)
-    if method == "cca" and isinstance(alpha, str) and alpha != "regular":
+    if takes_alpha and isinstance(alpha, str) and alpha != "regular":
         raise CurveError(f"alpha must be 'regular', a float or a callable, got {alpha!r}")
-    if method == "cca" and not isinstance(alpha, str) and not callable(alpha):
+    if takes_alpha and not isinstance(alpha, str) and not callable(alpha):
         try:
             a = float(alpha)
         except (TypeError, ValueError):
@@ -406,7 +492,13 @@ def _prepare(
         rows = todo[_repeating(t_xy, t_owner)]
     if rows.size:
         g = g.copy()
-        g[rows] = shapely.remove_repeated_points(g[rows], 0.0)
+        before = g[rows]
+        g[rows] = shapely.remove_repeated_points(before, 0.0)
+        # GEOS also drops a vertex whose distance to the previous one underflows (5e-324
+        # apart), which can collapse a valid ring: such a geometry stays as it was (the
+        # smoothing keeps what CCA cannot separate as it is)
+        broken = ~shapely.is_valid(g[rows])
+        g[rows[broken]] = before[broken]
         changed = True
     geoms[present] = g
     if changed:  # repaired geometries may have changed type, emptiness and rings
@@ -587,7 +679,7 @@ def _smooth_feature_array(
     shapely = _shapely()
     out = geoms.copy()
     smoother = make_smoother(method, alpha, fixed)
-    levels = levels_for(iterations, scalable=(method == "cca"))
+    levels = levels_for(iterations, scalable=methods.get(method).scalable)
     reductions: list[GeometryReduction] = []
     n_curves = 0
     max_change = 0.0
@@ -912,7 +1004,7 @@ def _smooth_linearring(geom, k, smoother, levels):
 def smooth(
     geometry: Any,
     *,
-    method: str = "cca",
+    method: GisMethod = "cca",
     iterations: int = 1,
     alpha: Any = "regular",
     make_valid: bool = False,
@@ -1028,17 +1120,12 @@ def smooth(
         )
     geoms, wrap = as_geometry_array(geometry)
     geoms, zm = split_zm(geoms)  # smoothed in XY; Z/M interpolated back (geo._zm)
-    if keep_angle is not None and method != "cca":
-        raise CurveError(
-            f"keep_angle needs method='cca' (Chaikin moves every vertex), got {method!r}"
-        )
+    if keep_angle is not None:
+        methods.needs("keep_angle", method)
     fixed = with_corners(geoms, fixed, keep_angle)
     fixed_spec = None
     if fixed is not None:
-        if method != "cca":
-            raise CurveError(
-                f"fixed needs method='cca' (Chaikin moves every vertex), got {method!r}"
-            )
+        methods.needs("fixed", method)
         fixed_spec = FixedVertices(fixed, geoms)
     geoms, facts = _prepare(geoms, make_valid=make_valid)
     out, reductions, n, change = _smooth_feature_array(
