@@ -7,6 +7,7 @@ shapely = pytest.importorskip("shapely")
 
 from curvesmith import geo  # noqa: E402
 from curvesmith.errors import CurveError  # noqa: E402
+from curvesmith.internals import geo_chunks, geo_engine, geo_smooth  # noqa: E402
 
 
 def _footprints(n, seed):
@@ -53,15 +54,13 @@ def test_one_call_equals_feature_by_feature():
 
 def test_chunks_give_the_same_bits(monkeypatch):
     """A layer goes through the engine in chunks of vertices: chunk size changes nothing."""
-    from curvesmith.geo import _smooth
-
     polys = _footprints(300, 1)  # has slivers re-smoothed locally
     polys.insert(7, shapely.LineString([(0, 0), (1, 1), (2, 0), (3, 1)]))
     polys.insert(9, shapely.MultiLineString([[(0, 0), (1, 2), (2, 0)], [(5, 5), (6, 7), (7, 5)]]))
     arr = np.array(polys, dtype=object)
     whole = geo.smooth(arr, iterations=2, full_output=True)
-    monkeypatch.setattr(_smooth, "CHUNK_VERTICES", 37)
-    assert len(_smooth._chunks(shapely.get_num_coordinates(arr))) > 50
+    monkeypatch.setattr(geo_smooth, "CHUNK_VERTICES", 37)
+    assert len(geo_chunks(shapely.get_num_coordinates(arr))) > 50
     parts = geo.smooth(arr, iterations=2, full_output=True)
     for a, b in zip(whole.geometry, parts.geometry, strict=True):
         np.testing.assert_array_equal(shapely.get_coordinates(a), shapely.get_coordinates(b))
@@ -160,8 +159,8 @@ def test_batch_smoother_equals_one_call_per_piece(closed):
     """The resolution smooths the pieces of a round through the smoother's batch: the same
     curves, bit for bit, as one call per piece (levels with fewer iterations and a smaller
     alpha, fixed vertices, pieces of 2 to 60 vertices in metres at UTM offsets)."""
-    from curvesmith.geo._engine import Level
-    from curvesmith.geo._smooth import FixedVertices, make_smoother
+    Level, FixedVertices = geo_engine.Level, geo_smooth.FixedVertices
+    make_smoother = geo_smooth.make_smoother
 
     rng = np.random.default_rng(11)
     pieces = []
@@ -185,7 +184,7 @@ def test_batch_smoother_equals_one_call_per_piece(closed):
 def test_assemble_polygons_is_from_ragged_array():
     """Polygons (with holes) and MultiPolygons from ragged rings: each of its own type, the
     coordinates of shapely's ragged layout bit for bit."""
-    from curvesmith.geo._smooth import _polygon_ragged, assemble_polygons
+    polygon_ragged, assemble_polygons = geo_smooth.polygon_ragged, geo_smooth.assemble_polygons
 
     polys = _footprints(60, 4)
     polys += [
@@ -199,7 +198,7 @@ def test_assemble_polygons_is_from_ragged_array():
         g[shapely.get_num_interior_rings(g) == 0],
     ):
         was_polygon = shapely.get_type_id(sub) == T.POLYGON
-        xy, ring_off, poly_off, geom_off = _polygon_ragged(sub, was_polygon)
+        xy, ring_off, poly_off, geom_off = polygon_ragged(sub, was_polygon)
         _, xy2, offsets = shapely.to_ragged_array(sub)
         np.testing.assert_array_equal(xy, xy2)
         np.testing.assert_array_equal(ring_off, offsets[0])
@@ -214,20 +213,18 @@ def test_single_ring_layer_takes_prepares_arrays_in_chunks_and_repeats_change_no
     """A layer of Polygons without holes reuses _prepare's coordinates and star centres
     (no second get_coordinates); chunks, a repeated vertex (the layer then takes the
     general path) and a None change no bit of any feature."""
-    from curvesmith.geo import _smooth
-
     polys = [p for p in _footprints(400, 2) if not len(p.interiors)]
     arr = np.array(polys, dtype=object)
-    general = _smooth._polygon_ragged
+    general = geo_smooth.polygon_ragged
 
     def refuse(*args):
         raise AssertionError("the single-ring layer must not read its coordinates again")
 
-    monkeypatch.setattr(_smooth, "_polygon_ragged", refuse)
+    monkeypatch.setattr(geo_smooth, "polygon_ragged", refuse)
     whole = geo.smooth(arr, iterations=2, full_output=True)
-    monkeypatch.setattr(_smooth, "CHUNK_VERTICES", 41)
+    monkeypatch.setattr(geo_smooth, "CHUNK_VERTICES", 41)
     parts = geo.smooth(arr, iterations=2, full_output=True)
-    monkeypatch.setattr(_smooth, "_polygon_ragged", general)
+    monkeypatch.setattr(geo_smooth, "polygon_ragged", general)
     xy = shapely.get_coordinates(arr[5])
     rep = arr.copy()
     rep[5] = shapely.Polygon(np.insert(xy, 2, xy[2], axis=0))  # vertex 2 twice

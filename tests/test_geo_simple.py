@@ -23,7 +23,9 @@ shapely = pytest.importorskip("shapely")
 pytest.importorskip("numba")
 
 from curvesmith import geo  # noqa: E402
-from curvesmith.geo._simple import rings_certainly_simple  # noqa: E402
+from curvesmith.internals import geo_simple  # noqa: E402
+
+rings_certainly_simple = geo_simple.rings_certainly_simple
 
 
 def _check(rings):

@@ -1,4 +1,4 @@
-"""The star-shaped fast path of geo's simplicity proof (_simple_kernel._star_simple) against GEOS.
+"""The star-shaped fast path of geo's simplicity proof (simple_kernel._star_simple) against GEOS.
 
 A ring is cleared when every edge turns one strict way about a centre (the area centroid
 or the vertex mean) and the direction from the centre passes the +x ray exactly once. A
@@ -26,8 +26,9 @@ shapely = pytest.importorskip("shapely")
 pytest.importorskip("numba")
 
 from curvesmith import cca  # noqa: E402
-from curvesmith.geo import _simple_kernel  # noqa: E402
-from curvesmith.geo._simple import rings_certainly_simple  # noqa: E402
+from curvesmith.internals import geo_simple, simple_kernel  # noqa: E402
+
+rings_certainly_simple = geo_simple.rings_certainly_simple
 
 
 def _ring(xy):
@@ -175,7 +176,7 @@ def _smoothed(rings):
 def _check(rings):
     """(star-cleared, proof-cleared, GEOS-valid); fails on any clearance GEOS rejects."""
     xy, off = _ragged(rings)
-    star = _simple_kernel.rings_star(np.ascontiguousarray(xy), off, True)
+    star = simple_kernel.rings_star(np.ascontiguousarray(xy), off, True)
     full = rings_certainly_simple(xy, off, True)
     valid = _geos_valid(rings)
     for name, got in (("star", star), ("proof", full)):
@@ -280,7 +281,7 @@ def test_star_proof_degenerate_cases():
     }
     for name, (ring, expected) in cases.items():
         xy, off = _ragged([ring])
-        got = bool(_simple_kernel.rings_star(np.ascontiguousarray(xy), off, True)[0])
+        got = bool(simple_kernel.rings_star(np.ascontiguousarray(xy), off, True)[0])
         assert got is expected, name
 
 
@@ -301,7 +302,7 @@ def test_given_centres_never_clear_a_ring_geos_rejects_and_are_written_back():
     own = np.full((len(rings), 2), np.nan)
     cleared = rings_certainly_simple(xy, off, True, own)
     assert not np.any(cleared & ~valid)
-    star = _simple_kernel.rings_star(np.ascontiguousarray(xy), off, True)
+    star = simple_kernel.rings_star(np.ascontiguousarray(xy), off, True)
     assert np.array_equal(np.isfinite(own).all(axis=1), star)  # written back for star proofs
     assert np.isnan(own[~star]).all()
     hints = {

@@ -142,6 +142,7 @@ _ON_DEMAND: dict[str, tuple[str, str | None]] = {
     "lon_arc": (".geo._io", "_lon_arc"),
     "slices": (".geo._io", "_slices"),
     "coverage_ragged": (".geo._coverage", "_ragged"),
-    "polygon_ragged": (".geo._smooth", "_polygon_ragged"),
+    "geo_chunks": (".geo._smooth", "_chunks"),
+    "simple_kernel": (".geo._simple_kernel", None),
 }
 __all__ += sorted(_ON_DEMAND)

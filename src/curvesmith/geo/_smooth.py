@@ -765,7 +765,7 @@ def _chunks(counts: np.ndarray) -> list[slice]:
     return [slice(int(a), int(b)) for a, b in itertools.pairwise(bounds)]
 
 
-def _polygon_ragged(g: np.ndarray, was_polygon: np.ndarray):
+def polygon_ragged(g: np.ndarray, was_polygon: np.ndarray):
     """``shapely.to_ragged_array`` of (Multi)Polygons: coordinates, ring, polygon, geometry offsets.
 
     The ring offsets are int64.
@@ -806,7 +806,7 @@ def _smooth_polygonal(g, feat_index, smoother, levels, batch, single_rings=None)
         poly_off = geom_off = np.arange(len(g) + 1, dtype=np.int64)
     else:
         was_polygon = shapely.get_type_id(g) == shapely.GeometryType.POLYGON
-        coords, ring_off, poly_off, geom_off = _polygon_ragged(g, was_polygon)
+        coords, ring_off, poly_off, geom_off = polygon_ragged(g, was_polygon)
     n_rings = len(ring_off) - 1
     ring_poly = np.searchsorted(poly_off, np.arange(n_rings), side="right") - 1
     ring_geom = np.searchsorted(geom_off, ring_poly, side="right") - 1
