@@ -98,6 +98,7 @@ class Topology:
     n_nodes: int
     ring_offsets: tuple[np.ndarray, np.ndarray]
     was_polygon: np.ndarray
+    ring_sign: np.ndarray | None = None
 
 
 @dataclass(frozen=True)
@@ -159,6 +160,8 @@ def coverage_topology(polygons: Any, *, frozen_edges: Any = None) -> Topology:
     -------
     Topology
     """
+    from ._arrangement_kernel import ring_orientation
+
     shapely = _shapely()
     T = shapely.GeometryType
     g = np.asarray(polygons, dtype=object)
@@ -284,11 +287,19 @@ def coverage_topology(polygons: Any, *, frozen_edges: Any = None) -> Topology:
         n_nodes=n_nodes,
         ring_offsets=(poly_off, geom_off),
         was_polygon=was_polygon,
+        ring_sign=ring_orientation(coords, np.asarray(ring_off, dtype=np.int64)),
     )
 
 
 def rebuild(topo: Topology, arcs: list[np.ndarray]) -> np.ndarray:
     """Polygons from (smoothed) arcs, in the topology's ring order."""
+    coords, offs = ring_coordinates(topo, arcs)
+    poly_off, geom_off = topo.ring_offsets
+    return assemble_polygons(coords, offs, poly_off, geom_off, topo.was_polygon)
+
+
+def ring_coordinates(topo: Topology, arcs: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+    """The rings rebuilt from (smoothed) arcs: closed coordinates and ring offsets."""
     ring_xy = []
     for runs in topo.rings:
         parts = []
@@ -302,8 +313,7 @@ def rebuild(topo: Topology, arcs: list[np.ndarray]) -> np.ndarray:
         ring_xy.append(np.vstack([ring, ring[:1]]))
     lens = np.array([len(x) for x in ring_xy], dtype=np.int64)
     offs = np.concatenate([[0], np.cumsum(lens)])
-    poly_off, geom_off = topo.ring_offsets
-    return assemble_polygons(np.concatenate(ring_xy), offs, poly_off, geom_off, topo.was_polygon)
+    return np.concatenate(ring_xy), offs
 
 
 def smooth_coverage(
@@ -358,7 +368,9 @@ def smooth_coverage(
     make_valid : bool
         Repair invalid input polygons with :func:`shapely.make_valid` instead of raising.
     validate : bool
-        Check the result with :func:`shapely.coverage_is_valid`.
+        Check the result with :func:`shapely.coverage_is_valid`. Its verdict is proven by
+        a compiled test of the arcs and nodes where it can be (:func:`certainly_valid`,
+        exact; the input is tested the same way) and asked of GEOS otherwise.
     full_output : bool
         Return a :class:`CoverageResult`.
     map_arcs : callable, optional
@@ -446,7 +458,14 @@ def smooth_coverage(
             if (full_output)
             else res
         )
-    input_valid = bool(shapely.coverage_is_valid(g, gap_width=gap_width))
+    # the compiled proof (certainly_valid) for the plain case; GEOS decides the rest
+    topo = coverage_topology(g) if (snap is None and gap_width == 0.0) else None
+    uses = _flat_uses(topo) if topo is not None else None
+    input_valid = topo is not None and certainly_valid(
+        topo.arcs, topo.loops, uses, _shells(topo), topo.ring_sign, g
+    )
+    if not input_valid:
+        input_valid = bool(shapely.coverage_is_valid(g, gap_width=gap_width))
     if input_valid:
         invalid, bad = None, np.zeros(len(g), dtype=bool)
     else:
@@ -457,7 +476,9 @@ def smooth_coverage(
         if invalid is not None
         else {}
     )
-    topo = coverage_topology(g, frozen_edges=invalid if bad.any() else None)
+    if topo is None or bad.any():
+        topo = coverage_topology(g, frozen_edges=invalid if bad.any() else None)
+        uses = None
     bounded = max_shift is not None or min_segment is not None  # every level tried at once
     initial = map_arcs(topo) if (map_arcs is not None and iterations > 0 and not bounded) else None
     smoothed, reductions = smooth_arcs(
@@ -470,12 +491,16 @@ def smooth_coverage(
         max_shift=max_shift,
         min_segment=min_segment,
     )
-    new = rebuild(topo, smoothed)
+    coords, offs = ring_coordinates(topo, smoothed)
+    poly_off, geom_off = topo.ring_offsets
+    new = assemble_polygons(coords, offs, poly_off, geom_off, topo.was_polygon)
     out[idx] = new
     a0 = shapely.area(g)
     a1 = shapely.area(new)
     change = float(np.max(np.abs(a1 - a0) / np.where(a0 > 0, a0, 1.0)))
-    valid = bool(shapely.coverage_is_valid(new)) if validate else None
+    valid = None
+    if validate:
+        valid = _output_valid(topo, uses, smoothed, coords, offs, new)
     res = wrap(out)
     if not full_output:
         return res
@@ -739,3 +764,183 @@ def smooth_arcs_bounded(
             return out, reductions
         frozen |= bad  # these arcs keep their input; resolve the others around them again
     raise AssertionError("unreachable: each round freezes one more arc")  # pragma: no cover
+
+
+def _shells(topo: Topology) -> np.ndarray:
+    """Per ring: whether it is the exterior ring of its polygon."""
+    poly_off = topo.ring_offsets[0]
+    shell = np.zeros(int(poly_off[-1]), dtype=bool)
+    shell[poly_off[:-1]] = True
+    return shell
+
+
+def _output_valid(topo, uses, smoothed, coords, offs, new) -> bool:
+    """:func:`shapely.coverage_is_valid` of the rebuilt polygons, proven when possible."""
+    import shapely
+
+    from ._arrangement_kernel import ring_orientation
+
+    if shapely.is_valid(new).all():
+        if uses is None:
+            uses = _flat_uses(topo)
+        ends = (
+            np.array([a[0] for a in topo.arcs]).reshape(-1, 2),
+            np.array([a[-1] for a in topo.arcs]).reshape(-1, 2),
+        )
+        sign = ring_orientation(coords, offs)
+        if certainly_valid(smoothed, topo.loops, uses, _shells(topo), sign, new, ends=ends):
+            return True
+    return bool(shapely.coverage_is_valid(new))
+
+
+def _flat_uses(topo: Topology) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Every (ring, arc, forward) use of the topology's rings, as three arrays."""
+    lens = np.fromiter((len(r) for r in topo.rings), dtype=np.int64, count=len(topo.rings))
+    flat = [u for r in topo.rings for u in r]
+    arc = np.fromiter((k for k, _ in flat), dtype=np.int64, count=len(flat))
+    fwd = np.fromiter((f for _, f in flat), dtype=bool, count=len(flat))
+    return np.repeat(np.arange(len(topo.rings)), lens), arc, fwd
+
+
+def _orient_signs(o, p, q) -> np.ndarray:
+    """Exact orientation signs of q against o -> p, row by row (filter, then rationals)."""
+    from ._arrangement_kernel import orient_exact
+    from ._simple_kernel import _CCW_ERR, _TINY
+
+    left = (o[:, 0] - q[:, 0]) * (p[:, 1] - q[:, 1])
+    right = (o[:, 1] - q[:, 1]) * (p[:, 0] - q[:, 0])
+    det = left - right
+    err = _CCW_ERR * (np.abs(left) + np.abs(right))
+    sign = np.where(det > err, 1, np.where(-det > err, -1, 0))
+    unsure = np.flatnonzero((sign == 0) | ~(np.abs(left) + np.abs(right) > _TINY))
+    for k in unsure:
+        sign[k] = orient_exact(o[k], p[k], q[k])
+    return sign
+
+
+def certainly_valid(arcs, loops, uses, shell, ring_sign, polygons, *, ends=None) -> bool:
+    """Whether the polygons rebuilt from `arcs` are proven to form a valid coverage.
+
+    A sufficient test of :func:`shapely.coverage_is_valid` (gap width 0) for valid
+    polygons whose rings are the arc sequences `uses` (``(ring, arc, forward)``); False
+    means "not proven" (ask GEOS). The polygons form a valid coverage (interiors
+    disjoint, shared borders with the same vertices) when
+
+    (a) the arcs meet only at shared end nodes: no crossing, touch or collinear overlap
+        anywhere else, and every arc is simple (:func:`_arrangement_kernel.meetings`,
+        exact);
+    (b) every arc is used by at most one ring with the interior on its left and at most
+        one with the interior on its right (``shell[r]`` and the ring's orientation
+        ``ring_sign[r]`` give the side);
+    (c) at every node, in the exact angular order of its half-edges, every wedge between
+        two consecutive half-edges is covered by as many polygons as seen from either of
+        them;
+    (d) one vertex of every connected component of the arcs lies in no polygon's interior.
+
+    With (a) the arcs form a plane graph, and the number ``c(e)`` of polygons whose
+    interior contains an arc ``e`` is constant along it. A wedge at a node is covered by
+    ``c(e) + L(e)`` polygons, ``L(e)`` those that use ``e`` with the interior on the
+    wedge's side, so (c) makes ``c`` equal on consecutive half-edges, hence constant on
+    each component, and (d) makes it 0. By (b) every face next to an arc is then covered
+    at most once: no overlaps. With (a) two segments of different polygons are equal or
+    meet only at a common vertex, so the borders match vertex for vertex. Conversely a
+    valid coverage passes, except where a vertex lies on another edge of its own polygon
+    (a hole touching its shell) or an exact sign is undecided: then GEOS decides.
+    `ends`: the arcs' input end nodes, which the output arcs must keep.
+    """
+    import shapely
+
+    from ._arrangement_kernel import MEET, meetings
+
+    n_arcs = len(arcs)
+    if n_arcs == 0 or np.any(ring_sign == 0):
+        return False
+    loops = np.asarray(loops, dtype=bool)
+    first = np.array([a[0] for a in arcs])
+    last = np.array([a[-1] for a in arcs])
+    if ends is not None and not (
+        np.array_equal(first[~loops], ends[0][~loops])
+        and np.array_equal(last[~loops], ends[1][~loops])
+    ):
+        return False
+    # (a)
+    X, off = _ragged(arcs, loops)
+    got = meetings(
+        X, off, loops, np.zeros(n_arcs, np.int64), np.ones(n_arcs, bool), self_pairs=True
+    )
+    if got is None or np.any(got[2] == MEET):
+        return False
+    # (b)
+    ring, arc, fwd = uses
+    inside_left = (shell == (ring_sign > 0))[ring] == fwd  # interior left of the arc
+    left = np.bincount(arc[inside_left], minlength=n_arcs)
+    right = np.bincount(arc[~inside_left], minlength=n_arcs)
+    if left.max() > 1 or right.max() > 1:
+        return False
+    # (c) half-edges at nodes: (node point, next vertex, arc, outgoing)
+    opn = np.flatnonzero(~loops)
+    lens = np.array([len(arcs[k]) for k in opn], dtype=np.int64)
+    if np.any(lens < 2):
+        return False
+    nxt = np.array([arcs[k][1] for k in opn]).reshape(-1, 2)
+    prv = np.array([arcs[k][-2] for k in opn]).reshape(-1, 2)
+    node_xy = np.concatenate([first[opn], last[opn]])
+    dir_xy = np.concatenate([nxt, prv])
+    h_arc = np.concatenate([opn, opn])
+    h_out = np.concatenate([np.ones(len(opn), bool), np.zeros(len(opn), bool)])
+    if len(h_arc):
+        upper = (dir_xy[:, 1] > node_xy[:, 1]) | (
+            (dir_xy[:, 1] == node_xy[:, 1]) & (dir_xy[:, 0] > node_xy[:, 0])
+        )
+        ang = np.arctan2(dir_xy[:, 1] - node_xy[:, 1], dir_xy[:, 0] - node_xy[:, 0])
+        ang = np.where(ang < 0.0, ang + 2.0 * np.pi, ang)  # [0, 2 pi), as the halves
+        order = np.lexsort((ang, ~upper, node_xy[:, 1], node_xy[:, 0]))
+        node_xy, dir_xy, h_arc, h_out, upper = (
+            node_xy[order], dir_xy[order], h_arc[order], h_out[order], upper[order]
+        )  # fmt: skip
+        new = np.ones(len(h_arc), bool)
+        new[1:] = np.any(node_xy[1:] != node_xy[:-1], axis=1)
+        node_id = np.cumsum(new) - 1
+        start = np.flatnonzero(new)
+        deg = np.diff(np.append(start, len(h_arc)))
+        if deg.min() < 2:
+            return False
+        # exact order check of consecutive half-edges of a node
+        same = ~new[1:]
+        i = np.flatnonzero(same)
+        if len(i):
+            ok_half = upper[i] >= upper[i + 1]  # upper half first
+            both = upper[i] == upper[i + 1]
+            sgn = _orient_signs(node_xy[i], dir_xy[i], dir_xy[i + 1])
+            if not np.all(ok_half & (~both | (sgn > 0))):
+                return False
+        # wedge from half-edge h to the next one (cyclically) at its node
+        nxt_h = np.arange(len(h_arc)) + 1
+        end = start + deg
+        wrap = nxt_h == end[node_id]
+        nxt_h[wrap] = start[node_id[wrap]]
+        seen_here = np.where(h_out, left[h_arc], right[h_arc])  # wedge left of outgoing h
+        seen_next = np.where(h_out[nxt_h], right[h_arc[nxt_h]], left[h_arc[nxt_h]])
+        if not np.array_equal(seen_here, seen_next):
+            return False
+    # (d) one vertex per connected component of the arc graph
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
+    pts = np.concatenate([first[opn], last[opn]])
+    _, pid = np.unique(pts, axis=0, return_inverse=True)
+    pid = pid.reshape(-1)
+    n_nodes = int(pid.max()) + 1 if len(pid) else 0
+    reps = [first[loops]]
+    if n_nodes:
+        m = len(opn)
+        graph = coo_matrix((np.ones(m), (pid[:m], pid[m:])), shape=(n_nodes, n_nodes))
+        _, comp = connected_components(graph, directed=False)
+        _, one = np.unique(comp, return_index=True)
+        node_pts = np.empty((n_nodes, 2))
+        node_pts[pid] = pts
+        reps.append(node_pts[one])
+    probe = shapely.points(np.concatenate(reps))
+    tree = shapely.STRtree(np.asarray(polygons, dtype=object))
+    hit = tree.query(probe, predicate="within")
+    return hit.shape[1] == 0
