@@ -405,3 +405,73 @@ def test_smooth_coverage_verdicts_are_geos_verdicts():
         res = geo.smooth_coverage(polys, iterations=2, full_output=True)
         assert res.input_coverage_valid == bool(shapely.coverage_is_valid(polys))
         assert res.coverage_valid == bool(shapely.coverage_is_valid(res.geometry))
+
+
+# ------------------------------------------------------------- the engine's first round
+
+
+def _geos_pairs(geoms, grp, changed):
+    """The GEOS path of _conflicts for a full round: intersecting pairs and relate."""
+    tree = shapely.STRtree(geoms)
+    qi, qj = tree.query(geoms, predicate="intersects")
+    keep = (qi != qj) & (grp[qi] == grp[qj]) & (changed[qi] | changed[qj])
+    a, b = np.minimum(qi[keep], qj[keep]), np.maximum(qi[keep], qj[keep])
+    pairs = np.unique(np.stack([a, b], axis=1), axis=0).reshape(-1, 2)
+    a, b = pairs[:, 0], pairs[:, 1]
+    closed = shapely.is_closed(geoms)
+    plain = ~(closed[a] | closed[b])
+    hit = np.zeros(len(a), dtype=bool)
+    hit[plain] = ~shapely.relate_pattern(geoms[a[plain]], geoms[b[plain]], "FF*F*****")
+    return a, b, hit
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_compiled_pairs_are_the_geos_pairs(seed):
+    """_meeting_pairs gives the same pairs and verdicts as the STRtree + relate path, on
+    random walks (shared ends, overlaps, crossings, closed pieces, loops)."""
+    from curvesmith.geo._engine import _meeting_pairs, _Piece
+
+    rng = np.random.default_rng(seed)
+    lines = _random_polylines(rng, 150, 12, 15)
+    loop = rng.uniform(size=len(lines)) < 0.1
+    for k in np.flatnonzero(loop):
+        if len(lines[k]) >= 3:
+            lines[k] = np.vstack([lines[k], lines[k][:1]])
+        else:
+            loop[k] = False
+    geoms = shapely.linestrings(
+        np.concatenate(lines), indices=np.repeat(np.arange(len(lines)), [len(x) for x in lines])
+    )
+    pieces = [_Piece(k, 0, len(x) - 1, bool(loop[k]), 0) for k, x in enumerate(lines)]
+    grp = rng.integers(0, 3, len(lines))
+    changed = rng.uniform(size=len(lines)) < 0.8
+    closed = shapely.is_closed(geoms)
+    a, b, hit = _meeting_pairs(geoms, pieces, grp, changed, closed)
+    ra, rb, rhit = _geos_pairs(geoms, grp, changed)
+    assert np.array_equal(a, ra) and np.array_equal(b, rb)
+    assert np.array_equal(hit, rhit)
+    assert len(a) > 100 and rhit.sum() > 20
+
+
+def test_compiled_pairs_on_smoothed_county_arcs():
+    """The same on the smoothed arcs of three states' counties (the real first round)."""
+    from curvesmith.geo._coverage import smooth_arc_blocks
+    from curvesmith.geo._engine import _meeting_pairs, _Piece
+
+    g = geo.us_counties(states=["19", "31", "20"]).to_crs("EPSG:5070").geometry.values
+    topo = C.coverage_topology(np.asarray(g, dtype=object))
+    arcs, _ = smooth_arc_blocks(
+        topo.arcs, topo.loops, topo.frozen, method="cca", iterations=3, alpha="regular"
+    )
+    pts = [np.vstack([x, x[:1]]) if lp else x for x, lp in zip(arcs, topo.loops, strict=True)]
+    geoms = shapely.linestrings(
+        np.concatenate(pts), indices=np.repeat(np.arange(len(pts)), [len(x) for x in pts])
+    )
+    pieces = [_Piece(k, 0, len(x), bool(topo.loops[k]), 0) for k, x in enumerate(arcs)]
+    n = len(pieces)
+    grp, changed = np.zeros(n, int), np.ones(n, bool)
+    closed = shapely.is_closed(geoms)
+    a, b, hit = _meeting_pairs(geoms, pieces, grp, changed, closed)
+    ra, rb, rhit = _geos_pairs(geoms, grp, changed)
+    assert np.array_equal(a, ra) and np.array_equal(b, rb) and np.array_equal(hit, rhit)
+    assert len(a) > 1000

@@ -4,10 +4,9 @@ Given many polylines, find the pairs of segments that meet anywhere other than a
 vertex both are allowed to share: the end vertices of two different open polylines (a
 node of a coverage, the shared end of two pieces of an arc), the common vertex of two
 consecutive segments of one polyline, and the closing vertex of a closed one. The
-segments go into a uniform grid (every cell its box covers, filled in increasing
-``x0`` so that each cell's list is sorted); the pairs of a cell are swept in ``x`` and
-each pair is compared in the one cell that holds the lower-left corner of the
-intersection of the two boxes, so it is compared once.
+segments are boxed in chunks of consecutive ones, the chunks go into a uniform grid,
+and of every pair of chunks whose boxes meet the segments that reach the other box are
+compared (:func:`segment_meetings`).
 
 Every decision is exact or "doubtful": the orientation signs come from Shewchuk's
 filtered determinant (:func:`curvesmith.geo._simple_kernel._orient`, a sign it cannot
@@ -130,6 +129,93 @@ def _allowed(X, offsets, p, i, q, j, loop):
     return ok
 
 
+#: Consecutive segments of a polyline are boxed together in chunks of this many.
+CHUNK = 16
+
+
+@njit(cache=True, nogil=True)
+def _grow(rec):
+    bigger = np.empty((2 * rec.shape[0], 3), dtype=np.int64)
+    bigger[: rec.shape[0]] = rec
+    return bigger
+
+
+@njit(cache=True, nogil=True)
+def _seg_box_meets(X, t, x0, x1, y0, y1):
+    return (
+        min(X[t, 0], X[t + 1, 0]) <= x1
+        and max(X[t, 0], X[t + 1, 0]) >= x0
+        and min(X[t, 1], X[t + 1, 1]) <= y1
+        and max(X[t, 1], X[t + 1, 1]) >= y0
+    )
+
+
+@njit(cache=True, nogil=True)
+def _compare(X, offsets, loop, p, ta, q, tb):
+    """The verdict on segments ``ta`` (of polyline p) and ``tb`` (of q).
+
+    -1: nothing to record (boxes apart, disjoint, or an allowed contact within one
+    polyline).
+    """
+    if not _seg_box_meets(
+        X, tb, min(X[ta, 0], X[ta + 1, 0]), max(X[ta, 0], X[ta + 1, 0]),
+        min(X[ta, 1], X[ta + 1, 1]), max(X[ta, 1], X[ta + 1, 1]),
+    ):  # fmt: skip
+        return -1
+    if ta > tb:
+        ta, tb = tb, ta
+        p, q = q, p
+    ok = _allowed(X, offsets, p, ta, q, tb, loop)
+    v = classify(X[ta, 0], X[ta, 1], X[ta + 1, 0], X[ta + 1, 1],
+                 X[tb, 0], X[tb, 1], X[tb + 1, 0], X[tb + 1, 1], ok)  # fmt: skip
+    if v == DISJOINT or (v == TOUCH and p == q):
+        return -1
+    return v
+
+
+@njit(cache=True, nogil=True)
+def _within_chunks(X, offsets, loop, group, c0, c1, cp, rec, nrec):
+    """The meetings of segment pairs within one chunk, appended to ``rec[:nrec]``."""
+    buf = np.empty((CHUNK * CHUNK, 2), dtype=np.int64)
+    for c in range(c0.shape[0]):
+        p = cp[c]
+        if group[p] < 0:
+            continue
+        nb = 0  # consecutive segments: they overlap only along one ray
+        for ta in range(c0[c], c1[c] - 1):
+            tb = ta + 1
+            v = _same_ray(X[tb, 0], X[tb, 1], X[ta, 0], X[ta, 1], X[tb + 1, 0], X[tb + 1, 1])
+            zero = (X[ta, 0] == X[tb, 0] and X[ta, 1] == X[tb, 1]) or (
+                X[tb, 0] == X[tb + 1, 0] and X[tb, 1] == X[tb + 1, 1]
+            )
+            if v != 0 or zero:
+                buf[nb, 0] = ta
+                buf[nb, 1] = MEET if (v == 1 and not zero) else DOUBT
+                nb += 1
+        for u in range(nb):
+            if nrec == rec.shape[0]:
+                rec = _grow(rec)
+            rec[nrec, 0], rec[nrec, 1], rec[nrec, 2] = buf[u, 0], buf[u, 0] + 1, buf[u, 1]
+            nrec += 1
+        nb = 0  # non-consecutive pairs with meeting boxes, compared after the scan
+        for ta in range(c0[c], c1[c] - 2):
+            x0, x1 = min(X[ta, 0], X[ta + 1, 0]), max(X[ta, 0], X[ta + 1, 0])
+            y0, y1 = min(X[ta, 1], X[ta + 1, 1]), max(X[ta, 1], X[ta + 1, 1])
+            for tb in range(ta + 2, c1[c]):
+                if _seg_box_meets(X, tb, x0, x1, y0, y1):
+                    buf[nb, 0], buf[nb, 1] = ta, tb
+                    nb += 1
+        for u in range(nb):
+            ta, tb = buf[u, 0], buf[u, 1]
+            v = _compare(X, offsets, loop, p, ta, p, tb)
+            if v >= 0:
+                if nrec == rec.shape[0]:
+                    rec = _grow(rec)
+                rec[nrec, 0], rec[nrec, 1], rec[nrec, 2] = ta, tb, v
+                nrec += 1
+    return rec, nrec
+
+
 @njit(cache=True, nogil=True)
 def segment_meetings(X, offsets, loop, group, need, self_pairs):
     """Segment pairs of the polylines that meet (MEET, DOUBT or TOUCH).
@@ -140,55 +226,65 @@ def segment_meetings(X, offsets, loop, group, need, self_pairs):
     segments of one polyline are compared too. ``loop[p]``: a closed loop without a node,
     whose vertices no other polyline may share.
 
+    Consecutive segments are boxed in chunks of `CHUNK`; the chunks go into a uniform grid
+    (every cell their box covers, each cell's list in increasing ``x0``), the chunk pairs
+    of a cell are swept in x and compared in the one cell that holds the lower-left corner
+    of the overlap of their boxes, and of a chunk pair only the segments that reach the
+    other chunk's box are compared.
+
     Returns ``(ok, seg_a, seg_b, verdict)``: ``ok`` is False when a coordinate is not
     finite or too large for the filter (nothing was compared); segments are numbered by
     their first vertex's row in `X` (``seg_a < seg_b``). The allowed contacts of a
     polyline with itself (TOUCH) are not returned.
     """
     npoly = offsets.shape[0] - 1
-    nseg = 0
+    nch = 0
     for p in range(npoly):
-        nseg += max(offsets[p + 1] - offsets[p] - 1, 0)
-    seg = np.empty(nseg, dtype=np.int64)
-    own = np.empty(nseg, dtype=np.int64)
+        nseg = offsets[p + 1] - offsets[p] - 1
+        if nseg > 0:
+            nch += (nseg + CHUNK - 1) // CHUNK
+    rec = np.empty((1024, 3), dtype=np.int64)
+    if nch == 0:
+        return True, rec[:0, 0].copy(), rec[:0, 1].copy(), rec[:0, 2].astype(np.int8)
+    c0 = np.empty(nch, dtype=np.int64)  # first segment (row) of the chunk
+    c1 = np.empty(nch, dtype=np.int64)  # one past its last segment
+    cp = np.empty(nch, dtype=np.int64)  # its polyline
+    bx0 = np.empty(nch)
+    bx1 = np.empty(nch)
+    by0 = np.empty(nch)
+    by1 = np.empty(nch)
     k = 0
-    for p in range(npoly):
-        for t in range(offsets[p], offsets[p + 1] - 1):
-            seg[k] = t
-            own[k] = p
-            k += 1
-    empty = np.empty(0, dtype=np.int64)
-    if nseg == 0:
-        return True, empty, empty.copy(), np.empty(0, dtype=np.int8)
-    bx0 = np.empty(nseg)
-    bx1 = np.empty(nseg)
-    by0 = np.empty(nseg)
-    by1 = np.empty(nseg)
     gx0, gx1, gy0, gy1 = np.inf, -np.inf, np.inf, -np.inf
     ext = 0.0
-    for s in range(nseg):
-        t = seg[s]
-        xa, ya, xb, yb = X[t, 0], X[t, 1], X[t + 1, 0], X[t + 1, 1]
-        if not (abs(xa) < _BIG and abs(ya) < _BIG and abs(xb) < _BIG and abs(yb) < _BIG):
-            return False, empty, empty.copy(), np.empty(0, dtype=np.int8)
-        bx0[s], bx1[s] = min(xa, xb), max(xa, xb)
-        by0[s], by1[s] = min(ya, yb), max(ya, yb)
-        gx0, gx1 = min(gx0, bx0[s]), max(gx1, bx1[s])
-        gy0, gy1 = min(gy0, by0[s]), max(gy1, by1[s])
-        ext += max(bx1[s] - bx0[s], by1[s] - by0[s])
-    # cell size: twice the mean segment extent, and at most ~2 cells per segment
+    for p in range(npoly):
+        for t0 in range(offsets[p], offsets[p + 1] - 1, CHUNK):
+            t1 = min(t0 + CHUNK, offsets[p + 1] - 1)
+            x0, x1, y0, y1 = np.inf, -np.inf, np.inf, -np.inf
+            for t in range(t0, t1 + 1):
+                xt, yt = X[t, 0], X[t, 1]
+                if not (abs(xt) < _BIG and abs(yt) < _BIG):
+                    return False, rec[:0, 0].copy(), rec[:0, 1].copy(), rec[:0, 2].astype(np.int8)
+                x0, x1 = min(x0, xt), max(x1, xt)
+                y0, y1 = min(y0, yt), max(y1, yt)
+            c0[k], c1[k], cp[k] = t0, t1, p
+            bx0[k], bx1[k], by0[k], by1[k] = x0, x1, y0, y1
+            gx0, gx1 = min(gx0, x0), max(gx1, x1)
+            gy0, gy1 = min(gy0, y0), max(gy1, y1)
+            ext += max(x1 - x0, y1 - y0)
+            k += 1
+    # cell size: twice the mean chunk extent, and at most ~4 cells per chunk
     w, hgt = gx1 - gx0, gy1 - gy0
-    h = max(2.0 * ext / nseg, np.sqrt(w * hgt / (2.0 * nseg)), 1e-300)
+    h = max(2.0 * ext / nch, np.sqrt(w * hgt / (4.0 * nch)), 1e-300)
     nx = min(int(w / h) + 1, 1 << 15)
     ny = min(int(hgt / h) + 1, 1 << 15)
     hx = max(w / nx, 1e-300) * (1.0 + 1e-12)
     hy = max(hgt / ny, 1e-300) * (1.0 + 1e-12)
     cnt = np.zeros(nx * ny + 1, dtype=np.int64)
-    for s in range(nseg):
-        i0 = min(int((bx0[s] - gx0) / hx), nx - 1)
-        i1 = min(int((bx1[s] - gx0) / hx), nx - 1)
-        j0 = min(int((by0[s] - gy0) / hy), ny - 1)
-        j1 = min(int((by1[s] - gy0) / hy), ny - 1)
+    for c in range(nch):
+        i0 = min(int((bx0[c] - gx0) / hx), nx - 1)
+        i1 = min(int((bx1[c] - gx0) / hx), nx - 1)
+        j0 = min(int((by0[c] - gy0) / hy), ny - 1)
+        j1 = min(int((by1[c] - gy0) / hy), ny - 1)
         for j in range(j0, j1 + 1):
             for i in range(i0, i1 + 1):
                 cnt[j * nx + i + 1] += 1
@@ -196,73 +292,70 @@ def segment_meetings(X, offsets, loop, group, need, self_pairs):
         cnt[c + 1] += cnt[c]
     ent = np.empty(cnt[nx * ny], dtype=np.int64)
     fill = cnt[:-1].copy()
-    for s in np.argsort(bx0, kind="mergesort"):
-        i0 = min(int((bx0[s] - gx0) / hx), nx - 1)
-        i1 = min(int((bx1[s] - gx0) / hx), nx - 1)
-        j0 = min(int((by0[s] - gy0) / hy), ny - 1)
-        j1 = min(int((by1[s] - gy0) / hy), ny - 1)
+    for c in np.argsort(bx0, kind="mergesort"):
+        i0 = min(int((bx0[c] - gx0) / hx), nx - 1)
+        i1 = min(int((bx1[c] - gx0) / hx), nx - 1)
+        j0 = min(int((by0[c] - gy0) / hy), ny - 1)
+        j1 = min(int((by1[c] - gy0) / hy), ny - 1)
         for j in range(j0, j1 + 1):
             for i in range(i0, i1 + 1):
-                c = j * nx + i
-                ent[fill[c]] = s
-                fill[c] += 1
-    cap = 1024
-    ra = np.empty(cap, dtype=np.int64)
-    rb = np.empty(cap, dtype=np.int64)
-    rv = np.empty(cap, dtype=np.int8)
+                cell = j * nx + i
+                ent[fill[cell]] = c
+                fill[cell] += 1
     nrec = 0
-    for c in range(nx * ny):
-        e0, e1 = cnt[c], cnt[c + 1]
-        ci, cj = c % nx, c // nx
+    buf_a = np.empty(CHUNK, dtype=np.int64)
+    buf_b = np.empty(CHUNK, dtype=np.int64)
+    if self_pairs:  # the segment pairs within one chunk
+        rec, nrec = _within_chunks(X, offsets, loop, group, c0, c1, cp, rec, nrec)
+    for cell in range(nx * ny):
+        e0, e1 = cnt[cell], cnt[cell + 1]
+        ci, cj = cell % nx, cell // nx
         for m in range(e0, e1):
-            s = ent[m]
-            p = own[s]
+            a = ent[m]
+            p = cp[a]
             gp = group[p]
             if gp < 0:
                 continue
             for n in range(m + 1, e1):
-                u = ent[n]
-                if bx0[u] > bx1[s]:
+                b = ent[n]
+                if bx0[b] > bx1[a]:
                     break
-                if by0[u] > by1[s] or by1[u] < by0[s]:
+                if by0[b] > by1[a] or by1[b] < by0[a]:
                     continue
-                q = own[u]
+                q = cp[b]
                 if p == q:
                     if not self_pairs:
                         continue
                 elif group[q] != gp or not (need[p] or need[q]):
                     continue
                 # compare the pair only in the cell of the lower-left corner of the overlap
-                lx = max(bx0[s], bx0[u])
-                ly = max(by0[s], by0[u])
+                lx = max(bx0[a], bx0[b])
+                ly = max(by0[a], by0[b])
                 if min(int((lx - gx0) / hx), nx - 1) != ci:
                     continue
                 if min(int((ly - gy0) / hy), ny - 1) != cj:
                     continue
-                ta, tb = seg[s], seg[u]
-                pa, pb = p, q
-                if ta > tb:
-                    ta, tb = tb, ta
-                    pa, pb = q, p
-                ok = _allowed(X, offsets, pa, ta, pb, tb, loop)
-                v = classify(X[ta, 0], X[ta, 1], X[ta + 1, 0], X[ta + 1, 1],
-                             X[tb, 0], X[tb, 1], X[tb + 1, 0], X[tb + 1, 1], ok)  # fmt: skip
-                if v == DISJOINT or (v == TOUCH and pa == pb):
-                    continue
-                if nrec == cap:
-                    cap *= 2
-                    ra2 = np.empty(cap, dtype=np.int64)
-                    rb2 = np.empty(cap, dtype=np.int64)
-                    rv2 = np.empty(cap, dtype=np.int8)
-                    ra2[:nrec] = ra[:nrec]
-                    rb2[:nrec] = rb[:nrec]
-                    rv2[:nrec] = rv[:nrec]
-                    ra, rb, rv = ra2, rb2, rv2
-                ra[nrec] = ta
-                rb[nrec] = tb
-                rv[nrec] = v
-                nrec += 1
-    return True, ra[:nrec].copy(), rb[:nrec].copy(), rv[:nrec].copy()
+                na = 0
+                for t in range(c0[a], c1[a]):
+                    if _seg_box_meets(X, t, bx0[b], bx1[b], by0[b], by1[b]):
+                        buf_a[na] = t
+                        na += 1
+                nb = 0
+                for t in range(c0[b], c1[b]):
+                    if _seg_box_meets(X, t, bx0[a], bx1[a], by0[a], by1[a]):
+                        buf_b[nb] = t
+                        nb += 1
+                for u in range(na):
+                    for w_ in range(nb):
+                        ta, tb = buf_a[u], buf_b[w_]
+                        v = _compare(X, offsets, loop, p, ta, q, tb)
+                        if v >= 0:
+                            if nrec == rec.shape[0]:
+                                rec = _grow(rec)
+                            rec[nrec, 0], rec[nrec, 1] = min(ta, tb), max(ta, tb)
+                            rec[nrec, 2] = v
+                            nrec += 1
+    return True, rec[:nrec, 0].copy(), rec[:nrec, 1].copy(), rec[:nrec, 2].astype(np.int8)
 
 
 @njit(cache=True, nogil=True)

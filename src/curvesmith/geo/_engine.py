@@ -45,6 +45,9 @@ MAX_ROUNDS = 200
 MARGIN_EDGE = 1e-3
 #: Clearance margin, as a fraction of the two pieces' distance in the input.
 MARGIN_GAP = 0.5
+#: From this many pieces on, a full round's pairs are found by the compiled arrangement
+#: (:mod:`curvesmith.geo._arrangement_kernel`) instead of GEOS' STRtree and relate.
+COMPILED_PAIRS = 64
 
 
 @dataclass(frozen=True)
@@ -356,24 +359,31 @@ def _conflicts(
                 bad.add(int(k))
     # pairs
     tree = shapely.STRtree(geoms)
-    qi, qj = tree.query(geoms[to_check], predicate="intersects")
-    qi = to_check[qi]
-    keep = (qi != qj) & (grp[qi] == grp[qj]) & (changed[qi] | changed[qj])
-    qi, qj = qi[keep], qj[keep]
     bad |= _near_contacts(
         pieces, arcs, geoms, tree, to_check, grp, changed, input_geom, scale[arc_of]
     )
-    if len(qi) == 0:
-        return bad
-    a, b = np.minimum(qi, qj), np.maximum(qi, qj)
-    pairs = np.unique(np.stack([a, b], axis=1), axis=0)
-    a, b = pairs[:, 0], pairs[:, 1]
     closed = shapely.is_closed(geoms)
+    found = None
+    if len(to_check) == len(pieces) and len(pieces) >= COMPILED_PAIRS:
+        found = _meeting_pairs(geoms, pieces, grp, changed, closed)
+    if found is not None:
+        a, b, hit = found
+    else:
+        qi, qj = tree.query(geoms[to_check], predicate="intersects")
+        qi = to_check[qi]
+        keep = (qi != qj) & (grp[qi] == grp[qj]) & (changed[qi] | changed[qj])
+        qi, qj = qi[keep], qj[keep]
+        if len(qi) == 0:
+            return bad
+        a, b = np.minimum(qi, qj), np.maximum(qi, qj)
+        pairs = np.unique(np.stack([a, b], axis=1), axis=0)
+        a, b = pairs[:, 0], pairs[:, 1]
+        hit = np.zeros(len(a), dtype=bool)
+        # open pieces may only share end points: no interior meets anything of the other
+        plain = ~(closed[a] | closed[b])
+        if plain.any():
+            hit[plain] = ~shapely.relate_pattern(geoms[a[plain]], geoms[b[plain]], "FF*F*****")
     plain = ~(closed[a] | closed[b])
-    hit = np.zeros(len(a), dtype=bool)
-    # open pieces may only share end points: no interior meets anything of the other
-    if plain.any():
-        hit[plain] = ~shapely.relate_pattern(geoms[a[plain]], geoms[b[plain]], "FF*F*****")
     # a closed piece (a loop, or an arc from a node back to it) may share its node
     rest_idx = np.nonzero(~plain)[0]
     if len(rest_idx):
@@ -406,6 +416,40 @@ def _conflicts(
         if changed[j]:
             bad.add(int(j))
     return bad
+
+
+def _meeting_pairs(geoms, pieces, grp, changed, closed):
+    """The pairs of a full round that meet, and which of them conflict: ``(a, b, hit)``.
+
+    What the STRtree ``intersects`` query and ``relate_pattern(.., "FF*F*****")`` give
+    (pairs ``a < b`` of one group, one of them changed, that intersect; `hit` for two
+    open pieces meeting other than at common end points), found by the exact compiled
+    arrangement (:func:`curvesmith.geo._arrangement_kernel.meetings`). Pairs with a
+    closed piece are left to the caller (their `hit` is False here). None when the
+    kernel cannot decide (the caller asks GEOS).
+    """
+    import shapely
+
+    from ._arrangement_kernel import MEET, meetings
+
+    xy, owner = shapely.get_coordinates(geoms, return_index=True)
+    off = np.zeros(len(geoms) + 1, dtype=np.int64)
+    np.cumsum(np.bincount(owner, minlength=len(geoms)), out=off[1:])
+    loop = np.fromiter((p.loop for p in pieces), dtype=bool, count=len(pieces))
+    got = meetings(xy, off, loop, grp, changed, self_pairs=False)
+    if got is None:
+        return None
+    sa, sb, v = got
+    pa = owner[sa]
+    pb = owner[sb]
+    lo, hi = np.minimum(pa, pb), np.maximum(pa, pb)
+    key = lo * len(geoms) + hi
+    uk, inv = np.unique(key, return_inverse=True)
+    hit = np.zeros(len(uk), dtype=bool)
+    np.logical_or.at(hit, inv.reshape(-1), v == MEET)
+    a, b = uk // len(geoms), uk % len(geoms)
+    hit &= ~(closed[a] | closed[b])
+    return a, b, hit
 
 
 def _near_contacts(
