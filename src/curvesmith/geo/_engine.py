@@ -305,9 +305,12 @@ def resolve_arcs(
         if len(plist) == 1 and plist[0].loop:
             out.append(smoothed_piece(plist[0]))
             continue
-        parts = [smoothed_piece(plist[0])]
-        parts += [smoothed_piece(p)[1:] for p in plist[1:]]
-        xy = np.vstack(parts)
+        if len(plist) == 1:
+            xy = smoothed_piece(plist[0])
+        else:
+            parts = [smoothed_piece(plist[0])]
+            parts += [smoothed_piece(p)[1:] for p in plist[1:]]
+            xy = np.concatenate(parts)
         if loops[i]:
             xy = xy[:-1]
         out.append(xy)
