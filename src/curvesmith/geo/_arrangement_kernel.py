@@ -483,3 +483,40 @@ def meetings(X, offsets, loop, group, need, *, self_pairs: bool):
         keep = v != DISJOINT
         sa, sb, v = sa[keep], sb[keep], v[keep]
     return sa, sb, v
+
+
+@njit(cache=True, nogil=True)
+def gather_rings(A, a_off, loops, use_arc, use_fwd, ring_off_uses):
+    """Closed rings from the arcs ``A[a_off[k]:a_off[k + 1]]``: ``(coordinates, offsets)``.
+
+    Ring ``r`` is its uses ``ring_off_uses[r] .. ring_off_uses[r + 1] - 1`` in order: arc
+    ``use_arc[u]``, reversed unless ``use_fwd[u]``, without its last vertex unless it is
+    a loop; then its first vertex again.
+    """
+    n_rings = ring_off_uses.shape[0] - 1
+    offs = np.zeros(n_rings + 1, dtype=np.int64)
+    for r in range(n_rings):
+        n = 1
+        for u in range(ring_off_uses[r], ring_off_uses[r + 1]):
+            k = use_arc[u]
+            n += a_off[k + 1] - a_off[k] - (0 if loops[k] else 1)
+        offs[r + 1] = offs[r] + n
+    out = np.empty((offs[n_rings], 2))
+    for r in range(n_rings):
+        w = offs[r]
+        for u in range(ring_off_uses[r], ring_off_uses[r + 1]):
+            k = use_arc[u]
+            s, e = a_off[k], a_off[k + 1]
+            m = e - s - (0 if loops[k] else 1)
+            if use_fwd[u]:
+                for t in range(m):
+                    out[w + t, 0] = A[s + t, 0]
+                    out[w + t, 1] = A[s + t, 1]
+            else:
+                for t in range(m):
+                    out[w + t, 0] = A[e - 1 - t, 0]
+                    out[w + t, 1] = A[e - 1 - t, 1]
+            w += m
+        out[w, 0] = out[offs[r], 0]
+        out[w, 1] = out[offs[r], 1]
+    return out, offs

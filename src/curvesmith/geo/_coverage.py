@@ -331,26 +331,19 @@ def ring_coordinates(
     without its last vertex (the next arc's first) unless it is a loop, and the ring's
     first vertex again at the end. `uses`: :func:`_flat_uses` of the topology.
     """
+    from ._arrangement_kernel import gather_rings
+
     ring, arc, fwd = _flat_uses(topo) if uses is None else uses
     n_rings = len(topo.rings)
     lens = np.fromiter((len(x) for x in arcs), dtype=np.int64, count=len(arcs))
     a_off = np.zeros(len(arcs) + 1, dtype=np.int64)
     np.cumsum(lens, out=a_off[1:])
     allxy = np.concatenate(arcs) if len(arcs) else np.empty((0, 2))
-    cnt = lens[arc] - (~topo.loops[arc]).astype(np.int64)
-    u_off = np.cumsum(cnt) - cnt
-    t = np.arange(int(cnt.sum())) - np.repeat(u_off, cnt)
-    first = np.repeat(a_off[arc], cnt)
-    src = np.where(np.repeat(fwd, cnt), first + t, first + np.repeat(lens[arc] - 1, cnt) - t)
-    body_ring = np.repeat(ring, cnt)
-    r_len = np.bincount(body_ring, minlength=n_rings) + 1
-    offs = np.zeros(n_rings + 1, dtype=np.int64)
-    np.cumsum(r_len, out=offs[1:])
-    rows = np.empty(int(offs[-1]), dtype=np.int64)
-    rows[np.arange(len(src)) + body_ring] = src
-    body_first = offs[:-1] - np.arange(n_rings)  # each ring's first body row in `src`
-    rows[offs[1:] - 1] = src[body_first]
-    return allxy[rows], offs
+    u_off = np.searchsorted(ring, np.arange(n_rings + 1))
+    return gather_rings(
+        np.ascontiguousarray(allxy, dtype=np.float64), a_off, np.asarray(topo.loops, bool),
+        arc, fwd, u_off,
+    )  # fmt: skip
 
 
 def smooth_coverage(

@@ -211,17 +211,21 @@ def resolve_arcs(
             for key, out in zip(group, batch(pts, loop, levels[lev]), strict=True):
                 cache[key] = out
 
-    def geoms_of(plist: list[_Piece]) -> np.ndarray:
+    def geoms_of(plist: list[_Piece], ragged: dict | None = None) -> np.ndarray:
+        """LineStrings of the pieces (`ragged` receives their coordinates and offsets)."""
         if batch is not None:
             smooth_missing(plist)
         pts = []
         for p in plist:
             xy = smoothed_piece(p)
             pts.append(np.vstack([xy, xy[:1]]) if p.loop else xy)
-        lens = [len(x) for x in pts]
-        return shapely.linestrings(
-            np.concatenate(pts), indices=np.repeat(np.arange(len(pts)), lens)
-        )
+        lens = np.fromiter((len(x) for x in pts), dtype=np.int64, count=len(pts))
+        xy = np.concatenate(pts)
+        if ragged is not None:
+            ragged["off"] = np.zeros(len(pts) + 1, dtype=np.int64)
+            np.cumsum(lens, out=ragged["off"][1:])
+            ragged["xy"] = xy
+        return shapely.linestrings(xy, indices=np.repeat(np.arange(len(pts)), lens))
 
     simple_orig: dict[tuple[int, int, int, bool], bool] = {}
     in_geom: dict[tuple[int, int, int, bool], Any] = {}
@@ -250,13 +254,15 @@ def resolve_arcs(
             simple_orig[key] = val
         return val
 
-    geoms = geoms_of(pieces)
+    ragged: dict | None = {}
+    geoms = geoms_of(pieces, ragged)
     to_check = np.arange(len(pieces))
     for _ in range(MAX_ROUNDS):
         bad = _conflicts(
             pieces, arcs, geoms, to_check, groups, top, check_simple, original_simple, input_geom,
-            scale,
+            scale, ragged,
         )  # fmt: skip
+        ragged = None  # the coordinates of the first round's pieces
         if not bad:
             break
         changed = []
@@ -341,9 +347,22 @@ def _mean_edge(xy: np.ndarray, loop: bool) -> float:
 
 
 def _conflicts(
-    pieces, arcs, geoms, to_check, groups, top, check_simple, original_simple, input_geom, scale
+    pieces,
+    arcs,
+    geoms,
+    to_check,
+    groups,
+    top,
+    check_simple,
+    original_simple,
+    input_geom,
+    scale,
+    ragged=None,
 ) -> set[int]:
-    """Indices of pieces in a new crossing, self-intersection or near-contact (margin)."""
+    """Indices of pieces in a new crossing, self-intersection or near-contact (margin).
+
+    `ragged`: the pieces' coordinates and offsets, when at hand.
+    """
     import shapely
 
     bad: set[int] = set()
@@ -368,7 +387,7 @@ def _conflicts(
     closed = shapely.is_closed(geoms)
     found = None
     if len(to_check) == len(pieces) and len(pieces) >= COMPILED_PAIRS:
-        found = _meeting_pairs(geoms, pieces, grp, changed, closed)
+        found = _meeting_pairs(geoms, pieces, grp, changed, closed, ragged)
     if found is not None:
         a, b, hit = found
     else:
@@ -421,7 +440,7 @@ def _conflicts(
     return bad
 
 
-def _meeting_pairs(geoms, pieces, grp, changed, closed):
+def _meeting_pairs(geoms, pieces, grp, changed, closed, ragged=None):
     """The pairs of a full round that meet, and which of them conflict: ``(a, b, hit)``.
 
     What the STRtree ``intersects`` query and ``relate_pattern(.., "FF*F*****")`` give
@@ -435,16 +454,19 @@ def _meeting_pairs(geoms, pieces, grp, changed, closed):
 
     from ._arrangement_kernel import MEET, meetings
 
-    xy, owner = shapely.get_coordinates(geoms, return_index=True)
-    off = np.zeros(len(geoms) + 1, dtype=np.int64)
-    np.cumsum(np.bincount(owner, minlength=len(geoms)), out=off[1:])
+    if ragged:
+        xy, off = ragged["xy"], ragged["off"]
+    else:
+        xy = shapely.get_coordinates(geoms)
+        off = np.zeros(len(geoms) + 1, dtype=np.int64)
+        np.cumsum(shapely.get_num_coordinates(geoms), out=off[1:])
     loop = np.fromiter((p.loop for p in pieces), dtype=bool, count=len(pieces))
     got = meetings(xy, off, loop, grp, changed, self_pairs=False)
     if got is None:
         return None
     sa, sb, v = got
-    pa = owner[sa]
-    pb = owner[sb]
+    pa = np.searchsorted(off, sa, "right") - 1
+    pb = np.searchsorted(off, sb, "right") - 1
     lo, hi = np.minimum(pa, pb), np.maximum(pa, pb)
     key = lo * len(geoms) + hi
     uk, inv = np.unique(key, return_inverse=True)
