@@ -288,7 +288,7 @@ def coverage_topology(polygons: Any, *, frozen_edges: Any = None) -> Topology:
     tail = t == np.repeat(n_seg, n_pts_arc)  # the end vertex of an open arc
     vsel[tail] = nxt[vsel[tail]]
     arc_xy = xy_all[vsel]
-    arcs = np.split(arc_xy, arc_off[1:-1])
+    arcs = [arc_xy[i:j] for i, j in zip(arc_off[:-1].tolist(), arc_off[1:].tolist(), strict=True)]
     c0s = first_cls[def_run]
     loops = dloop
     frozen = frozen_cls[c0s]

@@ -505,16 +505,16 @@ def _near_contacts(
     a, b = pairs[:, 0], pairs[:, 1]
 
     # pieces that share an end vertex touch in the input (ring neighbours, arcs at a node)
-    def ends(k):  # the fixed end vertices of the pieces (pinned: equal to the input's)
-        out = np.empty((len(k), 2, 2))
-        for t, q in enumerate(k):
-            p = pieces[q]
-            xy = arcs[p.arc]
-            out[t, 0] = xy[p.start]
-            out[t, 1] = xy[p.stop % len(xy)]
-        return out
-
-    ends_a, ends_b = ends(a), ends(b)
+    # the fixed end vertices of the pieces (pinned: equal to the input's)
+    ks, inv = np.unique(np.concatenate([a, b]), return_inverse=True)
+    fixed_ends = np.empty((len(ks), 2, 2))
+    for t, q in enumerate(ks.tolist()):
+        p = pieces[q]
+        xy = arcs[p.arc]
+        fixed_ends[t, 0] = xy[p.start]
+        fixed_ends[t, 1] = xy[p.stop % len(xy)]
+    inv = inv.reshape(-1)
+    ends_a, ends_b = fixed_ends[inv[: len(a)]], fixed_ends[inv[len(a) :]]
     share = np.all(ends_a[:, :, None, :] == ends_b[:, None, :, :], axis=-1).any(axis=(1, 2))
     loop = np.array([pieces[k].loop for k in range(len(pieces))])
     share &= ~(loop[a] | loop[b])
