@@ -264,15 +264,29 @@ def test_verdicts_near_degenerate_wedges_at_nodes():
         ang = np.concatenate([[0.0], np.cumsum(np.full(6, width))])
         ang = np.append(ang, [1.0, 3.0, 5.0])
         pts = c + 1000.0 * np.c_[np.cos(ang), np.sin(ang)]
-        tris = [shapely.Polygon([c, pts[i], pts[(i + 1) % len(pts)]]) for i in range(len(pts))]
+
+        def tri(i, j, pts=pts):  # a vertex inside the outer edge: the arcs have a probe
+            return shapely.Polygon([c, pts[i], 0.5 * (pts[i] + pts[j]) + 1e-3, pts[j]])
+
+        tris = [tri(i, (i + 1) % len(pts)) for i in range(len(pts))]
         tris = [t for t in tris if shapely.is_valid(t)]
         got, ref = check(tris)
         assert got == ref
         bad = list(tris)
-        bad[1] = shapely.Polygon([c, pts[1], pts[3]])  # over its neighbour
+        bad[1] = tri(1, 3)  # over its neighbour
         if shapely.is_valid(bad[1]):
             got, ref = check(bad, False)
             assert not got
+
+
+def test_single_segment_components_are_left_to_geos():
+    """A component whose arcs are all single segments has no vertex off the nodes to
+    probe: the proof leaves it to GEOS (valid or not)."""
+    c, p = (0.0, 0.0), [(3.0, 0.0), (0.0, 3.0), (-2.0, -2.0)]
+    fan = [shapely.Polygon([c, p[i], p[(i + 1) % 3]]) for i in range(3)]
+    assert check(fan, True) == (False, True)
+    fan[0] = shapely.Polygon([c, p[0], (1.6, 1.6), p[1]])  # a vertex off the nodes
+    assert check(fan, True) == (True, True)
 
 
 def test_verdicts_real_counties():

@@ -876,17 +876,21 @@ def certainly_valid(arcs, loops, uses, shell, ring_sign, polygons, *, ends=None)
     (c) at every node, in the exact angular order of its half-edges, every wedge between
         two consecutive half-edges is covered by as many polygons as seen from either of
         them;
-    (d) one vertex of every connected component of the arcs lies in no polygon's interior.
+    (d) on every connected component of the arcs, a vertex inside one of its arcs (not a
+        node) lies in no polygon's interior.
 
     With (a) the arcs form a plane graph, and the number ``c(e)`` of polygons whose
     interior contains an arc ``e`` is constant along it. A wedge at a node is covered by
     ``c(e) + L(e)`` polygons, ``L(e)`` those that use ``e`` with the interior on the
     wedge's side, so (c) makes ``c`` equal on consecutive half-edges, hence constant on
-    each component, and (d) makes it 0. By (b) every face next to an arc is then covered
-    at most once: no overlaps. With (a) two segments of different polygons are equal or
-    meet only at a common vertex, so the borders match vertex for vertex. Conversely a
+    each component, and (d) measures it on one arc (by (a) its vertex is on no other
+    arc, and on the boundary of the polygons that use it): 0. By (b) every face next to
+    an arc is then covered at most once: no overlaps. With (a) two segments of different
+    polygons are equal or meet only at a common vertex, so the borders match vertex for
+    vertex. Conversely a
     valid coverage passes, except where a vertex lies on another edge of its own polygon
-    (a hole touching its shell) or an exact sign is undecided: then GEOS decides.
+    (a hole touching its shell), a component has only single-segment arcs (no probe
+    vertex) or an exact sign is undecided: then GEOS decides.
     `ends`: the arcs' input end nodes, which the output arcs must keep.
     """
     import shapely
@@ -964,7 +968,7 @@ def certainly_valid(arcs, loops, uses, shell, ring_sign, polygons, *, ends=None)
         seen_next = np.where(h_out[nxt_h], right[h_arc[nxt_h]], left[h_arc[nxt_h]])
         if not np.array_equal(seen_here, seen_next):
             return False
-    # (d) one vertex per connected component of the arc graph
+    # (d) one vertex per connected component of the arc graph, inside an arc (not a node)
     from scipy.sparse import coo_matrix
     from scipy.sparse.csgraph import connected_components
 
@@ -972,15 +976,17 @@ def certainly_valid(arcs, loops, uses, shell, ring_sign, polygons, *, ends=None)
     _, pid = np.unique(pts, axis=0, return_inverse=True)
     pid = pid.reshape(-1)
     n_nodes = int(pid.max()) + 1 if len(pid) else 0
-    reps = [first[loops]]
+    reps = [np.array([arcs[k][1] for k in np.flatnonzero(loops)]).reshape(-1, 2)]
     if n_nodes:
         m = len(opn)
         graph = coo_matrix((np.ones(m), (pid[:m], pid[m:])), shape=(n_nodes, n_nodes))
-        _, comp = connected_components(graph, directed=False)
-        _, one = np.unique(comp, return_index=True)
-        node_pts = np.empty((n_nodes, 2))
-        node_pts[pid] = pts
-        reps.append(node_pts[one])
+        n_comp, comp = connected_components(graph, directed=False)
+        long_arc = lens >= 3  # an arc with a vertex that is not a node
+        comp_of_arc = comp[pid[:m]]
+        have, one = np.unique(comp_of_arc[long_arc], return_index=True)
+        if len(have) < n_comp:
+            return False  # a component of single-segment arcs only: GEOS decides
+        reps.append(np.array([arcs[k][1] for k in opn[np.flatnonzero(long_arc)[one]]]))
     probe = shapely.points(np.concatenate(reps))
     tree = shapely.STRtree(np.asarray(polygons, dtype=object))
     hit = tree.query(probe, predicate="within")
