@@ -292,7 +292,7 @@ def coverage_topology(polygons: Any, *, frozen_edges: Any = None) -> Topology:
     c0s = first_cls[def_run]
     loops = dloop
     frozen = frozen_cls[c0s]
-    arc_polys = []
+    arc_polys: list[tuple[int, ...]] = []
     for c0 in c0s.tolist():
         if count[c0] <= 2:
             lo_g, hi_g = int(gmin[c0]), int(gmax[c0])
