@@ -305,38 +305,64 @@ def bench_ring(n: int, repeats: int) -> None:
 # ------------------------------------------------------------------------------- counties
 
 
-def bench_counties() -> None:
+def bench_counties(repeats: int = 3) -> None:
+    """The county coverage: the whole call, its phases, and GEOS' validity test as peer."""
     try:
         df = geo.us_counties().to_crs("EPSG:5070")
     except Exception as exc:  # plotly-geo missing
         print(f"\nUS counties: skipped ({type(exc).__name__}: {exc})")
         return
-    g = df.geometry.values
+    from curvesmith.geo import _coverage as C
+    from curvesmith.geo._coverage import smooth_arc_blocks
+
+    g = np.asarray(df.geometry.values, dtype=object)
     nv = int(shapely.get_num_coordinates(g).sum())
     print(f"\n== coverage: {len(g)} US counties, {nv} vertices (EPSG:5070), 2 iterations ==")
+    t0, c0 = time.perf_counter(), time.process_time()
     geo.smooth_coverage(g[:3])
+    print(
+        f"first call (numba kernels loaded from their cache): wall "
+        f"{time.perf_counter() - t0:.2f} s, cpu {time.process_time() - c0:.2f} s"
+    )
     for validate in (True, False):
         t, c, res = best_cpu(
             lambda v=validate: geo.smooth_coverage(
                 g, iterations=ITER, validate=v, full_output=True
             ),
-            1,
+            repeats,
         )
         print(
-            f"validate={validate!s:5}: wall {t:.2f} s, cpu {c:.2f} s; {res.n_arcs} arcs, "
-            f"{len(res.reductions)} reductions, max dA/A {res.max_area_change:.1e}, "
-            f"coverage valid {res.coverage_valid}"
+            f"validate={validate!s:5}: wall {t:.2f} s, cpu {c:.2f} s (target < 1 s); "
+            f"{res.n_arcs} arcs, {len(res.reductions)} reductions, max dA/A "
+            f"{res.max_area_change:.1e}, coverage valid {res.coverage_valid}"
         )
-    from curvesmith.geo._coverage import smooth_arc_blocks
-
-    topo = geo.coverage_topology(g)
-    t, c, _ = best_cpu(
-        lambda: smooth_arc_blocks(
+    # the phases, and the GEOS peer of the two validity proofs
+    topo = C.coverage_topology(g)
+    uses = C._flat_uses(topo)
+    smoothed, _ = C.smooth_arcs(topo, method="cca", iterations=ITER, alpha="regular")
+    coords, offs = C.ring_coordinates(topo, smoothed, uses)
+    new = C.rebuild(topo, smoothed)
+    phases = {
+        "coverage_topology": lambda: C.coverage_topology(g),
+        "input proof (certainly_valid)": lambda: C.certainly_valid(
+            topo.arcs, topo.loops, uses, C._shells(topo), topo.ring_sign, g
+        ),
+        "  GEOS coverage_is_valid(input)": lambda: shapely.coverage_is_valid(g),
+        "arc smoothing alone (one ragged call)": lambda: smooth_arc_blocks(
             topo.arcs, topo.loops, topo.frozen, method="cca", iterations=ITER, alpha="regular"
         ),
-        1,
-    )
-    print(f"arc smoothing alone (one ragged call): wall {t:.2f} s, cpu {c:.2f} s (target < 1 s)")
+        "smoothing + conflict resolution": lambda: C.smooth_arcs(
+            topo, method="cca", iterations=ITER, alpha="regular"
+        ),
+        "rebuild": lambda: C.rebuild(topo, smoothed),
+        "output proof (_output_valid)": lambda: C._output_valid(
+            topo, uses, smoothed, coords, offs, new
+        ),
+        "  GEOS coverage_is_valid(output)": lambda: shapely.coverage_is_valid(new),
+    }
+    for name, fn in phases.items():
+        t, c, _ = best_cpu(fn, repeats)
+        print(f"  {name:40} wall {t:.2f} s, cpu {c:.2f} s")
 
 
 # ------------------------------------------------------------------------------- footprints
@@ -439,6 +465,15 @@ def main() -> None:
     args = ap.parse_args()
     if args.quick:
         args.n, args.footprints, args.ring = 5_000, 0, 100_000
+    if args.n == 0:  # --n 0: only the other parts asked for (e.g. --counties)
+        print("machine: " + f"{os.cpu_count()} cores, load average {os.getloadavg()[0]:.1f}")
+        if args.ring:
+            bench_ring(args.ring, args.repeats)
+        if args.counties:
+            bench_counties(args.repeats)
+        if args.footprints:
+            bench_footprints(args.footprints)
+        return
     polys = footprints(int(args.n * 1.02) + 10, seed=7)[: args.n]
     n = len(polys)
     nv = int(shapely.get_num_coordinates(polys).sum()) - n
@@ -526,7 +561,7 @@ def main() -> None:
     if args.ring:
         bench_ring(args.ring, args.repeats)
     if args.counties:
-        bench_counties()
+        bench_counties(args.repeats)
     if args.footprints:
         bench_footprints(args.footprints)
     if args.dask:

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import itertools
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
@@ -98,6 +97,7 @@ class Topology:
     n_nodes: int
     ring_offsets: tuple[np.ndarray, np.ndarray]
     was_polygon: np.ndarray
+    ring_sign: np.ndarray | None = None
 
 
 @dataclass(frozen=True)
@@ -159,6 +159,8 @@ def coverage_topology(polygons: Any, *, frozen_edges: Any = None) -> Topology:
     -------
     Topology
     """
+    from ._arrangement_kernel import ring_orientation
+
     shapely = _shapely()
     T = shapely.GeometryType
     g = np.asarray(polygons, dtype=object)
@@ -230,80 +232,118 @@ def coverage_topology(polygons: Any, *, frozen_edges: Any = None) -> Topology:
     node = (deg[pid] != 2) | np.any(seg_sig != seg_sig[prev], axis=1)
     n_nodes = len(np.unique(pid[node]))
 
-    arc_index: dict[int, int] = {}
-    arcs: list[np.ndarray] = []
-    loops: list[bool] = []
-    frozen: list[bool] = []
-    arc_first: list[tuple[int, int]] = []
+    # every ring rotated to start at its first node (a ring without one: at its smallest
+    # point id, lexicographically first), then cut into runs at its nodes: the segments
+    # of all rings in that order are a permutation of the segments
+    total = int(seg_off[-1])
+    has_node = np.zeros(n_rings, dtype=bool)
+    first_node = np.zeros(n_rings, dtype=np.int64)
+    at = np.flatnonzero(node)
+    if at.size:
+        rr, pos = np.unique(seg_ring[at], return_index=True)
+        has_node[rr] = True
+        first_node[rr] = at[pos] - seg_off[rr]
+    rot = first_node
+    bare = np.flatnonzero(~has_node & (n_vert > 0))
+    if bare.size:  # the position of the smallest point id of every ring without a node
+        lens_b = n_vert[bare]
+        sel_off = np.cumsum(lens_b) - lens_b
+        sel = np.repeat(seg_off[:-1][bare], lens_b) + (
+            np.arange(lens_b.sum()) - np.repeat(sel_off, lens_b)
+        )
+        low = np.minimum.reduceat(pid[sel], sel_off)
+        hit = sel[pid[sel] == np.repeat(low, lens_b)]
+        rr, pos = np.unique(seg_ring[hit], return_index=True)
+        rot = rot.copy()
+        rot[rr] = hit[pos] - seg_off[rr]
+    base = np.repeat(seg_off[:-1], n_vert)
+    j = np.arange(total) - base
+    perm = base + (np.repeat(rot, n_vert) + j) % np.repeat(n_vert, n_vert)
+    start_flag = node[perm] | (j == 0)
+    run_start = np.flatnonzero(start_flag)
+    run_end = np.append(run_start[1:], total)
+    run_ring = seg_ring[perm[run_start]]
+    run_loop = ~has_node[run_ring]
+    cls_perm = cls[perm]
+    key = np.minimum.reduceat(cls_perm, run_start)
+    first_pid = pid[perm[run_start]]
+    first_cls = cls_perm[run_start]
+    # arcs numbered in order of their first run; later runs of an arc find its direction
+    _, first_occ, inv = np.unique(key, return_index=True, return_inverse=True)
+    arc_order = np.argsort(first_occ, kind="stable")
+    arc_of_key = np.empty(len(first_occ), dtype=np.int64)
+    arc_of_key[arc_order] = np.arange(len(first_occ))
+    run_arc = arc_of_key[inv.reshape(-1)]
+    def_run = first_occ[arc_order]
+    fwd = (first_pid == first_pid[def_run[run_arc]]) & (first_cls == first_cls[def_run[run_arc]])
+    # arc vertices: the run's segment starts, and an open run's end vertex
+    d0, d1, dloop = run_start[def_run], run_end[def_run], run_loop[def_run]
+    n_seg = d1 - d0
+    n_pts_arc = n_seg + (~dloop).astype(np.int64)
+    arc_off = np.zeros(len(def_run) + 1, dtype=np.int64)
+    np.cumsum(n_pts_arc, out=arc_off[1:])
+    t = np.arange(arc_off[-1]) - np.repeat(arc_off[:-1], n_pts_arc)
+    src_pos = np.repeat(d0, n_pts_arc) + np.minimum(t, np.repeat(n_seg - 1, n_pts_arc))
+    vsel = perm[src_pos]
+    tail = t == np.repeat(n_seg, n_pts_arc)  # the end vertex of an open arc
+    vsel[tail] = nxt[vsel[tail]]
+    arc_xy = xy_all[vsel]
+    arcs = [arc_xy[i:j] for i, j in zip(arc_off[:-1].tolist(), arc_off[1:].tolist(), strict=True)]
+    c0s = first_cls[def_run]
+    loops = dloop
+    frozen = frozen_cls[c0s]
     arc_polys: list[tuple[int, ...]] = []
-    rings: list[tuple[tuple[int, bool], ...]] = []
-    for r in range(n_rings):
-        s0, s1 = seg_off[r], seg_off[r + 1]
-        xy = xy_all[s0:s1]
-        c = cls[s0:s1]
-        rp = pid[s0:s1]
-        nodes = np.nonzero(node[s0:s1])[0]
-        n = len(xy)
-        if len(nodes) == 0:
-            start = int(np.argmin(rp))  # point ids follow the lexicographic order
-            vidx = np.roll(np.arange(n), -start)
-            runs = [(vidx, c[vidx], True)]
+    for c0 in c0s.tolist():
+        if count[c0] <= 2:
+            lo_g, hi_g = int(gmin[c0]), int(gmax[c0])
+            arc_polys.append((lo_g,) if lo_g == hi_g else (lo_g, hi_g))
         else:
-            runs = []
-            bounds = np.append(nodes, nodes[0] + n)
-            for a0, b0 in itertools.pairwise(bounds):
-                vidx = np.arange(a0, b0 + 1) % n
-                runs.append((vidx, c[vidx[:-1]], False))
-        ring_runs = []
-        for vidx, segs, is_loop in runs:
-            key = int(segs.min())
-            first = (int(rp[vidx[0]]), int(segs[0]))
-            k = arc_index.get(key)
-            if k is None:
-                k = len(arcs)
-                arc_index[key] = k
-                arcs.append(xy[vidx])
-                loops.append(is_loop)
-                c0 = segs[0]
-                frozen.append(bool(frozen_cls[c0]))
-                arc_first.append(first)
-                if count[c0] <= 2:
-                    arc_polys.append(tuple(sorted({int(gmin[c0]), int(gmax[c0])})))
-                else:
-                    arc_polys.append(tuple(sorted({int(x) for x in seg_geom[cls == c0]})))
-                ring_runs.append((k, True))
-            else:
-                ring_runs.append((k, arc_first[k] == first))
-        rings.append(tuple(ring_runs))
+            arc_polys.append(tuple(sorted({int(x) for x in seg_geom[cls == c0]})))
+    ring_first = np.searchsorted(run_ring, np.arange(n_rings + 1))
+    pairs = list(zip(run_arc.tolist(), fwd.tolist(), strict=True))
+    rings = [tuple(pairs[ring_first[r] : ring_first[r + 1]]) for r in range(n_rings)]
     return Topology(
         arcs=tuple(arcs),
-        loops=np.array(loops, dtype=bool),
-        frozen=np.array(frozen, dtype=bool),
+        loops=np.asarray(loops, dtype=bool),
+        frozen=np.asarray(frozen, dtype=bool),
         arc_polygons=tuple(arc_polys),
         rings=tuple(rings),
         n_nodes=n_nodes,
         ring_offsets=(poly_off, geom_off),
         was_polygon=was_polygon,
+        ring_sign=ring_orientation(coords, np.asarray(ring_off, dtype=np.int64)),
     )
 
 
 def rebuild(topo: Topology, arcs: list[np.ndarray]) -> np.ndarray:
     """Polygons from (smoothed) arcs, in the topology's ring order."""
-    ring_xy = []
-    for runs in topo.rings:
-        parts = []
-        for k, fwd in runs:
-            xy = arcs[k] if fwd else arcs[k][::-1]
-            if topo.loops[k]:
-                parts.append(xy)
-            else:
-                parts.append(xy[:-1])
-        ring = np.concatenate(parts)
-        ring_xy.append(np.vstack([ring, ring[:1]]))
-    lens = np.array([len(x) for x in ring_xy], dtype=np.int64)
-    offs = np.concatenate([[0], np.cumsum(lens)])
+    coords, offs = ring_coordinates(topo, arcs)
     poly_off, geom_off = topo.ring_offsets
-    return assemble_polygons(np.concatenate(ring_xy), offs, poly_off, geom_off, topo.was_polygon)
+    return assemble_polygons(coords, offs, poly_off, geom_off, topo.was_polygon)
+
+
+def ring_coordinates(
+    topo: Topology, arcs: list[np.ndarray], uses=None
+) -> tuple[np.ndarray, np.ndarray]:
+    """The rings rebuilt from (smoothed) arcs: closed coordinates and ring offsets.
+
+    Every ring is its arcs in order (reversed where the ring runs against the arc), each
+    without its last vertex (the next arc's first) unless it is a loop, and the ring's
+    first vertex again at the end. `uses`: :func:`_flat_uses` of the topology.
+    """
+    from ._arrangement_kernel import gather_rings
+
+    ring, arc, fwd = _flat_uses(topo) if uses is None else uses
+    n_rings = len(topo.rings)
+    lens = np.fromiter((len(x) for x in arcs), dtype=np.int64, count=len(arcs))
+    a_off = np.zeros(len(arcs) + 1, dtype=np.int64)
+    np.cumsum(lens, out=a_off[1:])
+    allxy = np.concatenate(arcs) if len(arcs) else np.empty((0, 2))
+    u_off = np.searchsorted(ring, np.arange(n_rings + 1))
+    return gather_rings(
+        np.ascontiguousarray(allxy, dtype=np.float64), a_off, np.asarray(topo.loops, bool),
+        arc, fwd, u_off,
+    )  # fmt: skip
 
 
 def smooth_coverage(
@@ -358,7 +398,9 @@ def smooth_coverage(
     make_valid : bool
         Repair invalid input polygons with :func:`shapely.make_valid` instead of raising.
     validate : bool
-        Check the result with :func:`shapely.coverage_is_valid`.
+        Check the result with :func:`shapely.coverage_is_valid`. Its verdict is proven by
+        a compiled test of the arcs and nodes where it can be (:func:`certainly_valid`,
+        exact; the input is tested the same way) and asked of GEOS otherwise.
     full_output : bool
         Return a :class:`CoverageResult`.
     map_arcs : callable, optional
@@ -446,7 +488,14 @@ def smooth_coverage(
             if (full_output)
             else res
         )
-    input_valid = bool(shapely.coverage_is_valid(g, gap_width=gap_width))
+    # the compiled proof (certainly_valid) for the plain case; GEOS decides the rest
+    topo = coverage_topology(g) if (snap is None and gap_width == 0.0) else None
+    uses = _flat_uses(topo) if topo is not None else None
+    input_valid = topo is not None and certainly_valid(
+        topo.arcs, topo.loops, uses, _shells(topo), topo.ring_sign, g
+    )
+    if not input_valid:
+        input_valid = bool(shapely.coverage_is_valid(g, gap_width=gap_width))
     if input_valid:
         invalid, bad = None, np.zeros(len(g), dtype=bool)
     else:
@@ -457,7 +506,9 @@ def smooth_coverage(
         if invalid is not None
         else {}
     )
-    topo = coverage_topology(g, frozen_edges=invalid if bad.any() else None)
+    if topo is None or bad.any():
+        topo = coverage_topology(g, frozen_edges=invalid if bad.any() else None)
+        uses = None
     bounded = max_shift is not None or min_segment is not None  # every level tried at once
     initial = map_arcs(topo) if (map_arcs is not None and iterations > 0 and not bounded) else None
     smoothed, reductions = smooth_arcs(
@@ -470,12 +521,18 @@ def smooth_coverage(
         max_shift=max_shift,
         min_segment=min_segment,
     )
-    new = rebuild(topo, smoothed)
+    if uses is None:
+        uses = _flat_uses(topo)
+    coords, offs = ring_coordinates(topo, smoothed, uses)
+    poly_off, geom_off = topo.ring_offsets
+    new = assemble_polygons(coords, offs, poly_off, geom_off, topo.was_polygon)
     out[idx] = new
     a0 = shapely.area(g)
     a1 = shapely.area(new)
     change = float(np.max(np.abs(a1 - a0) / np.where(a0 > 0, a0, 1.0)))
-    valid = bool(shapely.coverage_is_valid(new)) if validate else None
+    valid = None
+    if validate:
+        valid = _output_valid(topo, uses, smoothed, coords, offs, new)
     res = wrap(out)
     if not full_output:
         return res
@@ -739,3 +796,198 @@ def smooth_arcs_bounded(
             return out, reductions
         frozen |= bad  # these arcs keep their input; resolve the others around them again
     raise AssertionError("unreachable: each round freezes one more arc")  # pragma: no cover
+
+
+def _shells(topo: Topology) -> np.ndarray:
+    """Per ring: whether it is the exterior ring of its polygon."""
+    poly_off = topo.ring_offsets[0]
+    shell = np.zeros(int(poly_off[-1]), dtype=bool)
+    shell[poly_off[:-1]] = True
+    return shell
+
+
+def _output_valid(topo, uses, smoothed, coords, offs, new) -> bool:
+    """:func:`shapely.coverage_is_valid` of the rebuilt polygons, proven when possible.
+
+    The proof (:func:`certainly_valid`) needs valid polygons. A Polygon of one ring is
+    valid when its ring is simple, and it is: its arcs are simple and meet only at their
+    end nodes (part (a) of the proof) and the ring passes through the nodes of its input
+    ring, a simple ring, so through none twice. The other geometries (holes, several
+    parts) are checked by GEOS.
+    """
+    import shapely
+
+    from ._arrangement_kernel import ring_orientation
+
+    if uses is None:
+        uses = _flat_uses(topo)
+    ends = (
+        np.array([a[0] for a in topo.arcs]).reshape(-1, 2),
+        np.array([a[-1] for a in topo.arcs]).reshape(-1, 2),
+    )
+    sign = ring_orientation(coords, offs)
+    if certainly_valid(smoothed, topo.loops, uses, _shells(topo), sign, new, ends=ends):
+        poly_off, geom_off = topo.ring_offsets
+        one_ring = topo.was_polygon & (poly_off[geom_off[:-1] + 1] - poly_off[geom_off[:-1]] == 1)
+        if shapely.is_valid(new[~one_ring]).all():
+            return True
+    return bool(shapely.coverage_is_valid(new))
+
+
+def _flat_uses(topo: Topology) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Every (ring, arc, forward) use of the topology's rings, as three arrays."""
+    lens = np.fromiter((len(r) for r in topo.rings), dtype=np.int64, count=len(topo.rings))
+    flat = [u for r in topo.rings for u in r]
+    arc = np.fromiter((k for k, _ in flat), dtype=np.int64, count=len(flat))
+    fwd = np.fromiter((f for _, f in flat), dtype=bool, count=len(flat))
+    return np.repeat(np.arange(len(topo.rings)), lens), arc, fwd
+
+
+def _orient_signs(o, p, q) -> np.ndarray:
+    """Exact orientation signs of q against o -> p, row by row (filter, then rationals)."""
+    from ._arrangement_kernel import orient_exact
+    from ._simple_kernel import _CCW_ERR, _TINY
+
+    left = (o[:, 0] - q[:, 0]) * (p[:, 1] - q[:, 1])
+    right = (o[:, 1] - q[:, 1]) * (p[:, 0] - q[:, 0])
+    det = left - right
+    err = _CCW_ERR * (np.abs(left) + np.abs(right))
+    sign = np.where(det > err, 1, np.where(-det > err, -1, 0))
+    unsure = np.flatnonzero((sign == 0) | ~(np.abs(left) + np.abs(right) > _TINY))
+    for k in unsure:
+        sign[k] = orient_exact(o[k], p[k], q[k])
+    return sign
+
+
+def certainly_valid(arcs, loops, uses, shell, ring_sign, polygons, *, ends=None) -> bool:
+    """Whether the polygons rebuilt from `arcs` are proven to form a valid coverage.
+
+    A sufficient test of :func:`shapely.coverage_is_valid` (gap width 0) for valid
+    polygons whose rings are the arc sequences `uses` (``(ring, arc, forward)``); False
+    means "not proven" (ask GEOS). The polygons form a valid coverage (interiors
+    disjoint, shared borders with the same vertices) when
+
+    (a) the arcs meet only at shared end nodes: no crossing, touch or collinear overlap
+        anywhere else, and every arc is simple (:func:`_arrangement_kernel.meetings`,
+        exact);
+    (b) every arc is used by at most one ring with the interior on its left and at most
+        one with the interior on its right (``shell[r]`` and the ring's orientation
+        ``ring_sign[r]`` give the side);
+    (c) at every node, in the exact angular order of its half-edges, every wedge between
+        two consecutive half-edges is covered by as many polygons as seen from either of
+        them;
+    (d) on every connected component of the arcs, a vertex inside one of its arcs (not a
+        node) lies in no polygon's interior.
+
+    With (a) the arcs form a plane graph, and the number ``c(e)`` of polygons whose
+    interior contains an arc ``e`` is constant along it. A wedge at a node is covered by
+    ``c(e) + L(e)`` polygons, ``L(e)`` those that use ``e`` with the interior on the
+    wedge's side, so (c) makes ``c`` equal on consecutive half-edges, hence constant on
+    each component, and (d) measures it on one arc (by (a) its vertex is on no other
+    arc, and on the boundary of the polygons that use it): 0. By (b) every face next to
+    an arc is then covered at most once: no overlaps. With (a) two segments of different
+    polygons are equal or meet only at a common vertex, so the borders match vertex for
+    vertex. Conversely a
+    valid coverage passes, except where a vertex lies on another edge of its own polygon
+    (a hole touching its shell), a component has only single-segment arcs (no probe
+    vertex) or an exact sign is undecided: then GEOS decides.
+    `ends`: the arcs' input end nodes, which the output arcs must keep.
+    """
+    import shapely
+
+    from ._arrangement_kernel import MEET, meetings
+
+    n_arcs = len(arcs)
+    if n_arcs == 0 or np.any(ring_sign == 0):
+        return False
+    loops = np.asarray(loops, dtype=bool)
+    first = np.array([a[0] for a in arcs])
+    last = np.array([a[-1] for a in arcs])
+    if ends is not None and not (
+        np.array_equal(first[~loops], ends[0][~loops])
+        and np.array_equal(last[~loops], ends[1][~loops])
+    ):
+        return False
+    # (a)
+    X, off = _ragged(arcs, loops)
+    got = meetings(
+        X, off, loops, np.zeros(n_arcs, np.int64), np.ones(n_arcs, bool), self_pairs=True
+    )
+    if got is None or np.any(got[2] == MEET):
+        return False
+    # (b)
+    ring, arc, fwd = uses
+    inside_left = (shell == (ring_sign > 0))[ring] == fwd  # interior left of the arc
+    left = np.bincount(arc[inside_left], minlength=n_arcs)
+    right = np.bincount(arc[~inside_left], minlength=n_arcs)
+    if left.max() > 1 or right.max() > 1:
+        return False
+    # (c) half-edges at nodes: (node point, next vertex, arc, outgoing)
+    opn = np.flatnonzero(~loops)
+    lens = np.array([len(arcs[k]) for k in opn], dtype=np.int64)
+    if np.any(lens < 2):
+        return False
+    nxt = np.array([arcs[k][1] for k in opn]).reshape(-1, 2)
+    prv = np.array([arcs[k][-2] for k in opn]).reshape(-1, 2)
+    node_xy = np.concatenate([first[opn], last[opn]])
+    dir_xy = np.concatenate([nxt, prv])
+    h_arc = np.concatenate([opn, opn])
+    h_out = np.concatenate([np.ones(len(opn), bool), np.zeros(len(opn), bool)])
+    if len(h_arc):
+        upper = (dir_xy[:, 1] > node_xy[:, 1]) | (
+            (dir_xy[:, 1] == node_xy[:, 1]) & (dir_xy[:, 0] > node_xy[:, 0])
+        )
+        ang = np.arctan2(dir_xy[:, 1] - node_xy[:, 1], dir_xy[:, 0] - node_xy[:, 0])
+        ang = np.where(ang < 0.0, ang + 2.0 * np.pi, ang)  # [0, 2 pi), as the halves
+        order = np.lexsort((ang, ~upper, node_xy[:, 1], node_xy[:, 0]))
+        node_xy, dir_xy, h_arc, h_out, upper = (
+            node_xy[order], dir_xy[order], h_arc[order], h_out[order], upper[order]
+        )  # fmt: skip
+        new = np.ones(len(h_arc), bool)
+        new[1:] = np.any(node_xy[1:] != node_xy[:-1], axis=1)
+        node_id = np.cumsum(new) - 1
+        start = np.flatnonzero(new)
+        deg = np.diff(np.append(start, len(h_arc)))
+        if deg.min() < 2:
+            return False
+        # exact order check of consecutive half-edges of a node
+        same = ~new[1:]
+        i = np.flatnonzero(same)
+        if len(i):
+            ok_half = upper[i] >= upper[i + 1]  # upper half first
+            both = upper[i] == upper[i + 1]
+            sgn = _orient_signs(node_xy[i], dir_xy[i], dir_xy[i + 1])
+            if not np.all(ok_half & (~both | (sgn > 0))):
+                return False
+        # wedge from half-edge h to the next one (cyclically) at its node
+        nxt_h = np.arange(len(h_arc)) + 1
+        end = start + deg
+        wrap = nxt_h == end[node_id]
+        nxt_h[wrap] = start[node_id[wrap]]
+        seen_here = np.where(h_out, left[h_arc], right[h_arc])  # wedge left of outgoing h
+        seen_next = np.where(h_out[nxt_h], right[h_arc[nxt_h]], left[h_arc[nxt_h]])
+        if not np.array_equal(seen_here, seen_next):
+            return False
+    # (d) one vertex per connected component of the arc graph, inside an arc (not a node)
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
+    pts = np.concatenate([first[opn], last[opn]])
+    _, pid = np.unique(pts, axis=0, return_inverse=True)
+    pid = pid.reshape(-1)
+    n_nodes = int(pid.max()) + 1 if len(pid) else 0
+    reps = [np.array([arcs[k][1] for k in np.flatnonzero(loops)]).reshape(-1, 2)]
+    if n_nodes:
+        m = len(opn)
+        graph = coo_matrix((np.ones(m), (pid[:m], pid[m:])), shape=(n_nodes, n_nodes))
+        n_comp, comp = connected_components(graph, directed=False)
+        long_arc = lens >= 3  # an arc with a vertex that is not a node
+        comp_of_arc = comp[pid[:m]]
+        have, one = np.unique(comp_of_arc[long_arc], return_index=True)
+        if len(have) < n_comp:
+            return False  # a component of single-segment arcs only: GEOS decides
+        reps.append(np.array([arcs[k][1] for k in opn[np.flatnonzero(long_arc)[one]]]))
+    probe = shapely.points(np.concatenate(reps))
+    tree = shapely.STRtree(np.asarray(polygons, dtype=object))
+    hit = tree.query(probe, predicate="within")
+    return hit.shape[1] == 0

@@ -45,6 +45,9 @@ MAX_ROUNDS = 200
 MARGIN_EDGE = 1e-3
 #: Clearance margin, as a fraction of the two pieces' distance in the input.
 MARGIN_GAP = 0.5
+#: From this many pieces on, a full round's pairs are found by the compiled arrangement
+#: (:mod:`curvesmith.geo._arrangement_kernel`) instead of GEOS' STRtree and relate.
+COMPILED_PAIRS = 64
 
 
 @dataclass(frozen=True)
@@ -208,17 +211,21 @@ def resolve_arcs(
             for key, out in zip(group, batch(pts, loop, levels[lev]), strict=True):
                 cache[key] = out
 
-    def geoms_of(plist: list[_Piece]) -> np.ndarray:
+    def geoms_of(plist: list[_Piece], ragged: dict | None = None) -> np.ndarray:
+        """LineStrings of the pieces (`ragged` receives their coordinates and offsets)."""
         if batch is not None:
             smooth_missing(plist)
         pts = []
         for p in plist:
             xy = smoothed_piece(p)
             pts.append(np.vstack([xy, xy[:1]]) if p.loop else xy)
-        lens = [len(x) for x in pts]
-        return shapely.linestrings(
-            np.concatenate(pts), indices=np.repeat(np.arange(len(pts)), lens)
-        )
+        lens = np.fromiter((len(x) for x in pts), dtype=np.int64, count=len(pts))
+        xy = np.concatenate(pts)
+        if ragged is not None:
+            ragged["off"] = np.zeros(len(pts) + 1, dtype=np.int64)
+            np.cumsum(lens, out=ragged["off"][1:])
+            ragged["xy"] = xy
+        return shapely.linestrings(xy, indices=np.repeat(np.arange(len(pts)), lens))
 
     simple_orig: dict[tuple[int, int, int, bool], bool] = {}
     in_geom: dict[tuple[int, int, int, bool], Any] = {}
@@ -247,13 +254,15 @@ def resolve_arcs(
             simple_orig[key] = val
         return val
 
-    geoms = geoms_of(pieces)
+    ragged: dict | None = {}
+    geoms = geoms_of(pieces, ragged)
     to_check = np.arange(len(pieces))
     for _ in range(MAX_ROUNDS):
         bad = _conflicts(
             pieces, arcs, geoms, to_check, groups, top, check_simple, original_simple, input_geom,
-            scale,
+            scale, ragged,
         )  # fmt: skip
+        ragged = None  # the coordinates of the first round's pieces
         if not bad:
             break
         changed = []
@@ -302,9 +311,12 @@ def resolve_arcs(
         if len(plist) == 1 and plist[0].loop:
             out.append(smoothed_piece(plist[0]))
             continue
-        parts = [smoothed_piece(plist[0])]
-        parts += [smoothed_piece(p)[1:] for p in plist[1:]]
-        xy = np.vstack(parts)
+        if len(plist) == 1:
+            xy = smoothed_piece(plist[0])
+        else:
+            parts = [smoothed_piece(plist[0])]
+            parts += [smoothed_piece(p)[1:] for p in plist[1:]]
+            xy = np.concatenate(parts)
         if loops[i]:
             xy = xy[:-1]
         out.append(xy)
@@ -335,9 +347,22 @@ def _mean_edge(xy: np.ndarray, loop: bool) -> float:
 
 
 def _conflicts(
-    pieces, arcs, geoms, to_check, groups, top, check_simple, original_simple, input_geom, scale
+    pieces,
+    arcs,
+    geoms,
+    to_check,
+    groups,
+    top,
+    check_simple,
+    original_simple,
+    input_geom,
+    scale,
+    ragged=None,
 ) -> set[int]:
-    """Indices of pieces in a new crossing, self-intersection or near-contact (margin)."""
+    """Indices of pieces in a new crossing, self-intersection or near-contact (margin).
+
+    `ragged`: the pieces' coordinates and offsets, when at hand.
+    """
     import shapely
 
     bad: set[int] = set()
@@ -356,24 +381,31 @@ def _conflicts(
                 bad.add(int(k))
     # pairs
     tree = shapely.STRtree(geoms)
-    qi, qj = tree.query(geoms[to_check], predicate="intersects")
-    qi = to_check[qi]
-    keep = (qi != qj) & (grp[qi] == grp[qj]) & (changed[qi] | changed[qj])
-    qi, qj = qi[keep], qj[keep]
     bad |= _near_contacts(
         pieces, arcs, geoms, tree, to_check, grp, changed, input_geom, scale[arc_of]
     )
-    if len(qi) == 0:
-        return bad
-    a, b = np.minimum(qi, qj), np.maximum(qi, qj)
-    pairs = np.unique(np.stack([a, b], axis=1), axis=0)
-    a, b = pairs[:, 0], pairs[:, 1]
     closed = shapely.is_closed(geoms)
+    found = None
+    if len(to_check) == len(pieces) and len(pieces) >= COMPILED_PAIRS:
+        found = _meeting_pairs(geoms, pieces, grp, changed, closed, ragged)
+    if found is not None:
+        a, b, hit = found
+    else:
+        qi, qj = tree.query(geoms[to_check], predicate="intersects")
+        qi = to_check[qi]
+        keep = (qi != qj) & (grp[qi] == grp[qj]) & (changed[qi] | changed[qj])
+        qi, qj = qi[keep], qj[keep]
+        if len(qi) == 0:
+            return bad
+        a, b = np.minimum(qi, qj), np.maximum(qi, qj)
+        pairs = np.unique(np.stack([a, b], axis=1), axis=0)
+        a, b = pairs[:, 0], pairs[:, 1]
+        hit = np.zeros(len(a), dtype=bool)
+        # open pieces may only share end points: no interior meets anything of the other
+        plain = ~(closed[a] | closed[b])
+        if plain.any():
+            hit[plain] = ~shapely.relate_pattern(geoms[a[plain]], geoms[b[plain]], "FF*F*****")
     plain = ~(closed[a] | closed[b])
-    hit = np.zeros(len(a), dtype=bool)
-    # open pieces may only share end points: no interior meets anything of the other
-    if plain.any():
-        hit[plain] = ~shapely.relate_pattern(geoms[a[plain]], geoms[b[plain]], "FF*F*****")
     # a closed piece (a loop, or an arc from a node back to it) may share its node
     rest_idx = np.nonzero(~plain)[0]
     if len(rest_idx):
@@ -408,6 +440,43 @@ def _conflicts(
     return bad
 
 
+def _meeting_pairs(geoms, pieces, grp, changed, closed, ragged=None):
+    """The pairs of a full round that meet, and which of them conflict: ``(a, b, hit)``.
+
+    What the STRtree ``intersects`` query and ``relate_pattern(.., "FF*F*****")`` give
+    (pairs ``a < b`` of one group, one of them changed, that intersect; `hit` for two
+    open pieces meeting other than at common end points), found by the exact compiled
+    arrangement (:func:`curvesmith.geo._arrangement_kernel.meetings`). Pairs with a
+    closed piece are left to the caller (their `hit` is False here). None when the
+    kernel cannot decide (the caller asks GEOS).
+    """
+    import shapely
+
+    from ._arrangement_kernel import MEET, meetings
+
+    if ragged:
+        xy, off = ragged["xy"], ragged["off"]
+    else:
+        xy = shapely.get_coordinates(geoms)
+        off = np.zeros(len(geoms) + 1, dtype=np.int64)
+        np.cumsum(shapely.get_num_coordinates(geoms), out=off[1:])
+    loop = np.fromiter((p.loop for p in pieces), dtype=bool, count=len(pieces))
+    got = meetings(xy, off, loop, grp, changed, self_pairs=False)
+    if got is None:
+        return None
+    sa, sb, v = got
+    pa = np.searchsorted(off, sa, "right") - 1
+    pb = np.searchsorted(off, sb, "right") - 1
+    lo, hi = np.minimum(pa, pb), np.maximum(pa, pb)
+    key = lo * len(geoms) + hi
+    uk, inv = np.unique(key, return_inverse=True)
+    hit = np.zeros(len(uk), dtype=bool)
+    np.logical_or.at(hit, inv.reshape(-1), v == MEET)
+    a, b = uk // len(geoms), uk % len(geoms)
+    hit &= ~(closed[a] | closed[b])
+    return a, b, hit
+
+
 def _near_contacts(
     pieces, arcs, geoms, tree, to_check, grp, changed, input_geom, scale
 ) -> set[int]:
@@ -436,16 +505,16 @@ def _near_contacts(
     a, b = pairs[:, 0], pairs[:, 1]
 
     # pieces that share an end vertex touch in the input (ring neighbours, arcs at a node)
-    def ends(k):  # the fixed end vertices of the pieces (pinned: equal to the input's)
-        out = np.empty((len(k), 2, 2))
-        for t, q in enumerate(k):
-            p = pieces[q]
-            xy = arcs[p.arc]
-            out[t, 0] = xy[p.start]
-            out[t, 1] = xy[p.stop % len(xy)]
-        return out
-
-    ends_a, ends_b = ends(a), ends(b)
+    # the fixed end vertices of the pieces (pinned: equal to the input's)
+    ks, inv = np.unique(np.concatenate([a, b]), return_inverse=True)
+    fixed_ends = np.empty((len(ks), 2, 2))
+    for t, q in enumerate(ks.tolist()):
+        p = pieces[q]
+        xy = arcs[p.arc]
+        fixed_ends[t, 0] = xy[p.start]
+        fixed_ends[t, 1] = xy[p.stop % len(xy)]
+    inv = inv.reshape(-1)
+    ends_a, ends_b = fixed_ends[inv[: len(a)]], fixed_ends[inv[len(a) :]]
     share = np.all(ends_a[:, :, None, :] == ends_b[:, None, :, :], axis=-1).any(axis=(1, 2))
     loop = np.array([pieces[k].loop for k in range(len(pieces))])
     share &= ~(loop[a] | loop[b])
