@@ -9,9 +9,18 @@ shapely = pytest.importorskip("shapely")
 pytest.importorskip("numba")
 
 from curvesmith import geo  # noqa: E402
-from curvesmith.geo import _arrangement_kernel as K  # noqa: E402
-from curvesmith.geo import _coverage as C  # noqa: E402
-from curvesmith.geo._smooth import prepare  # noqa: E402
+from curvesmith.internals import (  # noqa: E402
+    EnginePiece,
+    coverage_flat_uses,
+    coverage_output_valid,
+    coverage_shells,
+    engine_meeting_pairs,
+    geo_smooth,
+)
+from curvesmith.internals import arrangement_kernel as K  # noqa: E402
+from curvesmith.internals import geo_coverage as C  # noqa: E402
+
+prepare = geo_smooth.prepare
 
 
 def voronoi(n, seed, x0=4.0e5, y0=5.0e6, size=2.0e4):
@@ -28,7 +37,7 @@ def fast_verdict(polys) -> bool:
     g = prepare(np.asarray(polys, dtype=object), make_valid=False, what="polygons")
     topo = C.coverage_topology(g)
     return C.certainly_valid(
-        topo.arcs, topo.loops, C._flat_uses(topo), C._shells(topo), topo.ring_sign, g
+        topo.arcs, topo.loops, coverage_flat_uses(topo), coverage_shells(topo), topo.ring_sign, g
     )
 
 
@@ -309,10 +318,10 @@ def _output_verdict(cells, arcs_fn):
     arcs = arcs_fn(topo)
     coords, offs = C.ring_coordinates(topo, arcs)
     new = C.rebuild(topo, arcs)
-    got = C._output_valid(topo, None, arcs, coords, offs, new)
+    got = coverage_output_valid(topo, None, arcs, coords, offs, new)
     ok = shapely.is_valid(new).all()
     proof = bool(ok) and C.certainly_valid(
-        arcs, topo.loops, C._flat_uses(topo), C._shells(topo), K.ring_orientation(coords, offs),
+        arcs, topo.loops, coverage_flat_uses(topo), coverage_shells(topo), K.ring_orientation(coords, offs),
         new, ends=(np.array([a[0] for a in topo.arcs]), np.array([a[-1] for a in topo.arcs])),
     )  # fmt: skip
     ref = bool(shapely.coverage_is_valid(new))
@@ -443,7 +452,6 @@ def _geos_pairs(geoms, grp, changed):
 def test_compiled_pairs_are_the_geos_pairs(seed):
     """_meeting_pairs gives the same pairs and verdicts as the STRtree + relate path, on
     random walks (shared ends, overlaps, crossings, closed pieces, loops)."""
-    from curvesmith.geo._engine import _meeting_pairs, _Piece
 
     rng = np.random.default_rng(seed)
     lines = _random_polylines(rng, 150, 12, 15)
@@ -456,11 +464,11 @@ def test_compiled_pairs_are_the_geos_pairs(seed):
     geoms = shapely.linestrings(
         np.concatenate(lines), indices=np.repeat(np.arange(len(lines)), [len(x) for x in lines])
     )
-    pieces = [_Piece(k, 0, len(x) - 1, bool(loop[k]), 0) for k, x in enumerate(lines)]
+    pieces = [EnginePiece(k, 0, len(x) - 1, bool(loop[k]), 0) for k, x in enumerate(lines)]
     grp = rng.integers(0, 3, len(lines))
     changed = rng.uniform(size=len(lines)) < 0.8
     closed = shapely.is_closed(geoms)
-    a, b, hit = _meeting_pairs(geoms, pieces, grp, changed, closed)
+    a, b, hit = engine_meeting_pairs(geoms, pieces, grp, changed, closed)
     ra, rb, rhit = _geos_pairs(geoms, grp, changed)
     assert np.array_equal(a, ra) and np.array_equal(b, rb)
     assert np.array_equal(hit, rhit)
@@ -469,23 +477,21 @@ def test_compiled_pairs_are_the_geos_pairs(seed):
 
 def test_compiled_pairs_on_smoothed_county_arcs():
     """The same on the smoothed arcs of three states' counties (the real first round)."""
-    from curvesmith.geo._coverage import smooth_arc_blocks
-    from curvesmith.geo._engine import _meeting_pairs, _Piece
 
     g = geo.us_counties(states=["19", "31", "20"]).to_crs("EPSG:5070").geometry.values
     topo = C.coverage_topology(np.asarray(g, dtype=object))
-    arcs, _ = smooth_arc_blocks(
+    arcs, _ = C.smooth_arc_blocks(
         topo.arcs, topo.loops, topo.frozen, method="cca", iterations=3, alpha="regular"
     )
     pts = [np.vstack([x, x[:1]]) if lp else x for x, lp in zip(arcs, topo.loops, strict=True)]
     geoms = shapely.linestrings(
         np.concatenate(pts), indices=np.repeat(np.arange(len(pts)), [len(x) for x in pts])
     )
-    pieces = [_Piece(k, 0, len(x), bool(topo.loops[k]), 0) for k, x in enumerate(arcs)]
+    pieces = [EnginePiece(k, 0, len(x), bool(topo.loops[k]), 0) for k, x in enumerate(arcs)]
     n = len(pieces)
     grp, changed = np.zeros(n, int), np.ones(n, bool)
     closed = shapely.is_closed(geoms)
-    a, b, hit = _meeting_pairs(geoms, pieces, grp, changed, closed)
+    a, b, hit = engine_meeting_pairs(geoms, pieces, grp, changed, closed)
     ra, rb, rhit = _geos_pairs(geoms, grp, changed)
     assert np.array_equal(a, ra) and np.array_equal(b, rb) and np.array_equal(hit, rhit)
     assert len(a) > 1000
@@ -511,7 +517,7 @@ def test_topology_rebuilds_holes_islands_and_multipolygons():
     assert np.array_equal(shapely.get_num_coordinates(back), shapely.get_num_coordinates(g))
     assert topo.loops.sum() >= 3  # the holes (and parts that touch no other cell)
     # every arc's uses: a shared arc twice (one ring per side), the outer boundary once
-    _, arc, _ = C._flat_uses(topo)
+    _, arc, _ = coverage_flat_uses(topo)
     uses = np.bincount(arc, minlength=len(topo.arcs))
     assert set(uses.tolist()) == {1, 2}
     assert all(len(p) == u for p, u in zip(topo.arc_polygons, uses, strict=True) if u == 2)

@@ -9,7 +9,9 @@ from hypothesis import strategies as st
 
 from curvesmith import cca, geo
 from curvesmith.errors import CurveError
-from curvesmith.geo._coverage import rebuild
+from curvesmith.internals import geo_coverage
+
+rebuild = geo_coverage.rebuild
 
 
 def lattice_coverage(blocks=3, k=4, jitter=0.25, seed=0):

@@ -168,3 +168,97 @@ def test_the_method_literals_are_the_table():
 
     assert typing.get_args(methods.MethodName) == tuple(methods.METHODS)
     assert typing.get_args(methods.GisMethod) == methods.gis_names()
+
+
+# ------------------------------------------------------------------ tests reach only the internal API
+
+_NAMEDTUPLE = {"_replace", "_asdict", "_fields", "_make", "_field_defaults"}
+
+
+def _private(name: str) -> bool:
+    return name.startswith("_") and not name.startswith("__") and name not in _NAMEDTUPLE
+
+
+def _reaches(path) -> list[str]:
+    """Every place a test file uses a private curvesmith name other than through internals."""
+    import ast
+
+    tree = ast.parse(path.read_text(), filename=str(path))
+    bound: set[str] = set()  # names that refer to curvesmith modules or objects
+    found = []
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            for a in node.names:
+                if a.name.split(".")[0] == "curvesmith":
+                    if any(_private(part) for part in a.name.split(".")):
+                        found.append(f"line {node.lineno}: import {a.name}")
+                    bound.add((a.asname or a.name).split(".")[0])
+        elif isinstance(node, ast.ImportFrom) and (node.module or "").startswith("curvesmith"):
+            parts = node.module.split(".")
+            if any(_private(p) for p in parts):
+                found.append(f"line {node.lineno}: from {node.module} import ...")
+            for a in node.names:
+                if _private(a.name):
+                    found.append(f"line {node.lineno}: from {node.module} import {a.name}")
+                bound.add(a.asname or a.name)
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Attribute) and _private(node.attr):
+            root = node.value
+            while isinstance(root, ast.Attribute):
+                root = root.value
+            if isinstance(root, ast.Name) and root.id in bound:
+                found.append(f"line {node.lineno}: {ast.unparse(node)}")
+        if (
+            isinstance(node, ast.Call)
+            and ast.unparse(node.func).endswith("setattr")
+            and len(node.args) >= 2
+            and isinstance(node.args[1], ast.Constant)
+            and isinstance(node.args[1].value, str)
+            and _private(node.args[1].value)
+        ):
+            target = node.args[0]
+            while isinstance(target, ast.Attribute):
+                target = target.value
+            if isinstance(target, ast.Name) and target.id in bound:
+                found.append(f"line {node.lineno}: setattr(..., {node.args[1].value!r})")
+    return found
+
+
+def test_tests_use_only_the_internal_api(tmp_path):
+    """No test reaches a private name (``_x``) except through ``curvesmith.internals``."""
+    from pathlib import Path
+
+    here = Path(__file__).parent
+    files = sorted(here.glob("*.py")) + sorted((here / "qgis").glob("*.py"))
+    bad = {f.name: hits for f in files if (hits := _reaches(f))}
+    assert not bad, f"private names reached outside curvesmith.internals: {bad}"
+    # and the check sees a reach when there is one
+    probe = tmp_path / "probe_private.py"
+    probe.write_text(
+        "from curvesmith.geo._io import x\nfrom curvesmith import cca\ncca._api\n"
+        "import curvesmith\nmonkeypatch.setattr(curvesmith, '_LAZY', ())\n"
+    )
+    assert len(_reaches(probe)) == 3
+
+
+def test_every_public_parameter_is_annotated():
+    """Array inputs ArrayLike, options Literal, ...: mypy checks the bodies, this the surface."""
+    missing = []
+    for name in [*MODULES, "curvesmith.methods"]:
+        module = importlib.import_module(name)
+        for attr in getattr(module, "__all__", []):
+            obj = getattr(module, attr)
+            fns = [(attr, obj)] if inspect.isfunction(obj) else []
+            if inspect.isclass(obj):
+                fns = [
+                    (f"{attr}.{k}", v)
+                    for k, v in vars(obj).items()
+                    if inspect.isfunction(v) and not k.startswith("_")
+                ]
+            for label, f in fns:
+                for p in inspect.signature(f).parameters.values():
+                    if p.name in ("self", "cls") or p.kind in (p.VAR_POSITIONAL, p.VAR_KEYWORD):
+                        continue
+                    if p.annotation is inspect.Parameter.empty:
+                        missing.append(f"{name}.{label}({p.name})")
+    assert not missing, missing

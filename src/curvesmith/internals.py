@@ -143,6 +143,12 @@ _ON_DEMAND: dict[str, tuple[str, str | None]] = {
     "slices": (".geo._io", "_slices"),
     "coverage_ragged": (".geo._coverage", "_ragged"),
     "geo_chunks": (".geo._smooth", "_chunks"),
+    "arrangement_kernel": (".geo._arrangement_kernel", None),
+    "coverage_flat_uses": (".geo._coverage", "_flat_uses"),
+    "coverage_shells": (".geo._coverage", "_shells"),
+    "coverage_output_valid": (".geo._coverage", "_output_valid"),
+    "engine_meeting_pairs": (".geo._engine", "_meeting_pairs"),
+    "EnginePiece": (".geo._engine", "_Piece"),
     "simple_kernel": (".geo._simple_kernel", None),
 }
 __all__ += sorted(_ON_DEMAND)

@@ -8,8 +8,10 @@ from typing import Any
 
 import numpy as np
 
+from .. import methods
 from .._rich import RichRepr
 from ..errors import CurveError
+from ..methods import GisMethod
 from . import _zm
 from ._corners import with_corners
 from ._engine import levels_for, resolve_arcs
@@ -349,7 +351,7 @@ def ring_coordinates(
 def smooth_coverage(
     polygons: Any,
     *,
-    method: str = "cca",
+    method: GisMethod = "cca",
     iterations: int = 1,
     alpha: Any = "regular",
     snap: float | None = None,
@@ -445,17 +447,12 @@ def smooth_coverage(
     geoms, zm = _zm.split_zm(geoms)  # smoothed in XY; Z/M interpolated back (geo._zm)
     if zm is not None:
         wrap = _zm.restoring(wrap, zm)
-    if keep_angle is not None and method != "cca":
-        raise CurveError(
-            f"keep_angle needs method='cca' (Chaikin moves every vertex), got {method!r}"
-        )
+    if keep_angle is not None:
+        methods.needs("keep_angle", method)
     fixed = with_corners(geoms, fixed, keep_angle)
     fixed_spec = None
     if fixed is not None:
-        if method != "cca":
-            raise CurveError(
-                f"fixed needs method='cca' (Chaikin moves every vertex), got {method!r}"
-            )
+        methods.needs("fixed", method)
         fixed_spec = FixedVertices(fixed, geoms)
         map_arcs = None
     geoms = prepare(geoms, make_valid=make_valid, what="polygons")
@@ -617,7 +614,7 @@ def smooth_arcs(
     again.
     """
     smoother = make_smoother(method, alpha, fixed)
-    levels = levels_for(iterations, scalable=(method == "cca"))
+    levels = levels_for(iterations, scalable=methods.get(method).scalable)
     if iterations == 0:
         return list(topo.arcs), []
     if max_shift is not None or min_segment is not None:
