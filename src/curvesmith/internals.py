@@ -150,5 +150,6 @@ _ON_DEMAND: dict[str, tuple[str, str | None]] = {
     "engine_meeting_pairs": (".geo._engine", "_meeting_pairs"),
     "EnginePiece": (".geo._engine", "_Piece"),
     "simple_kernel": (".geo._simple_kernel", None),
+    "topology_kernel": (".geo._topology_kernel", None),
 }
 __all__ += sorted(_ON_DEMAND)

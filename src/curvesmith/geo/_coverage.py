@@ -162,6 +162,13 @@ def coverage_topology(polygons: Any, *, frozen_edges: Any = None) -> Topology:
     Topology
     """
     from ._arrangement_kernel import ring_orientation
+    from ._topology_kernel import (
+        find_segments,
+        lexicographic_first,
+        node_flags,
+        point_ids,
+        segment_classes,
+    )
 
     shapely = _shapely()
     T = shapely.GeometryType
@@ -191,26 +198,18 @@ def coverage_topology(polygons: Any, *, frozen_edges: Any = None) -> Topology:
             extra, extra_idx = shapely.get_coordinates(shapely.get_parts(fr), return_index=True)
             extra = extra + 0.0
     pts = np.vstack([xy_all, extra])
-    order = np.lexsort((pts[:, 1], pts[:, 0]))
-    sp = pts[order]
-    new_pt = np.ones(len(sp), dtype=bool)
-    new_pt[1:] = np.any(sp[1:] != sp[:-1], axis=1)
-    pid_all = np.empty(len(sp), dtype=np.int64)
-    pid_all[order] = np.cumsum(new_pt) - 1
-    n_pts = int(new_pt.sum())
+    pid_all, n_pts = point_ids(pts)  # exact coordinates, hashed
     pid = pid_all[: len(vert)]
 
-    # segments: vertex k -> k+1 of every ring (cyclic), keyed by their unordered point ids
+    # segments: vertex k -> k+1 of every ring (cyclic), classed by their unordered points
     n_vert = np.diff(ring_off) - 1
     seg_off = np.concatenate([[0], np.cumsum(n_vert)])  # per ring, into vert / segments
     nxt = np.arange(len(vert)) + 1
     nxt[seg_off[1:] - 1] = seg_off[:-1]  # cyclic successor within the ring
     prev = np.arange(len(vert)) - 1
     prev[seg_off[:-1]] = seg_off[1:] - 1  # cyclic predecessor
-    a, b = pid, pid[nxt]
-    lo, hi = np.minimum(a, b), np.maximum(a, b)
-    ukeys, cls = np.unique(lo * n_pts + hi, return_inverse=True)
-    n_cls = len(ukeys)
+    cls, cls_lo, cls_hi = segment_classes(pid, pid[nxt], n_pts)
+    n_cls = len(cls_lo)
     seg_ring = np.repeat(np.arange(n_rings), n_vert)
     seg_geom = ring_geom[seg_ring]
     count = np.bincount(cls, minlength=n_cls)
@@ -222,16 +221,12 @@ def coverage_topology(polygons: Any, *, frozen_edges: Any = None) -> Topology:
     if len(extra):
         epid = pid_all[len(vert) :]
         same = extra_idx[1:] == extra_idx[:-1]
-        ea, eb = epid[:-1][same], epid[1:][same]
-        fk = np.minimum(ea, eb) * n_pts + np.maximum(ea, eb)
-        pos = np.clip(np.searchsorted(ukeys, fk), 0, n_cls - 1)
-        frozen_cls[pos[ukeys[pos] == fk]] = True
+        found = find_segments(cls_lo, cls_hi, epid[:-1][same], epid[1:][same])
+        frozen_cls[found[found >= 0]] = True
 
     # nodes: points with other than two distinct edges, or where the edge signature changes
-    deg = np.bincount(ukeys // n_pts, minlength=n_pts) + np.bincount(ukeys % n_pts, minlength=n_pts)
-    sig = np.stack([count, gmin, gmax, frozen_cls.astype(np.int64)], axis=1)
-    seg_sig = sig[cls]
-    node = (deg[pid] != 2) | np.any(seg_sig != seg_sig[prev], axis=1)
+    deg = np.bincount(cls_lo, minlength=n_pts) + np.bincount(cls_hi, minlength=n_pts)
+    node = node_flags(pid, cls, prev, deg, count, gmin, gmax, frozen_cls)
     n_nodes = len(np.unique(pid[node]))
 
     # every ring rotated to start at its first node (a ring without one: at its smallest
@@ -247,17 +242,9 @@ def coverage_topology(polygons: Any, *, frozen_edges: Any = None) -> Topology:
         first_node[rr] = at[pos] - seg_off[rr]
     rot = first_node
     bare = np.flatnonzero(~has_node & (n_vert > 0))
-    if bare.size:  # the position of the smallest point id of every ring without a node
-        lens_b = n_vert[bare]
-        sel_off = np.cumsum(lens_b) - lens_b
-        sel = np.repeat(seg_off[:-1][bare], lens_b) + (
-            np.arange(lens_b.sum()) - np.repeat(sel_off, lens_b)
-        )
-        low = np.minimum.reduceat(pid[sel], sel_off)
-        hit = sel[pid[sel] == np.repeat(low, lens_b)]
-        rr, pos = np.unique(seg_ring[hit], return_index=True)
+    if bare.size:  # every ring without a node starts at its lexicographically first point
         rot = rot.copy()
-        rot[rr] = hit[pos] - seg_off[rr]
+        rot[bare] = lexicographic_first(xy_all, seg_off[:-1][bare], n_vert[bare])
     base = np.repeat(seg_off[:-1], n_vert)
     j = np.arange(total) - base
     perm = base + (np.repeat(rot, n_vert) + j) % np.repeat(n_vert, n_vert)
