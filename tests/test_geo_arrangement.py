@@ -468,11 +468,18 @@ def test_compiled_pairs_are_the_geos_pairs(seed):
     grp = rng.integers(0, 3, len(lines))
     changed = rng.uniform(size=len(lines)) < 0.8
     closed = shapely.is_closed(geoms)
-    a, b, hit = engine_meeting_pairs(geoms, pieces, grp, changed, closed)
+    a, b, hit, self_meet = engine_meeting_pairs(geoms, pieces, grp, changed, closed)
     ra, rb, rhit = _geos_pairs(geoms, grp, changed)
     assert np.array_equal(a, ra) and np.array_equal(b, rb)
     assert np.array_equal(hit, rhit)
     assert len(a) > 100 and rhit.sum() > 20
+    # every piece that is not simple meets itself; without repeated vertices (which
+    # GEOS skips) the two are the same
+    simple = shapely.is_simple(geoms)
+    repeats = np.array([np.any(np.all(x[1:] == x[:-1], axis=1)) for x in lines])
+    assert not np.any(~simple & ~self_meet)
+    assert np.array_equal(self_meet[~repeats], ~simple[~repeats])
+    assert (~simple[~repeats]).sum() > 10
 
 
 def test_compiled_pairs_on_smoothed_county_arcs():
@@ -491,10 +498,30 @@ def test_compiled_pairs_on_smoothed_county_arcs():
     n = len(pieces)
     grp, changed = np.zeros(n, int), np.ones(n, bool)
     closed = shapely.is_closed(geoms)
-    a, b, hit = engine_meeting_pairs(geoms, pieces, grp, changed, closed)
+    a, b, hit, self_meet = engine_meeting_pairs(geoms, pieces, grp, changed, closed)
     ra, rb, rhit = _geos_pairs(geoms, grp, changed)
     assert np.array_equal(a, ra) and np.array_equal(b, rb) and np.array_equal(hit, rhit)
     assert len(a) > 1000
+    assert np.array_equal(self_meet, ~shapely.is_simple(geoms))
+
+
+def test_a_repeated_vertex_makes_a_simple_piece_meet_itself():
+    """self_meet is a superset: GEOS calls a line with a repeated vertex simple, the
+    arrangement sees its neighbours meet at that vertex (the engine asks GEOS then)."""
+    lines = [
+        np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 0.0], [2.0, 1.0]]),  # repeated vertex
+        np.array([[0.0, 2.0], [2.0, 4.0], [2.0, 2.0], [0.0, 4.0]]),  # a crossing: not simple
+        np.array([[5.0, 0.0], [6.0, 0.0], [6.0, 1.0]]),  # simple
+    ]
+    geoms = shapely.linestrings(
+        np.concatenate(lines), indices=np.repeat(np.arange(3), [len(x) for x in lines])
+    )
+    pieces = [EnginePiece(k, 0, len(x) - 1, False, 0) for k, x in enumerate(lines)]
+    got = engine_meeting_pairs(
+        geoms, pieces, np.zeros(3, int), np.ones(3, bool), shapely.is_closed(geoms)
+    )
+    assert list(got[3]) == [True, True, False]
+    assert list(shapely.is_simple(geoms)) == [True, False, True]
 
 
 def test_topology_rebuilds_holes_islands_and_multipolygons():

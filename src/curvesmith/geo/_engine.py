@@ -372,8 +372,15 @@ def _conflicts(
     level = np.array([p.level for p in pieces])
     grp = groups[arc_of]
     changed = level < top
-    # self-intersections
+    closed = shapely.is_closed(geoms)
+    found = None
+    if len(to_check) == len(pieces) and len(pieces) >= COMPILED_PAIRS:
+        found = _meeting_pairs(geoms, pieces, grp, changed, closed, ragged)
+    # self-intersections: GEOS decides the candidates (all changed pieces, or those the
+    # compiled arrangement saw meet themselves: a superset of the pieces that are not simple)
     cand = to_check[changed[to_check]]
+    if found is not None:
+        cand = cand[found[3][cand]]
     if len(cand):
         simple = shapely.is_simple(geoms[cand])
         for k in cand[~simple]:
@@ -384,12 +391,8 @@ def _conflicts(
     bad |= _near_contacts(
         pieces, arcs, geoms, tree, to_check, grp, changed, input_geom, scale[arc_of]
     )
-    closed = shapely.is_closed(geoms)
-    found = None
-    if len(to_check) == len(pieces) and len(pieces) >= COMPILED_PAIRS:
-        found = _meeting_pairs(geoms, pieces, grp, changed, closed, ragged)
     if found is not None:
-        a, b, hit = found
+        a, b, hit, _ = found
     else:
         qi, qj = tree.query(geoms[to_check], predicate="intersects")
         qi = to_check[qi]
@@ -441,14 +444,18 @@ def _conflicts(
 
 
 def _meeting_pairs(geoms, pieces, grp, changed, closed, ragged=None):
-    """The pairs of a full round that meet, and which of them conflict: ``(a, b, hit)``.
+    """The pairs of a full round that meet, and which of them conflict: ``(a, b, hit, self_meet)``.
 
     What the STRtree ``intersects`` query and ``relate_pattern(.., "FF*F*****")`` give
     (pairs ``a < b`` of one group, one of them changed, that intersect; `hit` for two
     open pieces meeting other than at common end points), found by the exact compiled
     arrangement (:func:`curvesmith.geo._arrangement_kernel.meetings`). Pairs with a
-    closed piece are left to the caller (their `hit` is False here). None when the
-    kernel cannot decide (the caller asks GEOS).
+    closed piece are left to the caller (their `hit` is False here). ``self_meet`` (per
+    piece): the piece meets itself other than at the common vertex of consecutive
+    segments or its closing vertex; every piece that is not simple is among them (the
+    comparison is exact), but a repeated vertex can make a simple one meet itself, so
+    the caller asks GEOS about these. None when the kernel cannot decide (the caller
+    asks GEOS).
     """
     import shapely
 
@@ -461,12 +468,16 @@ def _meeting_pairs(geoms, pieces, grp, changed, closed, ragged=None):
         off = np.zeros(len(geoms) + 1, dtype=np.int64)
         np.cumsum(shapely.get_num_coordinates(geoms), out=off[1:])
     loop = np.fromiter((p.loop for p in pieces), dtype=bool, count=len(pieces))
-    got = meetings(xy, off, loop, grp, changed, self_pairs=False)
+    got = meetings(xy, off, loop, grp, changed, self_pairs=True)
     if got is None:
         return None
     sa, sb, v = got
     pa = np.searchsorted(off, sa, "right") - 1
     pb = np.searchsorted(off, sb, "right") - 1
+    own = pa == pb
+    self_meet = np.zeros(len(geoms), dtype=bool)
+    self_meet[pa[own & (v == MEET)]] = True
+    pa, pb, v = pa[~own], pb[~own], v[~own]
     lo, hi = np.minimum(pa, pb), np.maximum(pa, pb)
     key = lo * len(geoms) + hi
     uk, inv = np.unique(key, return_inverse=True)
@@ -474,7 +485,7 @@ def _meeting_pairs(geoms, pieces, grp, changed, closed, ragged=None):
     np.logical_or.at(hit, inv.reshape(-1), v == MEET)
     a, b = uk // len(geoms), uk % len(geoms)
     hit &= ~(closed[a] | closed[b])
-    return a, b, hit
+    return a, b, hit, self_meet
 
 
 def _near_contacts(
