@@ -13,6 +13,7 @@ from curvesmith.internals import (  # noqa: E402
     EnginePiece,
     coverage_flat_uses,
     coverage_output_valid,
+    coverage_ragged,
     coverage_shells,
     engine_meeting_pairs,
     geo_smooth,
@@ -548,3 +549,12 @@ def test_topology_rebuilds_holes_islands_and_multipolygons():
     uses = np.bincount(arc, minlength=len(topo.arcs))
     assert set(uses.tolist()) == {1, 2}
     assert all(len(p) == u for p, u in zip(topo.arc_polygons, uses, strict=True) if u == 2)
+    # the rings from the arcs' closed-loop layout (what smooth_coverage shares with the
+    # output proof) are the rings from the arcs, vertex for vertex and from the same start
+    arcs, _ = C.smooth_arc_blocks(
+        topo.arcs, topo.loops, topo.frozen, method="cca", iterations=2, alpha="regular"
+    )
+    flat = coverage_flat_uses(topo)
+    want = C.ring_coordinates(topo, arcs, flat)
+    got = C.ring_coordinates(topo, arcs, flat, coverage_ragged(arcs, topo.loops))
+    assert np.array_equal(got[0], want[0]) and np.array_equal(got[1], want[1])

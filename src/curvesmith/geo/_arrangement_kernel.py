@@ -174,12 +174,41 @@ def _compare(X, offsets, loop, p, ta, q, tb):
 
 
 @njit(cache=True, nogil=True)
-def _within_chunks(X, offsets, loop, group, c0, c1, cp, rec, nrec):
-    """The meetings of segment pairs within one chunk, appended to ``rec[:nrec]``."""
+def _monotone(X, t0, t1):
+    """How segments ``t0 .. t1 - 1`` are strictly monotone: ``(in_x, in_y)``.
+
+    Each is 1 (increasing), -1 (decreasing) or 0 (neither).
+    Monotone segments meet only where consecutive ones share their vertex: the x (or y)
+    ranges of non-consecutive segments are disjoint, and no segment turns back along the
+    previous one or has length zero; two runs of consecutive segments that are monotone
+    the same way in x (or y) form one monotone run. Exact: signs of differences of
+    coordinates. A chunk of a smoothed curve turns by less than a right angle, so it is
+    monotone in x or in y.
+    """
+    sx = 1 if X[t0 + 1, 0] > X[t0, 0] else -1
+    sy = 1 if X[t0 + 1, 1] > X[t0, 1] else -1
+    for t in range(t0, t1):
+        dx = X[t + 1, 0] - X[t, 0]
+        dy = X[t + 1, 1] - X[t, 1]
+        if sx != 0 and not ((dx > 0.0) if sx > 0 else (dx < 0.0)):
+            sx = 0
+        if sy != 0 and not ((dy > 0.0) if sy > 0 else (dy < 0.0)):
+            sy = 0
+        if sx == 0 and sy == 0:
+            break
+    return sx, sy
+
+
+@njit(cache=True, nogil=True)
+def _within_chunks(X, offsets, loop, group, c0, c1, cp, mono, rec, nrec):
+    """The meetings of segment pairs within one chunk, appended to ``rec[:nrec]``.
+
+    ``mono``: per chunk, :func:`_monotone` (a monotone chunk has none).
+    """
     buf = np.empty((CHUNK * CHUNK, 2), dtype=np.int64)
     for c in range(c0.shape[0]):
         p = cp[c]
-        if group[p] < 0:
+        if group[p] < 0 or mono[c, 0] != 0 or mono[c, 1] != 0:
             continue
         nb = 0  # consecutive segments: they overlap only along one ray
         for ta in range(c0[c], c1[c] - 1):
@@ -305,8 +334,11 @@ def segment_meetings(X, offsets, loop, group, need, self_pairs):
     nrec = 0
     buf_a = np.empty(CHUNK, dtype=np.int64)
     buf_b = np.empty(CHUNK, dtype=np.int64)
+    mono = np.zeros((nch if self_pairs else 0, 2), dtype=np.int64)
     if self_pairs:  # the segment pairs within one chunk
-        rec, nrec = _within_chunks(X, offsets, loop, group, c0, c1, cp, rec, nrec)
+        for c in range(nch):
+            mono[c, 0], mono[c, 1] = _monotone(X, c0[c], c1[c])
+        rec, nrec = _within_chunks(X, offsets, loop, group, c0, c1, cp, mono, rec, nrec)
     for cell in range(nx * ny):
         e0, e1 = cnt[cell], cnt[cell + 1]
         ci, cj = cell % nx, cell // nx
@@ -325,6 +357,12 @@ def segment_meetings(X, offsets, loop, group, need, self_pairs):
                 q = cp[b]
                 if p == q:
                     if not self_pairs:
+                        continue
+                    # consecutive chunks monotone the same way: one monotone run
+                    same_way = (mono[a, 0] != 0 and mono[a, 0] == mono[b, 0]) or (
+                        mono[a, 1] != 0 and mono[a, 1] == mono[b, 1]
+                    )
+                    if same_way and (c1[a] == c0[b] or c1[b] == c0[a]):
                         continue
                 elif group[q] != gp or not (need[p] or need[q]):
                     continue
@@ -486,12 +524,13 @@ def meetings(X, offsets, loop, group, need, *, self_pairs: bool):
 
 
 @njit(cache=True, nogil=True)
-def gather_rings(A, a_off, loops, use_arc, use_fwd, ring_off_uses):
+def gather_rings(A, a_off, loops, use_arc, use_fwd, ring_off_uses, closed_loops=False):
     """Closed rings from the arcs ``A[a_off[k]:a_off[k + 1]]``: ``(coordinates, offsets)``.
 
     Ring ``r`` is its uses ``ring_off_uses[r] .. ring_off_uses[r + 1] - 1`` in order: arc
     ``use_arc[u]``, reversed unless ``use_fwd[u]``, without its last vertex unless it is
-    a loop; then its first vertex again.
+    a loop; then its first vertex again. With `closed_loops` the loops in `A` repeat their
+    first vertex at the end (the layout of the arrangement's polylines); it is skipped.
     """
     n_rings = ring_off_uses.shape[0] - 1
     offs = np.zeros(n_rings + 1, dtype=np.int64)
@@ -499,7 +538,9 @@ def gather_rings(A, a_off, loops, use_arc, use_fwd, ring_off_uses):
         n = 1
         for u in range(ring_off_uses[r], ring_off_uses[r + 1]):
             k = use_arc[u]
-            n += a_off[k + 1] - a_off[k] - (0 if loops[k] else 1)
+            n += a_off[k + 1] - a_off[k] - 1
+            if loops[k] and not closed_loops:
+                n += 1
         offs[r + 1] = offs[r] + n
     out = np.empty((offs[n_rings], 2))
     for r in range(n_rings):
@@ -507,6 +548,8 @@ def gather_rings(A, a_off, loops, use_arc, use_fwd, ring_off_uses):
         for u in range(ring_off_uses[r], ring_off_uses[r + 1]):
             k = use_arc[u]
             s, e = a_off[k], a_off[k + 1]
+            if loops[k] and closed_loops:
+                e -= 1
             m = e - s - (0 if loops[k] else 1)
             if use_fwd[u]:
                 for t in range(m):

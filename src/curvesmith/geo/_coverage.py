@@ -312,23 +312,28 @@ def rebuild(topo: Topology, arcs: list[np.ndarray]) -> np.ndarray:
 
 
 def ring_coordinates(
-    topo: Topology, arcs: list[np.ndarray], uses=None
+    topo: Topology, arcs: list[np.ndarray], uses=None, ragged=None
 ) -> tuple[np.ndarray, np.ndarray]:
     """The rings rebuilt from (smoothed) arcs: closed coordinates and ring offsets.
 
     Every ring is its arcs in order (reversed where the ring runs against the arc), each
     without its last vertex (the next arc's first) unless it is a loop, and the ring's
-    first vertex again at the end. `uses`: :func:`_flat_uses` of the topology.
+    first vertex again at the end. `uses`: :func:`_flat_uses` of the topology; `ragged`:
+    :func:`_ragged` of `arcs` (loops closed), when at hand.
     """
     from ._arrangement_kernel import gather_rings
 
     ring, arc, fwd = _flat_uses(topo) if uses is None else uses
     n_rings = len(topo.rings)
+    u_off = np.searchsorted(ring, np.arange(n_rings + 1))
+    if ragged is not None:
+        X, a_off = ragged
+        loops = np.asarray(topo.loops, bool)
+        return gather_rings(X, a_off, loops, arc, fwd, u_off, True)
     lens = np.fromiter((len(x) for x in arcs), dtype=np.int64, count=len(arcs))
     a_off = np.zeros(len(arcs) + 1, dtype=np.int64)
     np.cumsum(lens, out=a_off[1:])
     allxy = np.concatenate(arcs) if len(arcs) else np.empty((0, 2))
-    u_off = np.searchsorted(ring, np.arange(n_rings + 1))
     return gather_rings(
         np.ascontiguousarray(allxy, dtype=np.float64), a_off, np.asarray(topo.loops, bool),
         arc, fwd, u_off,
@@ -507,7 +512,8 @@ def smooth_coverage(
     )
     if uses is None:
         uses = _flat_uses(topo)
-    coords, offs = ring_coordinates(topo, smoothed, uses)
+    ragged = _ragged(smoothed, topo.loops)  # for the rebuild and the output proof
+    coords, offs = ring_coordinates(topo, smoothed, uses, ragged)
     poly_off, geom_off = topo.ring_offsets
     new = assemble_polygons(coords, offs, poly_off, geom_off, topo.was_polygon)
     out[idx] = new
@@ -516,7 +522,7 @@ def smooth_coverage(
     change = float(np.max(np.abs(a1 - a0) / np.where(a0 > 0, a0, 1.0)))
     valid = None
     if validate:
-        valid = _output_valid(topo, uses, smoothed, coords, offs, new)
+        valid = _output_valid(topo, uses, smoothed, coords, offs, new, ragged)
     res = wrap(out)
     if not full_output:
         return res
@@ -790,7 +796,7 @@ def _shells(topo: Topology) -> np.ndarray:
     return shell
 
 
-def _output_valid(topo, uses, smoothed, coords, offs, new) -> bool:
+def _output_valid(topo, uses, smoothed, coords, offs, new, ragged=None) -> bool:
     """:func:`shapely.coverage_is_valid` of the rebuilt polygons, proven when possible.
 
     The proof (:func:`certainly_valid`) needs valid polygons. A Polygon of one ring is
@@ -810,7 +816,8 @@ def _output_valid(topo, uses, smoothed, coords, offs, new) -> bool:
         np.array([a[-1] for a in topo.arcs]).reshape(-1, 2),
     )
     sign = ring_orientation(coords, offs)
-    if certainly_valid(smoothed, topo.loops, uses, _shells(topo), sign, new, ends=ends):
+    shells = _shells(topo)
+    if certainly_valid(smoothed, topo.loops, uses, shells, sign, new, ends=ends, ragged=ragged):
         poly_off, geom_off = topo.ring_offsets
         one_ring = topo.was_polygon & (poly_off[geom_off[:-1] + 1] - poly_off[geom_off[:-1]] == 1)
         if shapely.is_valid(new[~one_ring]).all():
@@ -843,7 +850,9 @@ def _orient_signs(o, p, q) -> np.ndarray:
     return sign
 
 
-def certainly_valid(arcs, loops, uses, shell, ring_sign, polygons, *, ends=None) -> bool:
+def certainly_valid(
+    arcs, loops, uses, shell, ring_sign, polygons, *, ends=None, ragged=None
+) -> bool:
     """Whether the polygons rebuilt from `arcs` are proven to form a valid coverage.
 
     A sufficient test of :func:`shapely.coverage_is_valid` (gap width 0) for valid
@@ -875,7 +884,8 @@ def certainly_valid(arcs, loops, uses, shell, ring_sign, polygons, *, ends=None)
     valid coverage passes, except where a vertex lies on another edge of its own polygon
     (a hole touching its shell), a component has only single-segment arcs (no probe
     vertex) or an exact sign is undecided: then GEOS decides.
-    `ends`: the arcs' input end nodes, which the output arcs must keep.
+    `ends`: the arcs' input end nodes, which the output arcs must keep; `ragged`:
+    :func:`_ragged` of `arcs`, when at hand.
     """
     import shapely
 
@@ -885,15 +895,18 @@ def certainly_valid(arcs, loops, uses, shell, ring_sign, polygons, *, ends=None)
     if n_arcs == 0 or np.any(ring_sign == 0):
         return False
     loops = np.asarray(loops, dtype=bool)
-    first = np.array([a[0] for a in arcs])
-    last = np.array([a[-1] for a in arcs])
+    X, off = _ragged(arcs, loops) if ragged is None else ragged
+    lens = np.diff(off) - loops  # vertices of every arc (a loop's first not repeated)
+    if np.any(lens < 1):
+        return False
+    first = X[off[:-1]]
+    last = X[off[1:] - 1 - loops]
     if ends is not None and not (
         np.array_equal(first[~loops], ends[0][~loops])
         and np.array_equal(last[~loops], ends[1][~loops])
     ):
         return False
     # (a)
-    X, off = _ragged(arcs, loops)
     got = meetings(
         X, off, loops, np.zeros(n_arcs, np.int64), np.ones(n_arcs, bool), self_pairs=True
     )
@@ -908,11 +921,11 @@ def certainly_valid(arcs, loops, uses, shell, ring_sign, polygons, *, ends=None)
         return False
     # (c) half-edges at nodes: (node point, next vertex, arc, outgoing)
     opn = np.flatnonzero(~loops)
-    lens = np.array([len(arcs[k]) for k in opn], dtype=np.int64)
+    lens = lens[opn]
     if np.any(lens < 2):
         return False
-    nxt = np.array([arcs[k][1] for k in opn]).reshape(-1, 2)
-    prv = np.array([arcs[k][-2] for k in opn]).reshape(-1, 2)
+    nxt = X[off[opn] + 1]
+    prv = X[off[opn + 1] - 2]
     node_xy = np.concatenate([first[opn], last[opn]])
     dir_xy = np.concatenate([nxt, prv])
     h_arc = np.concatenate([opn, opn])
@@ -960,7 +973,8 @@ def certainly_valid(arcs, loops, uses, shell, ring_sign, polygons, *, ends=None)
     _, pid = np.unique(pts, axis=0, return_inverse=True)
     pid = pid.reshape(-1)
     n_nodes = int(pid.max()) + 1 if len(pid) else 0
-    reps = [np.array([arcs[k][1] for k in np.flatnonzero(loops)]).reshape(-1, 2)]
+    lp = np.flatnonzero(loops)
+    reps = [X[off[lp] + 1] if len(lp) else np.empty((0, 2))]
     if n_nodes:
         m = len(opn)
         graph = coo_matrix((np.ones(m), (pid[:m], pid[m:])), shape=(n_nodes, n_nodes))
@@ -970,7 +984,7 @@ def certainly_valid(arcs, loops, uses, shell, ring_sign, polygons, *, ends=None)
         have, one = np.unique(comp_of_arc[long_arc], return_index=True)
         if len(have) < n_comp:
             return False  # a component of single-segment arcs only: GEOS decides
-        reps.append(np.array([arcs[k][1] for k in opn[np.flatnonzero(long_arc)[one]]]))
+        reps.append(X[off[opn[np.flatnonzero(long_arc)[one]]] + 1])
     probe = shapely.points(np.concatenate(reps))
     tree = shapely.STRtree(np.asarray(polygons, dtype=object))
     hit = tree.query(probe, predicate="within")
