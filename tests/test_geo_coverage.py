@@ -9,7 +9,12 @@ from hypothesis import strategies as st
 
 from curvesmith import cca, geo
 from curvesmith.errors import CurveError
-from curvesmith.internals import geo_coverage
+from curvesmith.internals import (
+    coverage_flat_uses,
+    coverage_shells,
+    coverage_valid_by_proof,
+    geo_coverage,
+)
 
 rebuild = geo_coverage.rebuild
 
@@ -274,6 +279,42 @@ def test_coverage_bad_inputs():
         geo.smooth_coverage([shapely.box(0, 0, 1, 1)], snap=-1)
     with pytest.raises(CurveError, match=r"polygons\[0\] is a Point"):
         geo.smooth_coverage([shapely.Point(0, 0)])
+
+
+INVALID = {
+    "bowtie": [(0, 0), (2, 2), (2, 0), (0, 2)],
+    "spike": [(0, 0), (2, 0), (2, 2), (1, 2), (1, 3), (1, 2), (0, 2)],
+    # a ring through one vertex twice: its two arcs (both from that node back to it) meet
+    # only at their end node, so the coverage proof passes; the ring is not simple
+    "pinch": [(0, 0), (2, 0), (1, 1), (2, 2), (0, 2), (1, 1)],
+    "flat": [(0, 0), (1, 0), (2, 0)],
+}
+
+
+@pytest.mark.parametrize("name", INVALID)
+@pytest.mark.parametrize("position", [0, 2])
+def test_an_invalid_polygon_in_a_valid_looking_coverage_is_refused(name, position):
+    """The coverage proof proves one-ring polygons valid only when their ring passes no
+    node twice; an invalid one gets prepare's error, and make_valid repairs it as
+    geo.smooth does."""
+    polys = [shapely.box(10, 0, 11, 1), shapely.box(11, 0, 12, 1)]
+    polys.insert(position, shapely.Polygon(INVALID[name]))
+    with pytest.raises(CurveError, match=rf"polygons\[{position}\] is not valid"):
+        geo.smooth_coverage(polys, iterations=2)
+    res = geo.smooth_coverage(polys, iterations=2, make_valid=True, full_output=True)
+    repaired = shapely.make_valid(polys[position], method="structure", keep_collapsed=False)
+    assert res.geometry[position].area == pytest.approx(repaired.area, rel=1e-12, abs=1e-15)
+    assert shapely.is_valid(res.geometry).all() and res.coverage_valid
+
+
+def test_the_pinched_ring_passes_the_arc_proof_but_not_the_polygon_proof():
+    pinch = shapely.Polygon(INVALID["pinch"])
+    g = np.array([pinch, shapely.box(10, 0, 11, 1)], dtype=object)
+    topo = geo_coverage.coverage_topology(g)
+    uses = coverage_flat_uses(topo)
+    shells = coverage_shells(topo)
+    assert geo_coverage.certainly_valid(topo.arcs, topo.loops, uses, shells, topo.ring_sign, g)
+    assert list(coverage_valid_by_proof(topo, uses)) == [False, True]
 
 
 def test_coverage_passes_none_and_empty_through():

@@ -447,28 +447,28 @@ def smooth_coverage(
         methods.needs("fixed", method)
         fixed_spec = FixedVertices(fixed, geoms)
         map_arcs = None
-    geoms = prepare(geoms, make_valid=make_valid, what="polygons")
-    present = np.array([g is not None for g in geoms], dtype=bool)
-    present[present] = ~shapely.is_empty(geoms[present])
-    types = shapely.get_type_id(geoms[present])
-    T = shapely.GeometryType
-    okt = (types == T.POLYGON) | (types == T.MULTIPOLYGON)
-    if not okt.all():
-        k = int(np.nonzero(present)[0][np.nonzero(~okt)[0][0]])
-        raise CurveError(
-            f"polygons[{k}] is a {geoms[k].geom_type}: a coverage contains only "
-            f"Polygons and MultiPolygons"
-        )
-    idx = np.nonzero(present)[0]
-    g = geoms[idx]
+    # in the plain case the compiled coverage proof also proves the polygons of one ring
+    # valid (_polygons_valid); GEOS checks the others
     if snap is not None:
         snap = float(snap)
         if not snap >= 0.0:
             raise CurveError(f"snap must be >= 0, got {snap}")
-        g = shapely.remove_repeated_points(shapely.coverage_clean(g, snapping_distance=snap), 0.0)
     gap_width = float(gap_width)
     if not gap_width >= 0.0:
         raise CurveError(f"gap_width must be >= 0, got {gap_width}")
+    plain = snap is None and gap_width == 0.0
+    geoms_in = geoms
+    geoms, idx, g = _coverage_input(geoms_in, make_valid, plain)
+    if snap is not None:
+        g = shapely.remove_repeated_points(shapely.coverage_clean(g, snapping_distance=snap), 0.0)
+    # the compiled proof (certainly_valid) for the plain case; GEOS decides the rest
+    topo, uses, input_valid = None, None, False
+    if plain and len(g):
+        topo, uses, input_valid = _proven_topology(g)
+        if not _polygons_valid(g, topo, uses, input_valid):
+            # an invalid polygon: prepared as without the deferral (its error, or repairs)
+            geoms, idx, g = _coverage_input(geoms_in, make_valid, False)
+            topo, uses, input_valid = _proven_topology(g) if len(g) else (None, None, False)
     out = geoms.copy()
     if len(g) == 0:
         res = wrap(out)
@@ -477,12 +477,6 @@ def smooth_coverage(
             if (full_output)
             else res
         )
-    # the compiled proof (certainly_valid) for the plain case; GEOS decides the rest
-    topo = coverage_topology(g) if (snap is None and gap_width == 0.0) else None
-    uses = _flat_uses(topo) if topo is not None else None
-    input_valid = topo is not None and certainly_valid(
-        topo.arcs, topo.loops, uses, _shells(topo), topo.ring_sign, g
-    )
     if not input_valid:
         input_valid = bool(shapely.coverage_is_valid(g, gap_width=gap_width))
     if input_valid:
@@ -540,6 +534,67 @@ def smooth_coverage(
     return CoverageResult(
         res, len(topo.arcs), topo.n_nodes, red, invalid_report, change, valid, input_valid
     )
+
+
+def _coverage_input(geoms, make_valid: bool, defer_validity: bool):
+    """The prepared geometries, the positions of the non-empty ones and these: ``(all, idx, g)``."""
+    shapely = _shapely()
+    geoms = prepare(geoms, make_valid=make_valid, what="polygons", defer_validity=defer_validity)
+    present = np.array([g is not None for g in geoms], dtype=bool)
+    present[present] = ~shapely.is_empty(geoms[present])
+    types = shapely.get_type_id(geoms[present])
+    T = shapely.GeometryType
+    okt = (types == T.POLYGON) | (types == T.MULTIPOLYGON)
+    if not okt.all():
+        k = int(np.nonzero(present)[0][np.nonzero(~okt)[0][0]])
+        raise CurveError(
+            f"polygons[{k}] is a {geoms[k].geom_type}: a coverage contains only "
+            f"Polygons and MultiPolygons"
+        )
+    idx = np.nonzero(present)[0]
+    return geoms, idx, geoms[idx]
+
+
+def _proven_topology(g: np.ndarray) -> tuple[Topology, Any, bool]:
+    """The topology of a coverage, its ring uses and whether :func:`certainly_valid` proves it."""
+    topo = coverage_topology(g)
+    uses = _flat_uses(topo)
+    proven = certainly_valid(topo.arcs, topo.loops, uses, _shells(topo), topo.ring_sign, g)
+    return topo, uses, proven
+
+
+def _polygons_valid(g: np.ndarray, topo: Topology, uses, proven: bool) -> bool:
+    """Whether every polygon is valid: by the coverage proof where it can tell, else GEOS."""
+    shapely = _shapely()
+    doubt = ~_valid_by_proof(topo, uses) if proven else np.ones(len(g), dtype=bool)
+    return not doubt.any() or bool(shapely.is_valid(g[doubt]).all())
+
+
+def _valid_by_proof(topo: Topology, uses) -> np.ndarray:
+    """Per polygon of a coverage that :func:`certainly_valid` proved: whether it is valid.
+
+    True for a Polygon of one ring that passes through no node twice. Its arcs are
+    simple and meet only at their end nodes (part (a) of the proof), so two of its arcs
+    that are not consecutive in the ring could meet only at a node the ring passes twice:
+    the ring is simple, and its orientation is not zero (the proof checks it), so the
+    polygon is valid. The other geometries (holes, several parts) are checked by GEOS.
+    """
+    from ._topology_kernel import point_ids
+
+    ring, arc, fwd = uses
+    poly_off, geom_off = topo.ring_offsets
+    n_rings = int(poly_off[-1])
+    first = np.array([a[0] for a in topo.arcs]).reshape(-1, 2)
+    last = np.array([a[-1] for a in topo.arcs]).reshape(-1, 2)
+    on_node = ~np.asarray(topo.loops, dtype=bool)[arc]  # a loop's ring has no node
+    start = np.where(fwd[:, None], first[arc], last[arc])[on_node]  # the node a use leaves
+    nid, n_ids = point_ids(np.ascontiguousarray(start) + 0.0)
+    key = np.sort(ring[on_node] * max(n_ids, 1) + nid)
+    twice = np.zeros(n_rings, dtype=bool)
+    twice[key[1:][key[1:] == key[:-1]] // max(n_ids, 1)] = True
+    first_poly = geom_off[:-1]
+    one_ring = topo.was_polygon & (poly_off[first_poly + 1] - poly_off[first_poly] == 1)
+    return one_ring & ~twice[poly_off[first_poly]]
 
 
 def smooth_arc_blocks(

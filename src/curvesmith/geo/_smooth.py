@@ -406,9 +406,16 @@ def as_geometry_array(geometry: Any) -> tuple[np.ndarray, Callable[[np.ndarray],
     return arr, lambda out: out
 
 
-def prepare(geoms: np.ndarray, *, make_valid: bool, what: str = "geometry") -> np.ndarray:
-    """Check types, 2D-ness and validity; drop repeated vertices. Returns a new array."""
-    return _prepare(geoms, make_valid=make_valid, what=what)[0]
+def prepare(
+    geoms: np.ndarray, *, make_valid: bool, what: str = "geometry", defer_validity: bool = False
+) -> np.ndarray:
+    """Check types, 2D-ness and validity; drop repeated vertices. Returns a new array.
+
+    With `defer_validity` the validity is not checked (`make_valid` is not used): the
+    caller proves it or asks GEOS, and prepares again without deferring if a geometry is
+    not valid (:func:`curvesmith.geo.smooth_coverage` proves it with the coverage).
+    """
+    return _prepare(geoms, make_valid=make_valid, what=what, defer_validity=defer_validity)[0]
 
 
 @dataclass(frozen=True)
@@ -433,7 +440,7 @@ class _Facts:
 
 
 def _prepare(
-    geoms: np.ndarray, *, make_valid: bool, what: str = "geometry"
+    geoms: np.ndarray, *, make_valid: bool, what: str = "geometry", defer_validity: bool = False
 ) -> tuple[np.ndarray, _Facts]:
     """:func:`prepare`, and the facts it computed on the way (no shapely call twice)."""
     shapely = _shapely()
@@ -465,13 +472,16 @@ def _prepare(
     off = np.zeros(len(g) + 1, dtype=np.int64)
     np.cumsum(np.bincount(owner, minlength=len(g)), out=off[1:])
     centres = np.full((len(g), 2), np.nan)
-    proven = _certainly_valid_polygons(types, holes, xy, off, centres)
-    valid = proven.copy()
-    doubt = np.flatnonzero(~valid)
-    if doubt.size:
-        valid[doubt] = shapely.is_valid(g[doubt])
+    if defer_validity:
+        proven = valid = np.zeros(len(g), dtype=bool)
+    else:
+        proven = _certainly_valid_polygons(types, holes, xy, off, centres)
+        valid = proven.copy()
+        doubt = np.flatnonzero(~valid)
+        if doubt.size:
+            valid[doubt] = shapely.is_valid(g[doubt])
     changed = False
-    if not valid.all():
+    if not defer_validity and not valid.all():
         if not make_valid:
             k = int(np.nonzero(~valid)[0][0])
             reason = shapely.is_valid_reason(g[k])
@@ -487,7 +497,7 @@ def _prepare(
     # remove_repeated_points (a new GEOS geometry each) only where a vertex repeats the
     # previous one: the others would come back with the same coordinates. A ring proven
     # simple has none (every pair of consecutive vertices is an edge of non-zero length)
-    if changed:
+    if changed or defer_validity:
         rows = _repeating(xy, owner)
     else:
         todo = np.flatnonzero(~proven)
