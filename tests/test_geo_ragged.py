@@ -243,3 +243,34 @@ def test_single_ring_layer_takes_prepares_arrays_in_chunks_and_repeats_change_no
         assert a.geom_type == b.geom_type == c.geom_type == "Polygon"
         np.testing.assert_array_equal(shapely.get_coordinates(a), shapely.get_coordinates(b))
         np.testing.assert_array_equal(shapely.get_coordinates(a), shapely.get_coordinates(c))
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_assemble_polygons_gives_back_every_geometry(seed):
+    """Polygons (with and without holes) and MultiPolygons of 1-3 parts, mixed, and
+    geometries without parts: assembled from their ragged rings, each comes back with
+    its type and its coordinates, in order."""
+    rng = np.random.default_rng(seed)
+    fp = list(_footprints(60, seed))
+    geoms = []
+    for k in range(40):
+        kind = rng.integers(0, 4)
+        if kind == 0:
+            geoms.append(fp[k])
+        else:
+            geoms.append(shapely.multipolygons(fp[k : k + int(kind)]))
+    geoms = np.asarray(geoms, dtype=object)
+    _, xy, (ring_off, poly_off, geom_off) = shapely.to_ragged_array(
+        shapely.multipolygons(shapely.get_parts(geoms), indices=np.repeat(
+            np.arange(len(geoms)), shapely.get_num_geometries(geoms)))
+    )  # fmt: skip
+    was_polygon = shapely.get_type_id(geoms) == shapely.GeometryType.POLYGON
+    got = geo_smooth.assemble_polygons(xy, ring_off, poly_off, geom_off, was_polygon)
+    assert list(shapely.get_type_id(got)) == list(shapely.get_type_id(geoms))
+    assert all(shapely.to_wkb(got) == shapely.to_wkb(geoms))
+    # a geometry without parts (between others) comes back empty, of its type
+    geom_off2 = np.insert(geom_off, 3, geom_off[3])
+    was2 = np.insert(was_polygon, 3, [False])
+    got2 = geo_smooth.assemble_polygons(xy, ring_off, poly_off, geom_off2, was2)
+    assert got2[3].is_empty and got2[3].geom_type == "MultiPolygon"
+    assert all(shapely.to_wkb(np.delete(got2, 3)) == shapely.to_wkb(geoms))

@@ -634,28 +634,31 @@ def assemble_polygons(
     """(Multi)Polygons from closed ragged rings, in ``shapely.to_ragged_array``'s layout.
 
     ``was_polygon`` (per geometry): build a Polygon (the geometry has one polygon), else a
-    MultiPolygon. Polygons are made as Polygons directly, not as MultiPolygons whose part
-    is then copied out.
+    MultiPolygon. All polygons are made in one call, without copying the coordinates of
+    the Polygon geometries out first; only the parts of MultiPolygons are copied (by
+    GEOS, into their collection).
     """
     shapely = _shapely()
     T = shapely.GeometryType
     ring_off = np.asarray(ring_off, dtype=np.int64)
     poly_off = np.asarray(poly_off, dtype=np.int64)
     geom_off = np.asarray(geom_off, dtype=np.int64)
-    if was_polygon.all():  # one polygon per geometry: its rings are the polygon's
-        return shapely.from_ragged_array(T.POLYGON, xy, (ring_off, poly_off))
+    was_polygon = np.asarray(was_polygon, dtype=bool)
+    parts = shapely.from_ragged_array(T.POLYGON, xy, (ring_off, poly_off))
+    n_parts = np.diff(geom_off)
+    if was_polygon.all() and np.all(n_parts == 1):  # one polygon per geometry
+        return parts
+    # a Polygon geometry is its part, a MultiPolygon collects its parts
     out = np.empty(len(was_polygon), dtype=object)
-    for sel in (was_polygon, ~was_polygon):
-        gi = np.flatnonzero(sel)
-        if gi.size == 0:
-            continue
-        polys, g_off = _expand(geom_off, gi)
-        rings, p_off = _expand(poly_off, polys)
-        rows, r_off = _expand(ring_off, rings)
-        if sel is was_polygon:
-            out[gi] = shapely.from_ragged_array(T.POLYGON, xy[rows], (r_off, p_off))
-        else:
-            out[gi] = shapely.from_ragged_array(T.MULTIPOLYGON, xy[rows], (r_off, p_off, g_off))
+    one = was_polygon & (n_parts == 1)
+    out[one] = parts[geom_off[:-1][one]]
+    out[was_polygon & (n_parts == 0)] = shapely.Polygon()
+    multi = np.flatnonzero(~was_polygon & (n_parts > 0))
+    if multi.size:
+        rows, _ = _expand(geom_off, multi)
+        owner = np.repeat(np.arange(multi.size), n_parts[multi])
+        out[multi] = shapely.multipolygons(parts[rows], indices=owner)
+    out[~was_polygon & (n_parts == 0)] = shapely.MultiPolygon()
     return out
 
 
