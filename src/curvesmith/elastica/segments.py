@@ -29,7 +29,12 @@ Fewest segments
    free fit (seven parameters) keeps every data vertex of it within ``T``, by bisection on
    its end vertex (each probe one solve warm-started from the last feasible probe, the
    global search only when that misses by less than ``_CLEAR_MISS T``). Free segments are
-   more flexible than a chain, so this count is where the chain starts.
+   more flexible than a chain, so this count is where the chain starts. If the rest after a
+   segment would be shorter than ``2 MIN_SEGMENT_POINTS`` vertices, that segment and the
+   last share the rest evenly: a free fit of a few vertices has its seven parameters barely
+   determined (an 8-vertex end of the section scan fitted ``k = 1`` and ``z`` anywhere
+   from 0.4 to 1.8 with last-ulp changes of the data), and the penalty path from it ended
+   in a basin 4x above the good one's cost, or in the good one, by chance.
 3. From the free fits to the chain by a penalty path: the joint conditions (shared vertex,
    equal vertex tangent) enter as residuals weighted ``0.1, 10, 1000`` (:class:`_PenaltyProblem`),
    each stage solved from the last, then the chain solve. Chaining the free fits directly
@@ -582,6 +587,16 @@ def _greedy(data, tolerance, max_segments, search):
                 hi = mid
         if p_lo is None:
             p_lo = fit(data[a : lo + 1]).params
+        if n - 1 - lo < 2 * MIN_SEGMENT_POINTS and n - 1 - a >= 2 * (MIN_SEGMENT_POINTS - 1):
+            # the rest would be a short last segment, whose free fit (seven parameters on
+            # a few vertices) is ill-determined and starts the chain in a chance basin:
+            # the last two segments share the rest evenly
+            mid = (a + n - 1) // 2
+            p_mid = _probe(data, a, mid, (p_lo, lo), tolerance, search) or p_lo
+            out.append((a, mid, p_mid))
+            out.append((mid, n - 1, fit(data[mid:]).params))
+            search.free_fits += 1
+            return out
         if n - 1 - lo < MIN_SEGMENT_POINTS - 1:
             lo = n - MIN_SEGMENT_POINTS
         out.append((a, lo, p_lo))
