@@ -29,7 +29,12 @@ Fewest segments
    free fit (seven parameters) keeps every data vertex of it within ``T``, by bisection on
    its end vertex (each probe one solve warm-started from the last feasible probe, the
    global search only when that misses by less than ``_CLEAR_MISS T``). Free segments are
-   more flexible than a chain, so this count is where the chain starts.
+   more flexible than a chain, so this count is where the chain starts. If the rest after a
+   segment would be shorter than ``2 MIN_SEGMENT_POINTS`` vertices, that segment and the
+   last share the rest evenly: a free fit of a few vertices has its seven parameters barely
+   determined (an 8-vertex end of the section scan fitted ``k = 1`` and ``z`` anywhere
+   from 0.4 to 1.8 with last-ulp changes of the data), and the penalty path from it ended
+   in a basin 4x above the good one's cost, or in the good one, by chance.
 3. From the free fits to the chain by a penalty path: the joint conditions (shared vertex,
    equal vertex tangent) enter as residuals weighted ``0.1, 10, 1000`` (:class:`_PenaltyProblem`),
    each stage solved from the last, then the chain solve. Chaining the free fits directly
@@ -43,7 +48,10 @@ Fewest segments
    (where the free fit just reaches ``T``) is not.
 5. While some input point is farther than ``T`` from the chained polyline (exact
    point-to-polyline distance, :func:`._geom.point_polyline_distance`) and fewer than
-   ``max_segments`` segments: split the segment with the largest deviation at its middle,
+   ``max_segments`` segments: split the segment with the largest deviation at its middle
+   (if it is too short to split, its longer neighbour, whose joint search can then move
+   the short one's joints; never a segment within ``T`` while one beyond ``T`` or its
+   neighbour can be split),
    from the better of two starts (the same elastica continued, ``(h, z, q + z c, k)``,
    which is exactly the previous chain; and free fits of the halves up the penalty path),
    and search the joints next to it. At ``max_segments``, ``within_tolerance`` is False and
@@ -582,6 +590,16 @@ def _greedy(data, tolerance, max_segments, search):
                 hi = mid
         if p_lo is None:
             p_lo = fit(data[a : lo + 1]).params
+        if n - 1 - lo < 2 * MIN_SEGMENT_POINTS and n - 1 - a >= 2 * (MIN_SEGMENT_POINTS - 1):
+            # the rest would be a short last segment, whose free fit (seven parameters on
+            # a few vertices) is ill-determined and starts the chain in a chance basin:
+            # the last two segments share the rest evenly
+            mid = (a + n - 1) // 2
+            p_mid = _probe(data, a, mid, (p_lo, lo), tolerance, search) or p_lo
+            out.append((a, mid, p_mid))
+            out.append((mid, n - 1, fit(data[mid:]).params))
+            search.free_fits += 1
+            return out
         if n - 1 - lo < MIN_SEGMENT_POINTS - 1:
             lo = n - MIN_SEGMENT_POINTS
         out.append((a, lo, p_lo))
@@ -707,10 +725,9 @@ def fit_segments(
         seg_max = np.array(
             [dev[near == i].max() if np.any(near == i) else 0.0 for i in range(len(sizes))]
         )
-        order = [i for i in np.argsort(-seg_max) if sizes[i] >= 2 * MIN_SEGMENT_POINTS - 1]
-        if not order:
+        i = _to_split(seg_max, sizes, tolerance)
+        if i is None:
             break
-        i = int(order[0])
         best: tuple | None = None
         c = (sizes[i] - 1) // 2
         for xs, ss in _split_starts(data, x, sizes, i, c):
@@ -723,6 +740,27 @@ def fit_segments(
         x, cost, ok_all = search.solve(x, sizes)
         dev, near = _deviations(work, _segment_vertices(x, sizes))
     return _result(data, x, sizes, dev, near, tolerance, max_segments, single, ok_all, search, rev)
+
+
+def _to_split(seg_max, sizes, tolerance):
+    """The segment to split: the worst one beyond `tolerance` that has room for two.
+
+    A segment beyond `tolerance` too short to split (fewer than ``2 MIN_SEGMENT_POINTS - 1``
+    vertices) is served by splitting its longer neighbour: the joint search next to the
+    split can then move its joints. Only if no segment beyond `tolerance` or next to one can
+    be split, the worst splittable segment; None if there is none.
+    """
+    splittable = [sz >= 2 * MIN_SEGMENT_POINTS - 1 for sz in sizes]
+    for i in np.argsort(-seg_max, kind="stable"):
+        if seg_max[i] <= tolerance:
+            break
+        if splittable[i]:
+            return int(i)
+        near = [j for j in (i - 1, i + 1) if 0 <= j < len(sizes) and splittable[j]]
+        if near:
+            return int(max(near, key=lambda j: sizes[j]))
+    order = [int(i) for i in np.argsort(-seg_max, kind="stable") if splittable[i]]
+    return order[0] if order else None
 
 
 def _segment_vertices(x, sizes):
