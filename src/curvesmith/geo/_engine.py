@@ -268,11 +268,12 @@ def resolve_arcs(
         changed = []
         new_pieces: list[_Piece] = []
         kept_from: list[int] = []  # for every new piece, its old index (-1: new geometry)
-        for k, p in enumerate(pieces):
-            if k not in bad:
-                new_pieces.append(p)
-                kept_from.append(k)
-                continue
+        done = 0  # the pieces before a bad one are kept as they are, in order
+        for k in sorted(bad):
+            new_pieces.extend(pieces[done:k])
+            kept_from.extend(range(done, k))
+            done = k + 1
+            p = pieces[k]
             n_vert = (p.stop - p.start) + (0 if p.loop else 1)
             if n_vert > MIN_PIECE_VERTICES:
                 if p.loop:
@@ -287,6 +288,8 @@ def resolve_arcs(
                 new_pieces.append(_Piece(p.arc, p.start, p.stop, p.loop, p.level + 1, p.split))
                 changed.append(len(new_pieces) - 1)
                 kept_from.append(-1)
+        new_pieces.extend(pieces[done:])
+        kept_from.extend(range(done, len(pieces)))
         src = np.asarray(kept_from)
         new_geoms = np.empty(len(new_pieces), dtype=object)
         new_geoms[src >= 0] = geoms[src[src >= 0]]
@@ -389,7 +392,7 @@ def _conflicts(
     # pairs
     tree = shapely.STRtree(geoms)
     bad |= _near_contacts(
-        pieces, arcs, geoms, tree, to_check, grp, changed, input_geom, scale[arc_of]
+        pieces, arcs, geoms, tree, to_check, grp, changed, input_geom, scale[arc_of], ragged
     )
     if found is not None:
         a, b, hit, _ = found
@@ -400,9 +403,7 @@ def _conflicts(
         qi, qj = qi[keep], qj[keep]
         if len(qi) == 0:
             return bad
-        a, b = np.minimum(qi, qj), np.maximum(qi, qj)
-        pairs = np.unique(np.stack([a, b], axis=1), axis=0)
-        a, b = pairs[:, 0], pairs[:, 1]
+        a, b = _unique_pairs(np.minimum(qi, qj), np.maximum(qi, qj), len(pieces))
         hit = np.zeros(len(a), dtype=bool)
         # open pieces may only share end points: no interior meets anything of the other
         plain = ~(closed[a] | closed[b])
@@ -488,8 +489,14 @@ def _meeting_pairs(geoms, pieces, grp, changed, closed, ragged=None):
     return a, b, hit, self_meet
 
 
+def _unique_pairs(a: np.ndarray, b: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
+    """The distinct pairs ``(a[k], b[k])`` of numbers below `n`, sorted by a, then b."""
+    key = np.unique(a.astype(np.int64) * n + b)
+    return key // n, key % n
+
+
 def _near_contacts(
-    pieces, arcs, geoms, tree, to_check, grp, changed, input_geom, scale
+    pieces, arcs, geoms, tree, to_check, grp, changed, input_geom, scale, ragged=None
 ) -> set[int]:
     """Changed pieces closer than the clearance margin to a piece they do not touch in the input.
 
@@ -512,8 +519,7 @@ def _near_contacts(
     a, b = np.minimum(a[keep], b[keep]), np.maximum(a[keep], b[keep])
     if len(a) == 0:
         return set()
-    pairs = np.unique(np.stack([a, b], axis=1), axis=0)
-    a, b = pairs[:, 0], pairs[:, 1]
+    a, b = _unique_pairs(a, b, len(pieces))
 
     # pieces that share an end vertex touch in the input (ring neighbours, arcs at a node)
     # the fixed end vertices of the pieces (pinned: equal to the input's)
@@ -533,7 +539,7 @@ def _near_contacts(
     if len(a) == 0:
         return set()
     upper = MARGIN_EDGE * np.maximum(scale[a], scale[b])
-    close = _within(geoms, a, b, upper)
+    close = _within(geoms, a, b, upper, ragged)
     a, b, upper = a[close], b[close], upper[close]
     if len(a) == 0:
         return set()
@@ -552,12 +558,17 @@ def _near_contacts(
     return out
 
 
-def _within(geoms, a, b, dist) -> np.ndarray:
-    """Per pair: whether ``geoms[a[k]]`` and ``geoms[b[k]]`` come within ``dist[k]``."""
+def _within(geoms, a, b, dist, ragged=None) -> np.ndarray:
+    """Per pair: whether ``geoms[a[k]]`` and ``geoms[b[k]]`` come within ``dist[k]``.
+
+    `ragged`: the coordinates and offsets of all of `geoms`, when at hand.
+    """
     import shapely
 
     from ._clearance_kernel import polylines_within
 
+    if ragged:
+        return polylines_within(ragged["xy"], ragged["off"], a, b, np.asarray(dist, float))
     ks, inv = np.unique(np.concatenate([a, b]), return_inverse=True)
     xy, owner = shapely.get_coordinates(geoms[ks], return_index=True)
     off = np.zeros(len(ks) + 1, dtype=np.int64)
