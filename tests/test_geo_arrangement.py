@@ -551,9 +551,14 @@ def test_topology_rebuilds_holes_islands_and_multipolygons():
     assert all(len(p) == u for p, u in zip(topo.arc_polygons, uses, strict=True) if u == 2)
     # the rings from the arcs' closed-loop layout (what smooth_coverage shares with the
     # output proof) are the rings from the arcs, vertex for vertex and from the same start
+    rag: dict = {}
     arcs, _ = C.smooth_arc_blocks(
-        topo.arcs, topo.loops, topo.frozen, method="cca", iterations=2, alpha="regular"
-    )
+        topo.arcs, topo.loops, topo.frozen, method="cca", iterations=2, alpha="regular",
+        ragged_out=rag,
+    )  # fmt: skip
+    # the engine's own layout of the smoothed arcs is the one built from them
+    X, off = coverage_ragged(arcs, topo.loops)
+    assert np.array_equal(rag["xy"], X) and np.array_equal(rag["off"], off)
     flat = coverage_flat_uses(topo)
     want = C.ring_coordinates(topo, arcs, flat)
     got = C.ring_coordinates(topo, arcs, flat, coverage_ragged(arcs, topo.loops))

@@ -494,6 +494,7 @@ def smooth_coverage(
         uses = None
     bounded = max_shift is not None or min_segment is not None  # every level tried at once
     initial = map_arcs(topo) if (map_arcs is not None and iterations > 0 and not bounded) else None
+    rag: dict = {}
     smoothed, reductions = smooth_arcs(
         topo,
         method=method,
@@ -503,10 +504,11 @@ def smooth_coverage(
         fixed=fixed_spec,
         max_shift=max_shift,
         min_segment=min_segment,
+        ragged_out=rag,
     )
     if uses is None:
         uses = _flat_uses(topo)
-    ragged = _ragged(smoothed, topo.loops)  # for the rebuild and the output proof
+    ragged = (rag["xy"], rag["off"]) if rag else _ragged(smoothed, topo.loops)
     coords, offs = ring_coordinates(topo, smoothed, uses, ragged)
     poly_off, geom_off = topo.ring_offsets
     new = assemble_polygons(coords, offs, poly_off, geom_off, topo.was_polygon)
@@ -606,6 +608,7 @@ def smooth_arc_blocks(
     iterations: int,
     alpha: Any,
     fixed: FixedVertices | None = None,
+    ragged_out: dict | None = None,
 ) -> tuple[list[np.ndarray], list[tuple[int, str]]]:
     """Full-strength smoothing of arcs: all of them in one call of the ragged engine.
 
@@ -614,6 +617,8 @@ def smooth_arc_blocks(
     the call (so Dask blocks and one process agree bit for bit). If the batch fails, the
     arcs are smoothed one by one to isolate the failing ones: an arc whose smoothing
     fails is kept unchanged and returned in the errors list as ``(position, reason)``.
+    `ragged_out`: receives ``"xy"`` and ``"off"``, the smoothed arcs in the layout of
+    :func:`_ragged` (loops closed), when every arc was smoothed in the one call.
     """
     from ._engine import Level
 
@@ -629,7 +634,9 @@ def smooth_arc_blocks(
     closed = np.asarray(loops, dtype=bool)[todo]
     try:
         fmask = fixed.mask(xy) if fixed is not None else None
-        new_xy, new_off = smooth_batch(method, alpha, xy, off, closed, level, fmask)
+        new_xy, new_off = smooth_batch(
+            method, alpha, xy, off, closed, level, fmask, close_rings=True
+        )
     except Exception:  # isolate the failing arcs, one by one
         smoother = make_smoother(method, alpha, fixed)
         for k in todo:
@@ -638,8 +645,10 @@ def smooth_arc_blocks(
             except Exception as exc:  # the arc stays unchanged and is reported
                 errors.append((int(k), f"{type(exc).__name__}: {exc}"))
         return out, errors
-    for k, piece in zip(todo, np.split(new_xy, new_off[1:-1]), strict=True):
-        out[k] = piece
+    for k, a, b, loop in zip(todo, new_off[:-1], new_off[1:], closed, strict=True):
+        out[k] = new_xy[a : b - 1] if loop else new_xy[a:b]  # a loop without its closing vertex
+    if ragged_out is not None and todo.size == len(arcs):
+        ragged_out["xy"], ragged_out["off"] = new_xy, new_off
     return out, errors
 
 
@@ -653,8 +662,12 @@ def smooth_arcs(
     fixed=None,
     max_shift=None,
     min_segment=None,
+    ragged_out=None,
 ):
     """Smooth the arcs of a topology with conflict resolution; returns (arcs, reductions).
+
+    `ragged_out`: receives ``"xy"`` and ``"off"``, the smoothed arcs in the layout of
+    :func:`_ragged`, when they are at hand (the full-strength arcs, nothing reduced).
 
     With `max_shift` / `min_segment` every arc starts at the strongest level within them
     (:func:`bounded_levels`); an arc that the resolution then leaves outside them (a piece
@@ -678,6 +691,7 @@ def smooth_arcs(
             max_shift=max_shift,
             min_segment=min_segment,
         )
+    rag: dict = {}
     if initial is None:
         initial, errors = smooth_arc_blocks(
             topo.arcs,
@@ -687,11 +701,12 @@ def smooth_arcs(
             iterations=iterations,
             alpha=alpha,
             fixed=fixed,
+            ragged_out=rag,
         )
         if errors:
             k, reason = errors[0]
             raise CurveError(f"arc {k} (features {topo.arc_polygons[k]}) failed: {reason}")
-    return resolve_arcs(
+    out, reductions = resolve_arcs(
         topo.arcs,
         loops=topo.loops,
         groups=np.zeros(len(topo.arcs), dtype=int),
@@ -699,7 +714,11 @@ def smooth_arcs(
         smoother=smoother,
         levels=levels,
         initial=initial,
+        initial_ragged=rag or None,
     )
+    if ragged_out is not None and rag and not reductions:
+        ragged_out.update(rag)
+    return out, reductions
 
 
 def _arc_lines(arcs, ring: np.ndarray):

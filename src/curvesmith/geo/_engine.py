@@ -128,6 +128,7 @@ def resolve_arcs(
     initial: Sequence[np.ndarray] | None = None,
     start: Sequence[int] | None = None,
     seeds: dict[int, Sequence[np.ndarray]] | None = None,
+    initial_ragged: dict | None = None,
 ) -> tuple[list[np.ndarray], list[Reduction]]:
     """Smooth arcs, reducing locally until no two of them cross.
 
@@ -159,6 +160,9 @@ def resolve_arcs(
         :func:`bounded_levels` start an arc at the strongest level within them.
     seeds : dict of int to sequence of ndarray, optional
         Arcs already smoothed at a level (level -> one array per arc), reused as is.
+    initial_ragged : dict, optional
+        `initial` as one array: ``"xy"`` (every arc after the other, loops closed by
+        their first vertex) and ``"off"``, when at hand (saves copying them together).
 
     Returns
     -------
@@ -255,7 +259,14 @@ def resolve_arcs(
         return val
 
     ragged: dict | None = {}
-    geoms = geoms_of(pieces, ragged)
+    if initial_ragged is not None and initial is not None and start is None:
+        # the first round's pieces are the arcs at full strength (none frozen: they all
+        # came from the one call), their coordinates at hand
+        ragged = dict(initial_ragged)
+        lens = np.diff(ragged["off"])
+        geoms = shapely.linestrings(ragged["xy"], indices=np.repeat(np.arange(n_arcs), lens))
+    else:
+        geoms = geoms_of(pieces, ragged)
     to_check = np.arange(len(pieces))
     for _ in range(MAX_ROUNDS):
         bad = _conflicts(
