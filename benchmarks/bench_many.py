@@ -340,7 +340,8 @@ def bench_counties(repeats: int = 3) -> None:
     topo = C.coverage_topology(g)
     uses = C._flat_uses(topo)
     smoothed, _ = C.smooth_arcs(topo, method="cca", iterations=ITER, alpha="regular")
-    coords, offs = C.ring_coordinates(topo, smoothed, uses)
+    ragged = C._ragged(smoothed, topo.loops)
+    coords, offs = C.ring_coordinates(topo, smoothed, uses, ragged)
     new = C.rebuild(topo, smoothed)
     phases = {
         "coverage_topology": lambda: C.coverage_topology(g),
@@ -356,7 +357,7 @@ def bench_counties(repeats: int = 3) -> None:
         ),
         "rebuild": lambda: C.rebuild(topo, smoothed),
         "output proof (_output_valid)": lambda: C._output_valid(
-            topo, uses, smoothed, coords, offs, new
+            topo, uses, smoothed, coords, offs, new, ragged
         ),
         "  GEOS coverage_is_valid(output)": lambda: shapely.coverage_is_valid(new),
     }
