@@ -1104,6 +1104,25 @@ def test_blocks_with_zero_length_edges(monkeypatch):
     assert (out[oo[1:] - 1] == out[oo[:-1]]).all()
 
 
+def test_blocks_with_an_edge_of_zero_length_only_in_the_curves_frame(monkeypatch):
+    # two vertices 1e-11 apart near the origin coincide once the first vertex (1e6 away)
+    # is subtracted: the input check does not see the edge, a block does and gives up,
+    # and the whole curve runs (compacting it), as without blocks
+
+    p = _jagged_ring(900, 28)
+    p[0] = [1e6, 0.0]
+    p[301] = p[300] + [1e-11, 0.0]
+    want = cca.smooth_with_info(p, closed=True, iterations=2)
+    monkeypatch.setattr(cca_api, "BLOCK", 128)
+    monkeypatch.setattr(cca_api, "THREAD_MIN", 100)
+    for workers in (1, 2):
+        res = cca.smooth_with_info(p, closed=True, iterations=2, threads=workers)
+        np.testing.assert_array_equal(res.points, want.points)
+        assert res.reductions_per_step == want.reductions_per_step
+    out, _ = cca.smooth_ragged(p, [0, len(p)], closed=True, iterations=2)
+    np.testing.assert_array_equal(out, want.points)
+
+
 def test_import_does_not_load_numba():
     # the kernel is compiled (or loaded from numba's cache) on first use, not at import:
     # `import curvesmith` and `curvesmith --help` stay fast

@@ -269,16 +269,24 @@ def _smooth_one(
     min_factor = as_float(min_factor, name="min_factor", low=0.0, high=1.0, low_open=False)
     threads = default_threads() if threads is None else as_int(threads, name="threads", minimum=1)
     alpha_fn = alpha_function(alpha)
-    raw = as_points(points, closed=closed, min_points=1, dim=(2, 3))
+    # not copied: nothing below writes into the points (a zero-step call returns a copy)
+    given = as_points(points, closed=closed, min_points=1, dim=(2, 3), copy=False)
+    if not given.flags.writeable:  # the compiled kernels are typed for writeable arrays
+        given = given.copy()
+    raw = given
+    one = np.array([0, raw.shape[0]], dtype=np.int64)
     # Coordinates so small or so large that squared edge lengths would underflow or overflow
     # are scaled by a power of two (exact) and scaled back at the end; CCA1 commutes with it.
+    zero = None  # whether an edge has length 0, from the same pass as the scale (2D)
     if raw.shape[1] == 2 and engine == "compiled":
-        top = float(_kernel().abs_max_per_curve(raw, np.array([0, raw.shape[0]]))[0])
+        tops, zero = _kernel().scan_curves(raw, one, np.array([closed]))
+        top = float(tops[0])
     else:
         top = float(np.abs(raw).max())
     exp2 = math.frexp(top)[1] if top > 0 and not _TINY < top < _HUGE else 0
     if exp2:
         raw = np.ldexp(raw, -exp2)
+        zero = None  # the scaled points may have other zero-length edges
     n_in = raw.shape[0]
     fixed = np.zeros(n_in, dtype=bool)
     if anchors is not None:
@@ -290,8 +298,9 @@ def _smooth_one(
         fixed[0] = fixed[-1] = True
     if raw.shape[1] == 2 and raw.shape[0] > 1 and engine == "compiled":
         # the compiled check first: most curves have no duplicates to remove
-        one = np.array([0, raw.shape[0]], dtype=np.int64)
-        if _kernel().any_zero_edge(raw, one, np.array([closed]), np.zeros((1, 2))):
+        if zero is None:
+            zero = _kernel().any_zero_edge(raw, one, np.array([closed]), np.zeros((1, 2)))
+        if zero:
             p, fixed = dedupe(raw, fixed, closed)
         else:
             p = raw
@@ -309,7 +318,7 @@ def _smooth_one(
         raise CurveError("points are all identical: a polygon needs non-zero extent")
 
     if iterations == 0:
-        out = np.ldexp(p, exp2) if exp2 else p
+        out = np.ldexp(p, exp2) if exp2 else (p.copy() if p is given else p)
         return CCAResult(out, 0, 0, (), 0, 0, True, "0 CCA1 steps: input returned")
     # every step triples the vertex count (closed 3n, open 3n - 3, Fig. 11 edges one more)
     check_growth(p.shape[0], iterations, lambda n: 3 * n, limit=_validate.MAX_VERTICES)
@@ -567,13 +576,15 @@ def smooth_ragged_with_info(
     kernel = _kernel()
     # per-curve power-of-two scaling of extreme coordinate scales (see smooth_with_info)
     exp2 = np.zeros(m, dtype=np.int64)
+    zero = False  # whether some edge has length 0: duplicates to remove
     if p.shape[0]:
-        top = kernel.abs_max_per_curve(p, off)
+        top, zero = kernel.scan_curves(p, off, cl)  # one pass for the scale and the check
         extreme = (top > 0) & ~((top > _TINY) & (top < _HUGE))
         if extreme.any():
             exp2[extreme] = np.frexp(top[extreme])[1]
             p = np.ldexp(p, -exp2[curve_ids(off)][:, None])
-    if p.shape[0] and kernel.any_zero_edge(p, off, cl, np.zeros((m, 2))):  # duplicates
+            zero = kernel.any_zero_edge(p, off, cl, np.zeros((m, 2)))  # of the scaled points
+    if zero:
         p, fixed, off = dedupe_ragged(p, fixed, off, cl)
     lengths = np.diff(off)
     need = np.where(cl, 3, 2)
@@ -752,10 +763,10 @@ def _step_compiled(
     blocked = lengths.size and lengths.max() >= 2 * BLOCK and 4 * halo <= BLOCK
     if org_in is None:
         org_in = np.zeros((m, 2))
-    # blocks need the zero-length edges removed first (as the step would), so that they
-    # stay put; compacting and the angles of a callable need the curves in their frames
-    zero = blocked and kernel.any_zero_edge(P, offsets, closed, org_in)
-    if org_in.any() and (zero or mode == kernel.MODE_GIVEN):
+    # the angles of a callable need the curves compacted, in their frames; otherwise the
+    # step compacts a curve with a zero-length edge itself (a block that meets one makes
+    # _run_units give up: the whole curves run then), so no pass looks for them here
+    if org_in.any() and mode == kernel.MODE_GIVEN:
         Q = np.empty_like(P)
         kernel.to_local(P, offsets, Q)
         P, org_in = Q, np.zeros((m, 2))
@@ -770,8 +781,6 @@ def _step_compiled(
         free[offsets[1:][opened] - 1] = False
         alpha_in = np.zeros(P.shape[0])
         alpha_in[free] = prm.alpha_fn(theta[free])
-    elif zero:
-        P, fixed, offsets = kernel.compact_ragged(P, fixed, offsets, closed)
     params = (
         mode, const, brk, coef, prm.restrict, prm.c, prm.C, tilt_n, prm.balance_tol,
         prm.max_passes, prm.min_factor,

@@ -676,6 +676,36 @@ def abs_max_per_curve(P, offsets):
 
 
 @njit(cache=True, nogil=True)
+def scan_curves(P, offsets, closed):
+    """:func:`abs_max_per_curve` and :func:`any_zero_edge` (origin 0) in one pass over ``P``.
+
+    The input checks of a call read the points once instead of twice (each pass over a
+    long curve costs about as much as a tenth of a CCA1 step on it).
+    """
+    m = offsets.shape[0] - 1
+    top = np.zeros(m)
+    zero = False
+    for k in range(m):
+        s, e = offsets[k], offsets[k + 1]
+        t = 0.0
+        if e > s:
+            px, py = P[s, 0], P[s, 1]
+            t = max(t, abs(px), abs(py))
+            for i in range(s + 1, e):
+                x, y = P[i, 0], P[i, 1]
+                t = max(t, abs(x), abs(y))
+                ex, ey = x - px, y - py
+                if ex * ex + ey * ey == 0.0:
+                    zero = True
+                px, py = x, y
+            if closed[k] and not zero:
+                ex, ey = P[s, 0] - px, P[s, 1] - py
+                zero = ex * ex + ey * ey == 0.0
+        top[k] = t
+    return top, zero
+
+
+@njit(cache=True, nogil=True)
 def ring_areas(P, offsets):
     """Signed area of every ring (closing vertex repeated or not), in its first vertex's frame.
 
