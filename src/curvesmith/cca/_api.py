@@ -831,80 +831,106 @@ def _run_units(kernel, P, fixed, alpha_in, org_in, org_out, offsets, closed, par
     Without ``blocks`` the units are the curves. With ``blocks`` (from :func:`_blocks`)
     the units are blocks with cores, whose outputs the kernel writes one after the
     other; returns None if a block met a zero-length edge (its own wrap edge: the ring
-    passes twice through one point), then the caller runs the whole curves. One group
-    of units (one thread) writes its output in place: no copies.
+    passes twice through one point), then the caller runs the whole curves.
+
+    The groups of units (one per thread) write into one buffer: every group but the
+    last gets exactly the rows it needs when each core vertex gives its two cut points
+    and its edge one apex (the common case), so the next group starts right after them
+    and no row moves. A group that needs more rows (Fig. 11 edges) stops at the unit
+    that does not fit and its other units run into a buffer of their own; a group that
+    needs fewer (fixed vertices, compacted duplicates) leaves a gap, and the rows after
+    it move down in place.
     """
     units, owner = _units(offsets, closed, blocks)
     m = offsets.size - 1
     u_off = np.zeros(units.shape[0] + 1, dtype=np.int64)
     np.cumsum(units[:, 4], out=u_off[1:])
     chunks = _chunks(u_off, prm.threads)
-    ncore = [int((units[a:b, 6] - units[a:b, 5]).sum()) for a, b in chunks]
+    core = units[:, 6] - units[:, 5]
+    ncore = [int(core[a:b].sum()) for a, b in chunks]
     # 3 points per core vertex, some Fig. 11 pairs, a closing one per ring
     caps = [3 * nc + nc // 16 + (b - a) + 64 for nc, (a, b) in zip(ncore, chunks, strict=True)]
+    flags = units[:, 7]
+    if len(chunks) > 1:
+        # the rows of the common case: 3 per core vertex, 1 less per fixed vertex (it is
+        # kept) and per open end (no wrap edge), 1 more per ring closed in the group
+        row0 = units[:, 1] + units[:, 3] + units[:, 5]  # first row of every core in P
+        nfix = np.zeros(units.shape[0] + 1, dtype=np.int64)
+        if fixed.any():
+            nfix = np.concatenate([[0], np.cumsum(fixed)])[np.append(row0, P.shape[0])]
+        opened = ((flags & kernel.U_LAST) != 0) & ((flags & kernel.U_RING) == 0) & (core > 0)
+        ring_end = ((flags & kernel.U_LAST) != 0) & ((flags & kernel.U_RING) != 0)
+        for g, (a, b) in enumerate(chunks[:-1]):
+            rows = 3 * ncore[g] - int(nfix[b] - nfix[a]) - int(opened[a:b].sum())
+            if close_out:
+                rows += int(ring_end[a:b].sum())
+            caps[g] = rows
     base = np.zeros(len(chunks) + 1, dtype=np.int64)
     np.cumsum(caps, out=base[1:])
-    # one buffer: every group writes into its own slice of it, then the groups' rows
-    # move down to follow each other (the first group's do not move)
+    # one buffer: every group writes into its own slice of it
     OUT, of = _buffers(int(base[-1]))
 
     def step(g):
+        """Parts ``(result, first unit, end unit, base row or -1: a buffer of its own)``."""
         a, b = chunks[g]
-        args = (P, fixed, alpha_in, org_in, org_out, units[a:b], *params)
+        args = (P, fixed, alpha_in, org_in, org_out)
         s, e = base[g], base[g + 1]
-        res = kernel.step_units(*args, OUT[s:e], of[s:e], close_out, add)
+        res = kernel.step_units(*args, units[a:b], *params, OUT[s:e], of[s:e], close_out, add)
         if res[7] != kernel.FULL:
-            return (*res, True)
-        # at most 4 points per vertex: a buffer of its own
-        res = kernel.step_units(*args, *_buffers(4 * ncore[g] + (b - a) + 1), close_out, add)
-        return (*res, False)
+            return [(res, a, b, s)]
+        done = a + res[2]
+        # the units that did not fit: at most 4 points per vertex, a buffer of their own
+        cap = 4 * int(core[done:b].sum()) + (b - done) + 1
+        rest = kernel.step_units(*args, units[done:b], *params, *_buffers(cap), close_out, add)
+        cut = done - a
+        rows = int(res[3][cut - 1, 1]) if cut else 0
+        head = (res[0], res[1], rows, res[3][:cut], *(c[:cut] for c in res[4:7]), kernel.DONE)
+        return [(head, a, done, s), (rest, done, b, -1)]
 
     if len(chunks) == 1:
-        parts = [step(0)]
+        parts = step(0)
     else:
         with ThreadPoolExecutor(len(chunks)) as pool:
-            parts = list(pool.map(step, range(len(chunks))))
-    if any(r[7] == kernel.ZERO_EDGE for r in parts):
+            parts = [q for qs in pool.map(step, range(len(chunks))) for q in qs]
+    if any(r[7] == kernel.ZERO_EDGE for r, *_ in parts):
         return None
-    counts = [np.concatenate([r[k] for r in parts]) for k in (4, 5, 6)]
+    counts = [np.concatenate([r[k] for r, *_ in parts]) for k in (4, 5, 6)]
     if blocks is not None:
         counts = [np.bincount(owner, weights=c, minlength=m).astype(np.int64) for c in counts]
-    is_last = (units[:, 7] & kernel.U_LAST) != 0
+    is_last = (flags & kernel.U_LAST) != 0
     oo = np.zeros(m + 1, dtype=np.int64)
     if len(parts) == 1:
-        R, rf, pos, span = parts[0][:4]
+        R, rf, pos, span = parts[0][0][:4]
         oo[1:] = span[is_last, 1]
         return R[:pos], rf[:pos], oo, tuple(counts)
-    # the groups' outputs one after the other; a ring whose units are in two groups gets
-    # its closing vertex here
-    span = np.concatenate([r[3] for r in parts])
+    # the parts' outputs one after the other
+    span = np.concatenate([r[3] for r, *_ in parts])
     lens = span[:, 1] - span[:, 0]
-    extra = np.zeros(lens.size, dtype=np.int64)
-    if close_out:
-        first_u = np.flatnonzero((units[:, 7] & kernel.U_FIRST) != 0)
-        group = np.zeros(units.shape[0], dtype=np.int64)
-        for g, (a, _) in enumerate(chunks[1:], start=1):
-            group[a:] = g
-        split = is_last & ((units[:, 7] & kernel.U_RING) != 0)
-        split &= group != group[first_u[owner]]
-        extra[split] = 1
     dest = np.zeros(lens.size + 1, dtype=np.int64)
-    np.cumsum(lens + extra, out=dest[1:])
+    np.cumsum(lens, out=dest[1:])
     total = int(dest[-1])
-    if all(r[8] for r in parts):
-        # group by group the rows move down (dest <= their row; every group's slice
-        # starts after the rows of the groups before it): in place
-        for g, (r, (a, b)) in enumerate(zip(parts, chunks, strict=True)):
-            if g:
-                kernel.move_rows(OUT, of, OUT, of, r[3] + base[g], dest[a:b])
+    if all(s >= 0 for *_, s in parts):
+        # part by part the rows move down (dest <= their row; every part's slice starts
+        # after the rows of the parts before it): in place, and not at all when a part
+        # starts where its rows belong
+        for r, a, b, s in parts:
+            if a < b and s + r[3][0, 0] != dest[a]:
+                kernel.move_rows(OUT, of, OUT, of, r[3] + s, dest[a:b])
         R, rf = OUT[:total], of[:total]
     else:
         R, rf = np.empty((total, 2)), np.empty(total, dtype=bool)
-        for r, (a, b) in zip(parts, chunks, strict=True):
+        for r, a, b, _ in parts:
             kernel.move_rows(r[0], r[1], R, rf, r[3], dest[a:b])
-    if extra.any():
-        u = np.flatnonzero(extra)
-        at = dest[u] + lens[u]
+    if close_out:
+        # a ring whose units are in two parts: the part of its last unit left the row of
+        # its closing vertex empty
+        first_u = np.flatnonzero((flags & kernel.U_FIRST) != 0)
+        part = np.zeros(units.shape[0], dtype=np.int64)
+        for q, (_, a, _, _) in enumerate(parts[1:], start=1):
+            part[a:] = q
+        split = is_last & ((flags & kernel.U_RING) != 0)
+        u = np.flatnonzero(split & (part != part[first_u[owner]]))
+        at = dest[u] + lens[u] - 1
         R[at] = R[dest[first_u[owner[u]]]]
         rf[at] = False
     oo[1:] = dest[1:][is_last]

@@ -273,16 +273,19 @@ def step_units(
     is exact). Only the core is emitted, into ``OUT, of`` (``(cap, 2)`` float64 and
     ``(cap,)`` bool, allocated by the caller: numpy's allocator asks for huge pages),
     plus ``org_out[k]`` when ``add_out``. With ``close_out`` the first output vertex of
-    every ring whose first and last units are both in this call is repeated after its
-    last unit (shapely's ring layout).
+    every ring is repeated after its last unit (shapely's ring layout); when the ring's
+    first unit is not in this call, that row is left for the caller to fill.
 
     Returns ``OUT, ofixed, m, span, nred, nfig, nunsat, status``: the new points in
     ``OUT[:m]`` and their fixed mask (each fixed vertex is emitted once, as itself),
     per unit the output rows ``span[u, 0] .. span[u, 1] - 1`` (with the closing
     vertex) and the number of local alpha decreases, of Fig. 11 edges and of edges
     left violating a restriction, all over its core; ``status`` :data:`DONE`,
-    :data:`FULL` (at most 4 rows per input vertex and 1 per ring are needed: the
-    caller retries with a larger buffer) or :data:`ZERO_EDGE`.
+    :data:`FULL` or :data:`ZERO_EDGE`. With :data:`FULL` the buffer ran out (the
+    capacity is checked row by row, so a buffer of exactly the rows needed is
+    enough; at most 4 rows per input vertex and 1 per ring are): ``m`` is then the
+    number of units done, whose rows and counts are valid; the caller runs the
+    others into a larger buffer.
     """
     nu = units.shape[0]
     lmax = 1
@@ -414,15 +417,16 @@ def step_units(
         ax, ay = org_out[k, 0], org_out[k, 1]
         nf = 0
         for i in range(clo, chi):
-            if pos + 5 > cap:  # at most 4 points per vertex and a closing one
-                return OUT, of, -1, span, nred, nfig, nunsat, FULL
             h = i - 1 if i > 0 else n - 1
             j = i + 1 if i + 1 < n else 0
             vx, vy = V[i, 0], V[i, 1]
             ai = a[i]
             rx = vx + ai * ux[i]
             ry = vy + ai * uy[i]
-            if fx[i] or ai == 0.0:
+            kept = fx[i] or ai == 0.0
+            if pos + (1 if kept else 2) > cap:
+                return OUT, of, u, span, nred, nfig, nunsat, FULL
+            if kept:
                 _put(OUT, of, pos, vx, vy, fx[i], add_out, ax, ay)
                 pos += 1
             else:
@@ -444,6 +448,8 @@ def step_units(
                 and abs(k1 + k2) <= balance_tol * 0.5 * (abs(k1) + abs(k2))
                 and w > 0.0
             )
+            if pos + (2 if fig else 1) > cap:
+                return OUT, of, u, span, nred, nfig, nunsat, FULL
             if not fig:
                 sv = A * winv
                 _put(OUT, of, pos, mx + sv * uy[i], my - sv * ux[i], False, add_out, ax, ay)
@@ -469,8 +475,11 @@ def step_units(
             )  # fmt: skip
             pos += 2
         nfig[u] = nf
-        if close_out and (flags & U_LAST) and (flags & U_RING) and cstart >= 0:
-            OUT[pos, 0], OUT[pos, 1] = OUT[cstart, 0], OUT[cstart, 1]
+        if close_out and (flags & U_LAST) and (flags & U_RING):
+            if pos + 1 > cap:
+                return OUT, of, u, span, nred, nfig, nunsat, FULL
+            if cstart >= 0:  # else the ring's first unit is in another call: row left empty
+                OUT[pos, 0], OUT[pos, 1] = OUT[cstart, 0], OUT[cstart, 1]
             of[pos] = False
             pos += 1
         span[u, 1] = pos
