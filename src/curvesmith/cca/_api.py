@@ -837,9 +837,10 @@ def _run_units(kernel, P, fixed, alpha_in, org_in, org_out, offsets, closed, par
     last gets exactly the rows it needs when each core vertex gives its two cut points
     and its edge one apex (the common case), so the next group starts right after them
     and no row moves. A group that needs more rows (Fig. 11 edges) stops at the unit
-    that does not fit and its other units run into a buffer of their own; a group that
-    needs fewer (fixed vertices, compacted duplicates) leaves a gap, and the rows after
-    it move down in place.
+    that does not fit and its other units run into a buffer of their own (copied in
+    once the rows of the next groups made room, in place as long as the last group's
+    spare rows hold them); a group that needs fewer (fixed vertices, compacted
+    duplicates) leaves a gap, and the rows after it move to earlier rows.
     """
     units, owner = _units(offsets, closed, blocks)
     m = offsets.size - 1
@@ -909,13 +910,20 @@ def _run_units(kernel, P, fixed, alpha_in, org_in, org_out, offsets, closed, par
     dest = np.zeros(lens.size + 1, dtype=np.int64)
     np.cumsum(lens, out=dest[1:])
     total = int(dest[-1])
-    if all(s >= 0 for *_, s in parts):
-        # part by part the rows move down (dest <= their row; every part's slice starts
-        # after the rows of the parts before it): in place, and not at all when a part
-        # starts where its rows belong
-        for r, a, b, s in parts:
-            if a < b and s + r[3][0, 0] != dest[a]:
+    if total <= OUT.shape[0]:
+        # in place: the parts in OUT whose rows move to earlier rows, front to back; those
+        # whose rows move to later ones (after a part whose rest had a buffer of its own),
+        # back to front: none overwrites rows not yet moved. Then the rests are copied in.
+        shift = [int(dest[a] - s - r[3][0, 0]) if a < b else 0 for r, a, b, s in parts]
+        for (r, a, b, s), d in zip(parts, shift, strict=True):
+            if s >= 0 and d < 0:
                 kernel.move_rows(OUT, of, OUT, of, r[3] + s, dest[a:b])
+        for (r, a, b, s), d in zip(parts[::-1], shift[::-1], strict=True):
+            if s >= 0 and d > 0:
+                kernel.move_rows_back(OUT, of, r[3] + s, dest[a:b])
+        for r, a, b, s in parts:
+            if s < 0:
+                kernel.move_rows(r[0], r[1], OUT, of, r[3], dest[a:b])
         R, rf = OUT[:total], of[:total]
     else:
         R, rf = np.empty((total, 2)), np.empty(total, dtype=bool)

@@ -658,6 +658,21 @@ def move_rows(src, src_f, dst, dst_f, span, dest):
 
 
 @njit(cache=True, nogil=True)
+def move_rows_back(buf, buf_f, span, dest):
+    """:func:`move_rows` within one buffer, to later rows (every ``dest[u] >= span[u, 0]``).
+
+    The last row goes first, so that no row is overwritten before it moved.
+    """
+    for u in range(span.shape[0] - 1, -1, -1):
+        d = dest[u] + span[u, 1] - span[u, 0]
+        for i in range(span[u, 1] - 1, span[u, 0] - 1, -1):
+            d -= 1
+            buf[d, 0] = buf[i, 0]
+            buf[d, 1] = buf[i, 1]
+            buf_f[d] = buf_f[i]
+
+
+@njit(cache=True, nogil=True)
 def to_local(P, offsets, Q):
     """Every curve relative to its first vertex: ``Q = P - origin``; returns the origins."""
     m = offsets.shape[0] - 1
