@@ -1152,6 +1152,21 @@ def test_thread_group_with_a_few_fig11_edges(monkeypatch):
         assert (out[oo[1:] - 1] == out[oo[:-1]]).all()
 
 
+@pytest.mark.parametrize("iterations", [0, 1])
+def test_input_is_read_not_copied_nor_shared(iterations):
+    # smooth reads a float64 input in place (no copy of a long curve); the result never
+    # shares its memory, also with 0 steps and a repeated closing vertex; the input is
+    # unchanged, and a read-only input works too
+
+    a = np.array([[0.0, 0.0], [2.0, 0.0], [2.0, 1.0], [0.0, 1.0], [0.0, 0.0]])
+    before = a.copy()
+    out = cca.smooth(a, closed=True, iterations=iterations)
+    assert not np.shares_memory(out, a)
+    np.testing.assert_array_equal(a, before)
+    a.setflags(write=False)
+    np.testing.assert_array_equal(cca.smooth(a, closed=True, iterations=iterations), out)
+
+
 def test_import_does_not_load_numba():
     # the kernel is compiled (or loaded from numba's cache) on first use, not at import:
     # `import curvesmith` and `curvesmith --help` stay fast
