@@ -1104,6 +1104,69 @@ def test_blocks_with_zero_length_edges(monkeypatch):
     assert (out[oo[1:] - 1] == out[oo[:-1]]).all()
 
 
+def test_blocks_with_an_edge_of_zero_length_only_in_the_curves_frame(monkeypatch):
+    # two vertices 1e-11 apart near the origin coincide once the first vertex (1e6 away)
+    # is subtracted: the input check does not see the edge, a block does and gives up,
+    # and the whole curve runs (compacting it), as without blocks
+
+    p = _jagged_ring(900, 28)
+    p[0] = [1e6, 0.0]
+    p[301] = p[300] + [1e-11, 0.0]
+    want = cca.smooth_with_info(p, closed=True, iterations=2)
+    monkeypatch.setattr(cca_api, "BLOCK", 128)
+    monkeypatch.setattr(cca_api, "THREAD_MIN", 100)
+    for workers in (1, 2):
+        res = cca.smooth_with_info(p, closed=True, iterations=2, threads=workers)
+        np.testing.assert_array_equal(res.points, want.points)
+        assert res.reductions_per_step == want.reductions_per_step
+    out, _ = cca.smooth_ragged(p, [0, len(p)], closed=True, iterations=2)
+    np.testing.assert_array_equal(out, want.points)
+
+
+def test_thread_group_with_a_few_fig11_edges(monkeypatch):
+    # A rectangle whose bottom side has a step: the step's edge is a balanced inflection
+    # edge (Fig. 11: two rows instead of one), in the first thread group. That group gets
+    # the rows of the common case only, so it stops at the block that does not fit, whose
+    # rest runs into a buffer of its own; the next group's rows move to later rows to make
+    # room (in place) and the rest is copied in: the same bits as one thread, no blocks.
+
+    bottom = np.c_[np.arange(600.0), (np.arange(600) > 300).astype(float)]
+    right = np.c_[np.full(100, 600.0), np.linspace(0.0, 100.0, 100, endpoint=False) + 1]
+    top = np.c_[np.arange(600.0, 0.0, -1.0), np.full(600, 101.0)]
+    left = np.c_[np.zeros(100), np.linspace(101.0, 1.0, 100)]
+    ring = np.concatenate([bottom, right, top, left])
+    want = cca.smooth_with_info(ring, closed=True, iterations=2, threads=1)
+    assert want.fig11_edges > 0
+    monkeypatch.setattr(cca_api, "BLOCK", 128)
+    monkeypatch.setattr(cca_api, "THREAD_MIN", 100)
+    for workers in (2, 3):
+        res = cca.smooth_with_info(ring, closed=True, iterations=2, threads=workers)
+        np.testing.assert_array_equal(res.points, want.points)
+        assert res.fig11_edges == want.fig11_edges
+        xy = np.concatenate([ring, ring[:7]])
+        out, oo = cca.smooth_ragged(
+            xy, [0, len(ring), len(xy)], closed=True, iterations=2, threads=workers,
+            close_rings=True,
+        )  # fmt: skip
+        np.testing.assert_array_equal(out[oo[0] : oo[1] - 1], want.points)
+        assert (out[oo[1:] - 1] == out[oo[:-1]]).all()
+
+
+@pytest.mark.parametrize("iterations", [0, 1])
+def test_input_is_read_not_copied_nor_shared(iterations):
+    # smooth reads a float64 input in place (no copy of a long curve); the result never
+    # shares its memory, also with 0 steps and a repeated closing vertex; the input is
+    # unchanged, and a read-only input works too
+
+    a = np.array([[0.0, 0.0], [2.0, 0.0], [2.0, 1.0], [0.0, 1.0], [0.0, 0.0]])
+    before = a.copy()
+    out = cca.smooth(a, closed=True, iterations=iterations)
+    assert not np.shares_memory(out, a)
+    np.testing.assert_array_equal(a, before)
+    a.setflags(write=False)
+    np.testing.assert_array_equal(cca.smooth(a, closed=True, iterations=iterations), out)
+
+
 def test_import_does_not_load_numba():
     # the kernel is compiled (or loaded from numba's cache) on first use, not at import:
     # `import curvesmith` and `curvesmith --help` stay fast

@@ -43,6 +43,7 @@ def as_points(
     min_points: int = 2,
     dim: int | tuple[int, ...] | None = 2,
     distinct: bool = False,
+    copy: bool = True,
 ) -> np.ndarray:
     """Convert array_like input to a new C-contiguous float64 ``(N, d)`` array and check it.
 
@@ -63,11 +64,16 @@ def as_points(
     distinct : bool, optional
         If True, consecutive vertices (and, when ``closed``, the last and the
         first) must differ, i.e. no zero-length edges.
+    copy : bool, optional
+        If False, an input that already is a float64 array is not copied (the
+        result may share its memory, so the caller must not write into it); the
+        copy of a long curve costs about as much as checking it.
 
     Returns
     -------
     (N, d) ndarray of float64
-        A new array; the input is never modified.
+        A new array (with ``copy=False`` possibly a view of the input); the input
+        is never modified.
 
     Raises
     ------
@@ -87,7 +93,7 @@ def as_points(
     if np.iscomplexobj(points):
         raise CurveError(f"{name} must be real coordinates, got a complex array")
     try:
-        arr = np.array(points, dtype=np.float64, copy=True)
+        arr = np.array(points, dtype=np.float64, copy=True if copy else None)
     except (TypeError, ValueError) as exc:
         raise CurveError(f"{name} must be a numeric (N, d) array of coordinates: {exc}") from None
     if arr.ndim != 2 or arr.shape[1] < 1:

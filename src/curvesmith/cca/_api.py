@@ -269,16 +269,24 @@ def _smooth_one(
     min_factor = as_float(min_factor, name="min_factor", low=0.0, high=1.0, low_open=False)
     threads = default_threads() if threads is None else as_int(threads, name="threads", minimum=1)
     alpha_fn = alpha_function(alpha)
-    raw = as_points(points, closed=closed, min_points=1, dim=(2, 3))
+    # not copied: nothing below writes into the points (a zero-step call returns a copy)
+    given = as_points(points, closed=closed, min_points=1, dim=(2, 3), copy=False)
+    if not given.flags.writeable:  # the compiled kernels are typed for writeable arrays
+        given = given.copy()
+    raw = given
+    one = np.array([0, raw.shape[0]], dtype=np.int64)
     # Coordinates so small or so large that squared edge lengths would underflow or overflow
     # are scaled by a power of two (exact) and scaled back at the end; CCA1 commutes with it.
+    zero = None  # whether an edge has length 0, from the same pass as the scale (2D)
     if raw.shape[1] == 2 and engine == "compiled":
-        top = float(_kernel().abs_max_per_curve(raw, np.array([0, raw.shape[0]]))[0])
+        tops, zero = _kernel().scan_curves(raw, one, np.array([closed]))
+        top = float(tops[0])
     else:
         top = float(np.abs(raw).max())
     exp2 = math.frexp(top)[1] if top > 0 and not _TINY < top < _HUGE else 0
     if exp2:
         raw = np.ldexp(raw, -exp2)
+        zero = None  # the scaled points may have other zero-length edges
     n_in = raw.shape[0]
     fixed = np.zeros(n_in, dtype=bool)
     if anchors is not None:
@@ -290,8 +298,9 @@ def _smooth_one(
         fixed[0] = fixed[-1] = True
     if raw.shape[1] == 2 and raw.shape[0] > 1 and engine == "compiled":
         # the compiled check first: most curves have no duplicates to remove
-        one = np.array([0, raw.shape[0]], dtype=np.int64)
-        if _kernel().any_zero_edge(raw, one, np.array([closed]), np.zeros((1, 2))):
+        if zero is None:
+            zero = _kernel().any_zero_edge(raw, one, np.array([closed]), np.zeros((1, 2)))
+        if zero:
             p, fixed = dedupe(raw, fixed, closed)
         else:
             p = raw
@@ -309,7 +318,7 @@ def _smooth_one(
         raise CurveError("points are all identical: a polygon needs non-zero extent")
 
     if iterations == 0:
-        out = np.ldexp(p, exp2) if exp2 else p
+        out = np.ldexp(p, exp2) if exp2 else (p.copy() if p is given else p)
         return CCAResult(out, 0, 0, (), 0, 0, True, "0 CCA1 steps: input returned")
     # every step triples the vertex count (closed 3n, open 3n - 3, Fig. 11 edges one more)
     check_growth(p.shape[0], iterations, lambda n: 3 * n, limit=_validate.MAX_VERTICES)
@@ -567,13 +576,15 @@ def smooth_ragged_with_info(
     kernel = _kernel()
     # per-curve power-of-two scaling of extreme coordinate scales (see smooth_with_info)
     exp2 = np.zeros(m, dtype=np.int64)
+    zero = False  # whether some edge has length 0: duplicates to remove
     if p.shape[0]:
-        top = kernel.abs_max_per_curve(p, off)
+        top, zero = kernel.scan_curves(p, off, cl)  # one pass for the scale and the check
         extreme = (top > 0) & ~((top > _TINY) & (top < _HUGE))
         if extreme.any():
             exp2[extreme] = np.frexp(top[extreme])[1]
             p = np.ldexp(p, -exp2[curve_ids(off)][:, None])
-    if p.shape[0] and kernel.any_zero_edge(p, off, cl, np.zeros((m, 2))):  # duplicates
+            zero = kernel.any_zero_edge(p, off, cl, np.zeros((m, 2)))  # of the scaled points
+    if zero:
         p, fixed, off = dedupe_ragged(p, fixed, off, cl)
     lengths = np.diff(off)
     need = np.where(cl, 3, 2)
@@ -752,10 +763,10 @@ def _step_compiled(
     blocked = lengths.size and lengths.max() >= 2 * BLOCK and 4 * halo <= BLOCK
     if org_in is None:
         org_in = np.zeros((m, 2))
-    # blocks need the zero-length edges removed first (as the step would), so that they
-    # stay put; compacting and the angles of a callable need the curves in their frames
-    zero = blocked and kernel.any_zero_edge(P, offsets, closed, org_in)
-    if org_in.any() and (zero or mode == kernel.MODE_GIVEN):
+    # the angles of a callable need the curves compacted, in their frames; otherwise the
+    # step compacts a curve with a zero-length edge itself (a block that meets one makes
+    # _run_units give up: the whole curves run then), so no pass looks for them here
+    if org_in.any() and mode == kernel.MODE_GIVEN:
         Q = np.empty_like(P)
         kernel.to_local(P, offsets, Q)
         P, org_in = Q, np.zeros((m, 2))
@@ -770,8 +781,6 @@ def _step_compiled(
         free[offsets[1:][opened] - 1] = False
         alpha_in = np.zeros(P.shape[0])
         alpha_in[free] = prm.alpha_fn(theta[free])
-    elif zero:
-        P, fixed, offsets = kernel.compact_ragged(P, fixed, offsets, closed)
     params = (
         mode, const, brk, coef, prm.restrict, prm.c, prm.C, tilt_n, prm.balance_tol,
         prm.max_passes, prm.min_factor,
@@ -822,80 +831,114 @@ def _run_units(kernel, P, fixed, alpha_in, org_in, org_out, offsets, closed, par
     Without ``blocks`` the units are the curves. With ``blocks`` (from :func:`_blocks`)
     the units are blocks with cores, whose outputs the kernel writes one after the
     other; returns None if a block met a zero-length edge (its own wrap edge: the ring
-    passes twice through one point), then the caller runs the whole curves. One group
-    of units (one thread) writes its output in place: no copies.
+    passes twice through one point), then the caller runs the whole curves.
+
+    The groups of units (one per thread) write into one buffer: every group but the
+    last gets exactly the rows it needs when each core vertex gives its two cut points
+    and its edge one apex (the common case), so the next group starts right after them
+    and no row moves. A group that needs more rows (Fig. 11 edges) stops at the unit
+    that does not fit and its other units run into a buffer of their own (copied in
+    once the rows of the next groups made room, in place as long as the last group's
+    spare rows hold them); a group that needs fewer (fixed vertices, compacted
+    duplicates) leaves a gap, and the rows after it move to earlier rows.
     """
     units, owner = _units(offsets, closed, blocks)
     m = offsets.size - 1
     u_off = np.zeros(units.shape[0] + 1, dtype=np.int64)
     np.cumsum(units[:, 4], out=u_off[1:])
     chunks = _chunks(u_off, prm.threads)
-    ncore = [int((units[a:b, 6] - units[a:b, 5]).sum()) for a, b in chunks]
+    core = units[:, 6] - units[:, 5]
+    ncore = [int(core[a:b].sum()) for a, b in chunks]
     # 3 points per core vertex, some Fig. 11 pairs, a closing one per ring
     caps = [3 * nc + nc // 16 + (b - a) + 64 for nc, (a, b) in zip(ncore, chunks, strict=True)]
+    flags = units[:, 7]
+    if len(chunks) > 1:
+        # the rows of the common case: 3 per core vertex, 1 less per fixed vertex (it is
+        # kept) and per open end (no wrap edge), 1 more per ring closed in the group
+        row0 = units[:, 1] + units[:, 3] + units[:, 5]  # first row of every core in P
+        nfix = np.zeros(units.shape[0] + 1, dtype=np.int64)
+        if fixed.any():
+            nfix = np.concatenate([[0], np.cumsum(fixed)])[np.append(row0, P.shape[0])]
+        opened = ((flags & kernel.U_LAST) != 0) & ((flags & kernel.U_RING) == 0) & (core > 0)
+        ring_end = ((flags & kernel.U_LAST) != 0) & ((flags & kernel.U_RING) != 0)
+        for g, (a, b) in enumerate(chunks[:-1]):
+            rows = 3 * ncore[g] - int(nfix[b] - nfix[a]) - int(opened[a:b].sum())
+            if close_out:
+                rows += int(ring_end[a:b].sum())
+            caps[g] = rows
     base = np.zeros(len(chunks) + 1, dtype=np.int64)
     np.cumsum(caps, out=base[1:])
-    # one buffer: every group writes into its own slice of it, then the groups' rows
-    # move down to follow each other (the first group's do not move)
+    # one buffer: every group writes into its own slice of it
     OUT, of = _buffers(int(base[-1]))
 
     def step(g):
+        """Parts ``(result, first unit, end unit, base row or -1: a buffer of its own)``."""
         a, b = chunks[g]
-        args = (P, fixed, alpha_in, org_in, org_out, units[a:b], *params)
+        args = (P, fixed, alpha_in, org_in, org_out)
         s, e = base[g], base[g + 1]
-        res = kernel.step_units(*args, OUT[s:e], of[s:e], close_out, add)
+        res = kernel.step_units(*args, units[a:b], *params, OUT[s:e], of[s:e], close_out, add)
         if res[7] != kernel.FULL:
-            return (*res, True)
-        # at most 4 points per vertex: a buffer of its own
-        res = kernel.step_units(*args, *_buffers(4 * ncore[g] + (b - a) + 1), close_out, add)
-        return (*res, False)
+            return [(res, a, b, s)]
+        done = a + res[2]
+        # the units that did not fit: at most 4 points per vertex, a buffer of their own
+        cap = 4 * int(core[done:b].sum()) + (b - done) + 1
+        rest = kernel.step_units(*args, units[done:b], *params, *_buffers(cap), close_out, add)
+        cut = done - a
+        rows = int(res[3][cut - 1, 1]) if cut else 0
+        head = (res[0], res[1], rows, res[3][:cut], *(c[:cut] for c in res[4:7]), kernel.DONE)
+        return [(head, a, done, s), (rest, done, b, -1)]
 
     if len(chunks) == 1:
-        parts = [step(0)]
+        parts = step(0)
     else:
         with ThreadPoolExecutor(len(chunks)) as pool:
-            parts = list(pool.map(step, range(len(chunks))))
-    if any(r[7] == kernel.ZERO_EDGE for r in parts):
+            parts = [q for qs in pool.map(step, range(len(chunks))) for q in qs]
+    if any(r[7] == kernel.ZERO_EDGE for r, *_ in parts):
         return None
-    counts = [np.concatenate([r[k] for r in parts]) for k in (4, 5, 6)]
+    counts = [np.concatenate([r[k] for r, *_ in parts]) for k in (4, 5, 6)]
     if blocks is not None:
         counts = [np.bincount(owner, weights=c, minlength=m).astype(np.int64) for c in counts]
-    is_last = (units[:, 7] & kernel.U_LAST) != 0
+    is_last = (flags & kernel.U_LAST) != 0
     oo = np.zeros(m + 1, dtype=np.int64)
     if len(parts) == 1:
-        R, rf, pos, span = parts[0][:4]
+        R, rf, pos, span = parts[0][0][:4]
         oo[1:] = span[is_last, 1]
         return R[:pos], rf[:pos], oo, tuple(counts)
-    # the groups' outputs one after the other; a ring whose units are in two groups gets
-    # its closing vertex here
-    span = np.concatenate([r[3] for r in parts])
+    # the parts' outputs one after the other
+    span = np.concatenate([r[3] for r, *_ in parts])
     lens = span[:, 1] - span[:, 0]
-    extra = np.zeros(lens.size, dtype=np.int64)
-    if close_out:
-        first_u = np.flatnonzero((units[:, 7] & kernel.U_FIRST) != 0)
-        group = np.zeros(units.shape[0], dtype=np.int64)
-        for g, (a, _) in enumerate(chunks[1:], start=1):
-            group[a:] = g
-        split = is_last & ((units[:, 7] & kernel.U_RING) != 0)
-        split &= group != group[first_u[owner]]
-        extra[split] = 1
     dest = np.zeros(lens.size + 1, dtype=np.int64)
-    np.cumsum(lens + extra, out=dest[1:])
+    np.cumsum(lens, out=dest[1:])
     total = int(dest[-1])
-    if all(r[8] for r in parts):
-        # group by group the rows move down (dest <= their row; every group's slice
-        # starts after the rows of the groups before it): in place
-        for g, (r, (a, b)) in enumerate(zip(parts, chunks, strict=True)):
-            if g:
-                kernel.move_rows(OUT, of, OUT, of, r[3] + base[g], dest[a:b])
+    if total <= OUT.shape[0]:
+        # in place: the parts in OUT whose rows move to earlier rows, front to back; those
+        # whose rows move to later ones (after a part whose rest had a buffer of its own),
+        # back to front: none overwrites rows not yet moved. Then the rests are copied in.
+        shift = [int(dest[a] - s - r[3][0, 0]) if a < b else 0 for r, a, b, s in parts]
+        for (r, a, b, s), d in zip(parts, shift, strict=True):
+            if s >= 0 and d < 0:
+                kernel.move_rows(OUT, of, OUT, of, r[3] + s, dest[a:b])
+        for (r, a, b, s), d in zip(parts[::-1], shift[::-1], strict=True):
+            if s >= 0 and d > 0:
+                kernel.move_rows_back(OUT, of, r[3] + s, dest[a:b])
+        for r, a, b, s in parts:
+            if s < 0:
+                kernel.move_rows(r[0], r[1], OUT, of, r[3], dest[a:b])
         R, rf = OUT[:total], of[:total]
     else:
         R, rf = np.empty((total, 2)), np.empty(total, dtype=bool)
-        for r, (a, b) in zip(parts, chunks, strict=True):
+        for r, a, b, _ in parts:
             kernel.move_rows(r[0], r[1], R, rf, r[3], dest[a:b])
-    if extra.any():
-        u = np.flatnonzero(extra)
-        at = dest[u] + lens[u]
+    if close_out:
+        # a ring whose units are in two parts: the part of its last unit left the row of
+        # its closing vertex empty
+        first_u = np.flatnonzero((flags & kernel.U_FIRST) != 0)
+        part = np.zeros(units.shape[0], dtype=np.int64)
+        for q, (_, a, _, _) in enumerate(parts[1:], start=1):
+            part[a:] = q
+        split = is_last & ((flags & kernel.U_RING) != 0)
+        u = np.flatnonzero(split & (part != part[first_u[owner]]))
+        at = dest[u] + lens[u] - 1
         R[at] = R[dest[first_u[owner[u]]]]
         rf[at] = False
     oo[1:] = dest[1:][is_last]

@@ -273,16 +273,19 @@ def step_units(
     is exact). Only the core is emitted, into ``OUT, of`` (``(cap, 2)`` float64 and
     ``(cap,)`` bool, allocated by the caller: numpy's allocator asks for huge pages),
     plus ``org_out[k]`` when ``add_out``. With ``close_out`` the first output vertex of
-    every ring whose first and last units are both in this call is repeated after its
-    last unit (shapely's ring layout).
+    every ring is repeated after its last unit (shapely's ring layout); when the ring's
+    first unit is not in this call, that row is left for the caller to fill.
 
     Returns ``OUT, ofixed, m, span, nred, nfig, nunsat, status``: the new points in
     ``OUT[:m]`` and their fixed mask (each fixed vertex is emitted once, as itself),
     per unit the output rows ``span[u, 0] .. span[u, 1] - 1`` (with the closing
     vertex) and the number of local alpha decreases, of Fig. 11 edges and of edges
     left violating a restriction, all over its core; ``status`` :data:`DONE`,
-    :data:`FULL` (at most 4 rows per input vertex and 1 per ring are needed: the
-    caller retries with a larger buffer) or :data:`ZERO_EDGE`.
+    :data:`FULL` or :data:`ZERO_EDGE`. With :data:`FULL` the buffer ran out (the
+    capacity is checked row by row, so a buffer of exactly the rows needed is
+    enough; at most 4 rows per input vertex and 1 per ring are): ``m`` is then the
+    number of units done, whose rows and counts are valid; the caller runs the
+    others into a larger buffer.
     """
     nu = units.shape[0]
     lmax = 1
@@ -414,15 +417,16 @@ def step_units(
         ax, ay = org_out[k, 0], org_out[k, 1]
         nf = 0
         for i in range(clo, chi):
-            if pos + 5 > cap:  # at most 4 points per vertex and a closing one
-                return OUT, of, -1, span, nred, nfig, nunsat, FULL
             h = i - 1 if i > 0 else n - 1
             j = i + 1 if i + 1 < n else 0
             vx, vy = V[i, 0], V[i, 1]
             ai = a[i]
             rx = vx + ai * ux[i]
             ry = vy + ai * uy[i]
-            if fx[i] or ai == 0.0:
+            kept = fx[i] or ai == 0.0
+            if pos + (1 if kept else 2) > cap:
+                return OUT, of, u, span, nred, nfig, nunsat, FULL
+            if kept:
                 _put(OUT, of, pos, vx, vy, fx[i], add_out, ax, ay)
                 pos += 1
             else:
@@ -444,6 +448,8 @@ def step_units(
                 and abs(k1 + k2) <= balance_tol * 0.5 * (abs(k1) + abs(k2))
                 and w > 0.0
             )
+            if pos + (2 if fig else 1) > cap:
+                return OUT, of, u, span, nred, nfig, nunsat, FULL
             if not fig:
                 sv = A * winv
                 _put(OUT, of, pos, mx + sv * uy[i], my - sv * ux[i], False, add_out, ax, ay)
@@ -469,15 +475,20 @@ def step_units(
             )  # fmt: skip
             pos += 2
         nfig[u] = nf
-        if close_out and (flags & U_LAST) and (flags & U_RING) and cstart >= 0:
-            OUT[pos, 0], OUT[pos, 1] = OUT[cstart, 0], OUT[cstart, 1]
+        if close_out and (flags & U_LAST) and (flags & U_RING):
+            if pos + 1 > cap:
+                return OUT, of, u, span, nred, nfig, nunsat, FULL
+            if cstart >= 0:  # else the ring's first unit is in another call: row left empty
+                OUT[pos, 0], OUT[pos, 1] = OUT[cstart, 0], OUT[cstart, 1]
             of[pos] = False
             pos += 1
         span[u, 1] = pos
     return OUT, of, pos, span, nred, nfig, nunsat, DONE
 
 
-@njit(cache=True, nogil=True)
+# inlined by numba: a call passes its 25 arrays field by field, once per curve, which
+# was about 7 % of a step on a batch of small polygons (one call per ~8 vertices)
+@njit(cache=True, nogil=True, inline="always")
 def _restrict(
     n, cl, anyfix, alpha, alpha0, half, cr, scross, dot, short, length, fx, c, C, max_passes,
     min_factor, a, K, tanb, fv, turning, endish, pending, check, cand, edges, edges2, lo, hi, tq,
@@ -647,6 +658,21 @@ def move_rows(src, src_f, dst, dst_f, span, dest):
 
 
 @njit(cache=True, nogil=True)
+def move_rows_back(buf, buf_f, span, dest):
+    """:func:`move_rows` within one buffer, to later rows (every ``dest[u] >= span[u, 0]``).
+
+    The last row goes first, so that no row is overwritten before it moved.
+    """
+    for u in range(span.shape[0] - 1, -1, -1):
+        d = dest[u] + span[u, 1] - span[u, 0]
+        for i in range(span[u, 1] - 1, span[u, 0] - 1, -1):
+            d -= 1
+            buf[d, 0] = buf[i, 0]
+            buf[d, 1] = buf[i, 1]
+            buf_f[d] = buf_f[i]
+
+
+@njit(cache=True, nogil=True)
 def to_local(P, offsets, Q):
     """Every curve relative to its first vertex: ``Q = P - origin``; returns the origins."""
     m = offsets.shape[0] - 1
@@ -673,6 +699,36 @@ def abs_max_per_curve(P, offsets):
             t = max(t, abs(P[i, 0]), abs(P[i, 1]))
         top[k] = t
     return top
+
+
+@njit(cache=True, nogil=True)
+def scan_curves(P, offsets, closed):
+    """:func:`abs_max_per_curve` and :func:`any_zero_edge` (origin 0) in one pass over ``P``.
+
+    The input checks of a call read the points once instead of twice (each pass over a
+    long curve costs about as much as a tenth of a CCA1 step on it).
+    """
+    m = offsets.shape[0] - 1
+    top = np.zeros(m)
+    zero = False
+    for k in range(m):
+        s, e = offsets[k], offsets[k + 1]
+        t = 0.0
+        if e > s:
+            px, py = P[s, 0], P[s, 1]
+            t = max(t, abs(px), abs(py))
+            for i in range(s + 1, e):
+                x, y = P[i, 0], P[i, 1]
+                t = max(t, abs(x), abs(y))
+                ex, ey = x - px, y - py
+                if ex * ex + ey * ey == 0.0:
+                    zero = True
+                px, py = x, y
+            if closed[k] and not zero:
+                ex, ey = P[s, 0] - px, P[s, 1] - py
+                zero = ex * ex + ey * ey == 0.0
+        top[k] = t
+    return top, zero
 
 
 @njit(cache=True, nogil=True)
