@@ -179,8 +179,9 @@ def test_close_rings_repeats_the_first_vertex():
 @pytest.mark.parametrize("alpha", ["regular", 0.25, "callable"])
 def test_blocks_threads_and_closing_vertices_give_the_single_call_bits(monkeypatch, alpha):
     # Small blocks (128 core vertices) and thread groups that cut long rings and lines in
-    # the middle: every group writes into its slice of one buffer and the rows move down
-    # in place; a ring cut between two groups gets its closing vertex afterwards. Each
+    # the middle: every group writes its rows in place in one buffer (moved only where a
+    # group needs more or fewer than the common case); a ring cut between two groups
+    # gets its closing vertex afterwards. Each
     # curve must still be, bit for bit, what cca.smooth gives it alone (in the input's
     # frame: the kernel subtracts and adds the origins itself), with the same counts.
 
