@@ -28,6 +28,7 @@ curvesmith.errors.CurveError: gamma applies to method 'derham', not to method 'c
 
 from __future__ import annotations
 
+import importlib
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from types import MappingProxyType
@@ -130,52 +131,17 @@ class SmoothingMethod:
         return self.ragged(coords, offsets, closed=closed, iterations=iterations, **parameters)
 
 
-def _cca(points, **kw):
-    from . import cca
+def _lazy(module: str, name: str) -> Callable[..., Any]:
+    """``curvesmith.<module>.<name>``, imported at its first call.
 
-    return cca.smooth(points, **kw)
+    ``import curvesmith`` loads no capability module; the table names them all.
+    """
 
+    def call(*args: Any, **kw: Any) -> Any:
+        return getattr(importlib.import_module(f"{__package__}.{module}"), name)(*args, **kw)
 
-def _cca_ragged(coords, offsets, **kw):
-    from . import cca
-
-    return cca.smooth_ragged(coords, offsets, **kw)
-
-
-def _chaikin(points, **kw):
-    from . import subdivision
-
-    return subdivision.chaikin(points, **kw)
-
-
-def _chaikin_ragged(coords, offsets, **kw):
-    from . import subdivision
-
-    return subdivision.chaikin_ragged(coords, offsets, **kw)
-
-
-def _de_rham(points, **kw):
-    from . import subdivision
-
-    return subdivision.de_rham(points, **kw)
-
-
-def _de_rham_ragged(coords, offsets, **kw):
-    from . import subdivision
-
-    return subdivision.de_rham_ragged(coords, offsets, **kw)
-
-
-def _lane_riesenfeld(points, **kw):
-    from . import subdivision
-
-    return subdivision.lane_riesenfeld(points, **kw)
-
-
-def _lane_riesenfeld_ragged(coords, offsets, **kw):
-    from . import subdivision
-
-    return subdivision.lane_riesenfeld_ragged(coords, offsets, **kw)
+    call.__name__ = call.__qualname__ = name
+    return call
 
 
 _CCA_PARAMETERS = (
@@ -206,8 +172,8 @@ METHODS: Mapping[str, SmoothingMethod] = MappingProxyType(
                 gis=True,
                 growth=3,
                 parameters=_CCA_PARAMETERS,
-                single=_cca,
-                ragged=_cca_ragged,
+                single=_lazy("cca", "smooth"),
+                ragged=_lazy("cca", "smooth_ragged"),
             ),
             SmoothingMethod(
                 name="chaikin",
@@ -218,8 +184,8 @@ METHODS: Mapping[str, SmoothingMethod] = MappingProxyType(
                 gis=True,
                 growth=2,
                 parameters=("preserve_endpoints",),
-                single=_chaikin,
-                ragged=_chaikin_ragged,
+                single=_lazy("subdivision", "chaikin"),
+                ragged=_lazy("subdivision", "chaikin_ragged"),
             ),
             SmoothingMethod(
                 name="derham",
@@ -230,8 +196,8 @@ METHODS: Mapping[str, SmoothingMethod] = MappingProxyType(
                 gis=False,
                 growth=2,
                 parameters=("gamma", "preserve_endpoints"),
-                single=_de_rham,
-                ragged=_de_rham_ragged,
+                single=_lazy("subdivision", "de_rham"),
+                ragged=_lazy("subdivision", "de_rham_ragged"),
             ),
             SmoothingMethod(
                 name="lane_riesenfeld",
@@ -242,8 +208,8 @@ METHODS: Mapping[str, SmoothingMethod] = MappingProxyType(
                 gis=False,
                 growth=2,
                 parameters=("degree", "preserve_endpoints"),
-                single=_lane_riesenfeld,
-                ragged=_lane_riesenfeld_ragged,
+                single=_lazy("subdivision", "lane_riesenfeld"),
+                ragged=_lazy("subdivision", "lane_riesenfeld_ragged"),
             ),
         )
     }
