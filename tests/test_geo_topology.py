@@ -65,12 +65,19 @@ def test_segment_classes_are_the_unordered_pairs(n, n_points, seed):
     assert same_partition(cls, np.unique(key, return_inverse=True)[1].reshape(-1))
     assert np.array_equal(lo[cls], np.minimum(a, b)) and np.array_equal(hi[cls], np.maximum(a, b))
     assert len(lo) == len(np.unique(key))
-    # lookups: every pair finds its class in either direction, absent pairs give -1
-    assert np.array_equal(K.find_segments(lo, hi, b, a), cls)
+    # lookups (the frozen edges of coverage_topology): pairs appended after these get the
+    # class of the same pair in either direction, and a class of their own (>= the number
+    # of classes above) exactly when absent; the classes above do not change
     every = np.arange(n_points * n_points)
     absent = np.setdiff1d(every[every // n_points <= every % n_points], key)  # lo <= hi
     q = absent[: min(len(absent), 50)]
-    assert np.all(K.find_segments(lo, hi, q // n_points, q % n_points) == -1)
+    qa, qb = np.concatenate([b, q // n_points]), np.concatenate([a, q % n_points])
+    both, lo2, hi2 = K.segment_classes(np.concatenate([a, qa]), np.concatenate([b, qb]), n_points)
+    assert np.array_equal(both[:n], cls) and np.array_equal(lo2[: len(lo)], lo)
+    assert np.array_equal(hi2[: len(hi)], hi)
+    assert np.array_equal(both[n : 2 * n], cls)
+    extra = both[2 * n :]
+    assert np.all(extra >= len(lo)) and len(np.unique(extra)) == len(q)
 
 
 @settings(max_examples=40, deadline=None)

@@ -163,7 +163,6 @@ def coverage_topology(polygons: Any, *, frozen_edges: Any = None) -> Topology:
     """
     from ._arrangement_kernel import ring_orientation
     from ._topology_kernel import (
-        find_segments,
         lexicographic_first,
         node_flags,
         point_ids,
@@ -208,8 +207,20 @@ def coverage_topology(polygons: Any, *, frozen_edges: Any = None) -> Topology:
     nxt[seg_off[1:] - 1] = seg_off[:-1]  # cyclic successor within the ring
     prev = np.arange(len(vert)) - 1
     prev[seg_off[:-1]] = seg_off[1:] - 1  # cyclic predecessor
-    cls, cls_lo, cls_hi = segment_classes(pid, pid[nxt], n_pts)
-    n_cls = len(cls_lo)
+    # the frozen edges' segments are classed after the rings' ones: classes follow first
+    # appearance, so a frozen segment that is a ring edge has a class below n_cls
+    fa = fb = np.empty(0, dtype=np.int64)
+    if len(extra):
+        epid = pid_all[len(vert) :]
+        same = extra_idx[1:] == extra_idx[:-1]
+        fa, fb = epid[:-1][same], epid[1:][same]
+    n_seg = len(vert)
+    cls, cls_lo, cls_hi = segment_classes(
+        np.concatenate([pid, fa]), np.concatenate([pid[nxt], fb]), n_pts
+    )
+    cls, frozen_of = cls[:n_seg], cls[n_seg:]
+    n_cls = int(cls.max()) + 1 if n_seg else 0
+    cls_lo, cls_hi = cls_lo[:n_cls], cls_hi[:n_cls]
     seg_ring = np.repeat(np.arange(n_rings), n_vert)
     seg_geom = ring_geom[seg_ring]
     count = np.bincount(cls, minlength=n_cls)
@@ -218,11 +229,7 @@ def coverage_topology(polygons: Any, *, frozen_edges: Any = None) -> Topology:
     np.minimum.at(gmin, cls, seg_geom)
     np.maximum.at(gmax, cls, seg_geom)
     frozen_cls = np.zeros(n_cls, dtype=bool)
-    if len(extra):
-        epid = pid_all[len(vert) :]
-        same = extra_idx[1:] == extra_idx[:-1]
-        found = find_segments(cls_lo, cls_hi, epid[:-1][same], epid[1:][same])
-        frozen_cls[found[found >= 0]] = True
+    frozen_cls[frozen_of[frozen_of < n_cls]] = True
 
     # nodes: points with other than two distinct edges, or where the edge signature changes
     deg = np.bincount(cls_lo, minlength=n_pts) + np.bincount(cls_hi, minlength=n_pts)

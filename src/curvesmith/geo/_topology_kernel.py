@@ -121,35 +121,6 @@ def segment_classes(a, b, n_points):
 
 
 @njit(cache=True, nogil=True)
-def find_segments(lo, hi, a, b):
-    """Per query segment ``a[j] -> b[j]``, the class of that pair among ``(lo, hi)``, or -1."""
-    n_cls = lo.shape[0]
-    size = _table_size(n_cls)
-    mask = np.uint64(size - 1)
-    slot_cls = np.full(size, _EMPTY, dtype=np.int64)
-    for c in range(n_cls):
-        h = _mix(np.uint64(lo[c]), np.uint64(hi[c]), mask)
-        while slot_cls[h] != _EMPTY:
-            h = (h + 1) & np.int64(size - 1)
-        slot_cls[h] = c
-    out = np.full(a.shape[0], _EMPTY, dtype=np.int64)
-    for j in range(a.shape[0]):
-        p, q = a[j], b[j]
-        if q < p:
-            p, q = q, p
-        h = _mix(np.uint64(p), np.uint64(q), mask)
-        while True:
-            c = slot_cls[h]
-            if c == _EMPTY:
-                break
-            if lo[c] == p and hi[c] == q:
-                out[j] = c
-                break
-            h = (h + 1) & np.int64(size - 1)
-    return out
-
-
-@njit(cache=True, nogil=True)
 def node_flags(pid, cls, prev, deg, count, gmin, gmax, frozen):
     """Per vertex: whether it is a node.
 
