@@ -214,12 +214,12 @@ def coverage_topology(polygons: Any, *, frozen_edges: Any = None) -> Topology:
         epid = pid_all[len(vert) :]
         same = extra_idx[1:] == extra_idx[:-1]
         fa, fb = epid[:-1][same], epid[1:][same]
-    n_seg = len(vert)
+    n_ring_segs = len(vert)
     cls, cls_lo, cls_hi = segment_classes(
         np.concatenate([pid, fa]), np.concatenate([pid[nxt], fb]), n_pts
     )
-    cls, frozen_of = cls[:n_seg], cls[n_seg:]
-    n_cls = int(cls.max()) + 1 if n_seg else 0
+    cls, frozen_of = cls[:n_ring_segs], cls[n_ring_segs:]
+    n_cls = int(cls.max()) + 1 if n_ring_segs else 0
     cls_lo, cls_hi = cls_lo[:n_cls], cls_hi[:n_cls]
     seg_ring = np.repeat(np.arange(n_rings), n_vert)
     seg_geom = ring_geom[seg_ring]
