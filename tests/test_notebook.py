@@ -99,4 +99,5 @@ def test_fit_figure_draws_both_kinds_of_fit():
     title = f"chain: {len(chain.segments)} elastica segments (within 0.3)"
     assert fig.axes[3].get_title() == title
     legend = [t.get_text() for t in fig.axes[3].get_legend().get_texts()]
-    assert "joints (G1)" in legend and "segment 1" in legend
+    assert "fitted joints (G1)" in legend
+    assert f"segment 1: k = {chain.segments[1].params.k:.3g}" in legend

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import time
 
 import numpy as np
@@ -51,30 +52,17 @@ def run(ctx) -> None:
     pts2, t2 = affine.construct(rc, t1=res.t1 * 1.002, area=res.area, vertices=60)
     k2 = affine.curvature(pts2, rtol=1e-8)
     km2 = k2 * abs(res.area) ** (-2.0 / 3.0)
-    uu = np.linspace(0, 1, 600)
+    perturbed = dataclasses.replace(res, points=pts2, t=t2, curvature=k2, kappa_m=km2)
     fig, axes = plt.subplots(2, 1, figsize=(9, 7), sharex=True)
-    for ax, km, t, title in (
-        (axes[0], res.kappa_m, res.t, f"optimal t1 = {res.t1:.6f} (min sum (k_(i+1) - k_i)^2)"),
-        (axes[1], km2, t2, f"t1 increased by 0.2 % to {res.t1 * 1.002:.6f}"),
+    for ax, r, title in (
+        (axes[0], res, f"optimal t1 = {res.t1:.6f} (min sum (k_(i+1) - k_i)^2)"),
+        (axes[1], perturbed, f"t1 increased by 0.2 % to {res.t1 * 1.002:.6f}"),
     ):
-        ax.plot(
-            uu,
-            affine.bezier_affine_curvature(control, uu),
-            color="0.3",
-            lw=0.8,
-            label="exact kappa(u)",
-        )
-        ax.plot(
-            _mid_params(t, samples),
-            km,
-            "o",
-            ms=3.5,
-            color="tab:blue",
-            label="kappa_i^m = k_i A^(-2/3)",
+        plot.affine_curvature(
+            r, lambda u: affine.bezier_affine_curvature(control, u), samples=samples, ax=ax
         )
         ax.set_title(title)
-        ax.set_ylabel("affine curvature")
-        ax.legend(fontsize=8)
+        ax.set_xlabel("")
     axes[1].set_xlabel("Bézier parameter u at (t_(i-1) + t_i + t_(i+1) + t_(i+2)) / 4")
     ctx.figure(
         fig,
@@ -118,35 +106,14 @@ def run(ctx) -> None:
     ax.lines[0].set_label("S-shaped Bézier curve")
     ax.lines[1].set_label("two affine arc length pieces")
     ax.legend(fontsize=8, loc="lower left")
-    ax = axes[1]
-    mid = _mid_params(rs.t, samples)
-    ax.plot(
-        uu,
-        affine.bezier_affine_curvature(scurve_ctrl, np.clip(uu, 1e-3, 1 - 1e-3)),
-        color="0.3",
-        lw=0.8,
-        label="exact kappa(u)",
+    ax = plot.affine_curvature(
+        rs,
+        lambda u: affine.bezier_affine_curvature(scurve_ctrl, np.clip(u, 1e-3, 1 - 1e-3)),
+        samples=samples,
+        ax=axes[1],
     )
-    # the l = 2 curvatures at both ends of each piece are left out of the objective
-    used = rs.valid.copy()
-    for group in np.split(np.flatnonzero(rs.valid), np.flatnonzero(np.diff(rs.valid.astype(int)))):
-        idx = group[rs.valid[group]]
-        used[idx[:2]] = used[idx[-2:]] = False
-    skipped = rs.valid & ~used
-    ax.plot(mid[used], rs.kappa_m[used], "o", ms=3.5, color="tab:blue", label="kappa_i^m")
-    ax.plot(
-        mid[skipped],
-        rs.kappa_m[skipped],
-        "o",
-        ms=6,
-        mfc="none",
-        color="tab:red",
-        label="kappa_i^m not used in the objective (l = 2)",
-    )
-    ax.axvline(0.5, color="k", lw=0.6, ls=":", label="inflection")
     ax.set_ylim(-1.5, 1.5)
     ax.set_xlabel("Bézier parameter u")
-    ax.set_ylabel("affine curvature")
     ax.set_title("Affine curvature; values across the join omitted (Fig. 13)")
     ax.legend(fontsize=8)
     ctx.figure(
@@ -157,30 +124,19 @@ def run(ctx) -> None:
     )
 
     # G2 check: Euclidean curvature of our spline vs a least-squares quadratic B-spline
-    t_ours, k_ours = affine.spline_curvature(res.points, per_segment=24)
     u = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(curve, axis=0), axis=1))])
     u /= u[-1]
     inner = np.linspace(0, 1, 59)[1:-1]
     lsq = make_lsq_spline(u, curve, np.r_[[0.0] * 3, inner, [1.0] * 3], k=2)
-    uu2 = np.linspace(0, 1, 6000)
-    d1, d2 = lsq.derivative(1)(uu2), lsq.derivative(2)(uu2)
-    k_lsq = (d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]) / np.linalg.norm(d1, axis=1) ** 3
     fig, ax = plt.subplots(figsize=(9, 4))
-    ax.plot(
-        uu2, k_lsq, color="tab:orange", lw=0.9, label="least-squares quadratic B-spline (C1 only)"
+    plot.spline_curvature(
+        {
+            "least-squares quadratic B-spline (C1 only)": lsq,
+            "B-spline of the affine arc length polyline (G2)": res.points,
+        },
+        ax=ax,
     )
-    span = (t_ours - t_ours[0]) / (t_ours[-1] - t_ours[0])
-    ax.plot(
-        span,
-        k_ours,
-        color="tab:red",
-        lw=1.2,
-        label="B-spline of the affine arc length polyline (G2)",
-    )
-    ax.set_xlabel("normalised spline parameter")
-    ax.set_ylabel("Euclidean curvature")
     ax.set_title("Curvature along the two quadratic splines with 60 control points")
-    ax.legend(fontsize=8)
     ctx.figure(
         fig,
         "affine_g2_curvature",

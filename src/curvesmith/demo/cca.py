@@ -19,13 +19,8 @@ def run(ctx) -> None:
 
 
 def _profile_figure(ctx) -> None:
-    nodes, values = cca.profile_nodes()
     fig, (ax,) = plot.new_axes(1, width=6.5, height=4.3)
-    plot.alpha_profile(ax=ax)
-    names = ["0", "40 deg control", "n=3 (9-gon aspect 1)", "n=4", "n=6", "n=12", "limit"]
-    offsets = [(6, 4), (6, -22), (6, 6), (6, -22), (4, -24), (-6, -26), (-34, -26)]
-    for x, y, name, off in zip(np.rad2deg(nodes), values, names, offsets, strict=True):
-        ax.annotate(f"{name}\n{y:.6g}", (x, y), textcoords="offset points", xytext=off, fontsize=7)
+    plot.alpha_profile(annotate=True, ax=ax)
     ax.set_xlim(-5, 185)
     ax.set_ylim(-0.01, 0.29)
     ax.set_title("CCA1 alpha-profile (Gordon 2010, Table 1 / Fig. 14 left)")
@@ -139,7 +134,7 @@ def _plot_figure(ctx) -> None:
     plot.draw_curve(
         ax, ch, closed=False, lw=1.2, label=f"Chaikin x3 (ends kept): integral {integral(ch):.12g}"
     )
-    ax.plot(x[anchors], y[anchors], "s", color="k", ms=6, label="anchor points")
+    plot.mark_points(ax, p[anchors], marker="s", ms=6, label="anchor points")
     ax.set_xlabel("x")
     ax.set_ylabel("y")
     ax.set_title("Smoothing a plot keeps its integral (anchored pieces independently)")

@@ -21,7 +21,9 @@ def run(ctx) -> None:
     """Reproduce Fig. 4 and plot the convergence of the length bounds."""
     ua, uc = B - A, C - B
     fig, ax = plt.subplots(figsize=(7.0, 5.0))
-    ax.plot(*np.array([A, B, C]).T, "--", color="0.6", lw=1, label="tangent lines AB, BC")
+    _plot.draw_curve(
+        ax, [A, B, C], closed=False, ls="--", color="0.6", lw=1, label="tangent lines AB, BC"
+    )
     xs, evals, times = {}, {}, {}
     for gamma in GAMMAS:
         t0 = time.perf_counter()
@@ -33,9 +35,7 @@ def run(ctx) -> None:
         )
         poly = derham.control_polygon(A, ua, C, uc, res.x)
         _plot.draw_curve(ax, poly, closed=False, ls=":", lw=0.8, color=ax.lines[-1].get_color())
-    ax.plot(*np.array([A, B, C]).T, "ko", ms=4)
-    for name, p in zip("ABC", (A, B, C), strict=True):
-        ax.annotate(name, (p[0], p[1]), textcoords="offset points", xytext=(6, 4))
+    _plot.mark_points(ax, [A, B, C], names=list("ABC"), fontsize=10)
     ax.set_aspect("equal")
     ax.set_xlabel("x")
     ax.set_ylabel("y")

@@ -58,21 +58,9 @@ def run(ctx) -> None:
 
     # Curvature is affine in the projection u_n (Prop. 4.1) on the exact fitted curve.
     res = elastica.fit(data.load_points("elastica_wave.csv"))
-    p = res.params
-    kappa = elastica.curvature(res.points)
-    u = res.points[1:-1] @ np.array([np.sin(p.phi), -np.cos(p.phi)])
-    kappa_data = elastica.curvature(res.data, rtol=1.0)
     fig, (ax,) = plot.new_axes(1, width=6.0, height=4.4)
-    ax.plot(u, kappa_data, ".", color="0.6", label="data (noisy discrete curvature)")
-    ax.plot(u, kappa, "o", color="tab:red", ms=3, label="fitted elastica")
-    inv = elastica.invariants(p)
-    line = np.linspace(u.min(), u.max(), 2)
-    A = float(np.mean(kappa - inv.mu / inv.Lambda * u))
-    ax.plot(line, inv.mu / inv.Lambda * line + A, "k--", lw=1, label="(mu / Lambda) u + A")
-    ax.set_xlabel("u_n = <I, gamma_n>  (eq. 4.14)")
-    ax.set_ylabel("discrete curvature kappa_n  (eq. 4.33)")
-    ax.set_title("Prop. 4.1: kappa_n is affine in u_n on a discrete elastica")
-    ax.legend(fontsize="small")
+    plot.elastica_invariant(res, ax=ax)
+    inv = elastica.invariants(res.params)
     ctx.figure(
         fig,
         "elastica_curvature_affine",
@@ -113,31 +101,20 @@ def _segments(ctx) -> None:
     tol = 0.08
     res = elastica.fit_segments(pts, tol)
     fig, (ax0, ax1) = plot.new_axes(2, width=6.0, height=4.6)
-    ax0.plot(*pts.T, ".", color="0.6", ms=1.5, label="input (0.02 mm noise)")
-    for i, seg in enumerate(res.segments):
-        ax0.plot(*seg.points.T, "-", lw=1.2, label=f"segment {i}: k = {seg.params.k:.3g}")
-    found = np.array([res.points[j.vertex] for j in res.joints])
-    ax0.plot(*true_joints.T, "o", mfc="none", color="black", ms=9, label="true joints")
-    ax0.plot(*found.T, "kx", ms=7, label="fitted joints (G1)")
-    ax0.set_aspect("equal", adjustable="datalim")
+    plot.elastica_segments(
+        res,
+        pts,
+        reference_joints=true_joints,
+        ax=ax0,
+        title=f"{len(res.segments)} discrete elastica segments\nwithin T = {tol:g} mm",
+    )
+    ax0.lines[0].set_label("input (0.02 mm noise)")
     ax0.set_xlabel("x (mm)")
     ax0.set_ylabel("y (mm)")
-    ax0.set_title(
-        f"{len(res.segments)} discrete elastica segments\nwithin T = {tol:g} mm", fontsize="medium"
-    )
     ax0.legend(fontsize="small")
-    plot.deviation_along(ax1, pts, res.deviation, tolerance=tol)
-    arc = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(pts, axis=0).T))])
-    for j in res.joints:  # the joint's arc position along the input
-        near = int(np.argmin(np.hypot(*(pts - res.points[j.vertex]).T)))
-        ax1.axvline(arc[near], color="black", lw=0.8, ls=":")
+    plot.segments_deviation(res, pts, ax=ax1)
     ax1.set_ylabel("deviation from the chain (mm)")
-    ax1.set_title(
-        f"max deviation {res.max_deviation:.3f} mm; joints dotted\n(G2 not imposed: curvature "
-        f"jumps {', '.join(f'{j.curvature_jump:.2g}' for j in res.joints)} /mm)",
-        fontsize="medium",
-    )
-    ax1.legend(fontsize="small")
+    found = np.array([res.points[j.vertex] for j in res.joints])
     ctx.figure(
         fig,
         "elastica_segments",
@@ -184,7 +161,7 @@ def _figure_4(ctx) -> None:
     fig, axes = plot.new_axes(3, width=4.6, height=4.2)
     for ax, (label, p, n) in zip(axes, curves, strict=True):
         pts = elastica.sample(p, n)
-        ax.plot(*pts.T, "o-", color="tab:blue", ms=3, lw=1)
+        plot.draw_curve(ax, pts, closed=False, markers=True, color="tab:blue", lw=1)
         ax.set_title(label)
         ax.set_xlabel("x")
         ax.set_ylabel("y")

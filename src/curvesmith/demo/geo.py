@@ -46,7 +46,6 @@ def run(ctx) -> None:
         require(module, "geo", "the geo demo section")
     import matplotlib.pyplot as plt
     import shapely
-    from matplotlib.patches import Rectangle
     from matplotlib.ticker import FuncFormatter
 
     from .. import geo
@@ -131,9 +130,7 @@ def run(ctx) -> None:
     fig, axes = plt.subplots(1, 2, figsize=(14, 6.5))
     ax = axes[0]
     _plot.layer_before_after(df, cov, labels=("input", "cca coverage smoothing"), ax=ax)
-    ax.add_patch(
-        Rectangle(zoom[:2], zoom[2] - zoom[0], zoom[3] - zoom[1], fill=False, ec="red", lw=1.5)
-    )
+    _plot.window_box(ax, zoom)
     ax.set_title("Nebraska and Kansas counties: input (grey), cca coverage smoothing (blue)")
     ax.set_xlabel("x (km, EPSG:5070)")
     ax.set_ylabel("y (km, EPSG:5070)")
@@ -249,9 +246,11 @@ def _z_profile(ctx) -> None:
     import matplotlib.pyplot as plt
     import shapely
     from matplotlib import cbook
+    from matplotlib.ticker import FuncFormatter
     from scipy.interpolate import RegularGridInterpolator
 
     from .. import geo
+    from .. import plot as _plot
 
     d: Any = cbook.get_sample_data("jacksboro_fault_dem.npz")  # an NpzFile
     dem = d["elevation"].astype(float)
@@ -271,13 +270,16 @@ def _z_profile(ctx) -> None:
     )
 
     fig, ax = plt.subplots(figsize=(8, 3.6))
-    ax.plot(a[:, 0] / 1000, a[:, 2], "o", ms=3, color="0.55", label="input fixes (Z from the DEM)")
-    ax.plot(b[:, 0] / 1000, b[:, 2], color="tab:blue", lw=1.2, label="smoothed, Z interpolated")
+    _plot.z_profile(
+        track,
+        out,
+        labels=("input fixes (Z from the DEM)", "smoothed, Z interpolated"),
+        ax=ax,
+        title="An XYZ track smoothed 3 times: XY as for 2D data, Z along the input edges",
+    )
+    ax.xaxis.set_major_formatter(FuncFormatter(lambda v, _: f"{v / 1000:.0f}"))
     ax.set_xlabel("easting (km; the trail runs west to east)")
     ax.set_ylabel("height (m)")
-    ax.set_title("An XYZ track smoothed 3 times: XY as for 2D data, Z along the input edges")
-    ax.legend(fontsize=8)
-    ax.grid(alpha=0.3)
     ctx.number("z_track_vertices", [len(a), len(b)], "track vertices before and after")
     ctx.number(
         "z_track_max_dem_gap",

@@ -63,15 +63,10 @@ def run(ctx) -> None:
     seconds = time.perf_counter() - t0
 
     # --- 3D scans
-    fig = plt.figure(figsize=(7.5, 6.0))
-    ax = fig.add_subplot(projection="3d")
-    for (name, *_), syn, res in zip(_FAMILY, scans, fits, strict=True):
-        p = syn.points
-        ax.plot(p[:, 0], p[:, 1], p[:, 2], lw=0.8, label=name)
-        infl = res.to_input_frame(res.points[[res.inflection.index]])[0]
-        ax.scatter(*infl, color="k", s=12)
-    allp = np.vstack([s.points for s in scans])
-    ax.set_box_aspect(np.ptp(allp, axis=0))
+    ax = _plot.keyline_scans(
+        {name: syn.points for (name, *_), syn in zip(_FAMILY, scans, strict=True)}, fits
+    )
+    fig = ax.figure
     ax.set_xlabel("x [mm]")
     ax.set_ylabel("y [mm]")
     ax.set_zlabel("z [mm]")
@@ -88,7 +83,7 @@ def run(ctx) -> None:
     fig, axes = plt.subplots(2, 1, figsize=(12.0, 3.8), layout="constrained")
     ax = _plot.inflection_estimate(res, ax=axes[0])
     ax.lines[0].set_label("equilateral keyline (r = 1)")
-    ax.plot(*truth[1][:2], "x", color="k", ms=9, mew=2, label="true inflection")
+    _plot.mark_points(ax, truth[1][:2], marker="x", ms=9, mew=2, label="true inflection")
     ax.set_xlabel("x'' [mm]")
     ax.set_ylabel("y'' [mm]")
     ax.set_title(f"{_FAMILY[0][0]}: RDP inflection estimate in the principal-axes frame (Fig. 14)")
@@ -109,17 +104,11 @@ def run(ctx) -> None:
 
     # --- all sides with the inflection at the origin (Fig. 18)
     fig, axes = plt.subplots(2, 1, figsize=(10.0, 5.5), layout="constrained")
-    for (name, *_), r in zip(_FAMILY, fits, strict=True):
-        for ax, side in zip(axes, (r.sides[0][1], r.sides[-1][1]), strict=True):
-            pts = side.points - side.points[0]
-            ax.plot(pts[:, 0], pts[:, 1], lw=1.2, label=name)
-    for ax, side_name in zip(axes, ("left", "right"), strict=True):
-        ax.set_aspect("equal")
+    by_name = {name: r for (name, *_), r in zip(_FAMILY, fits, strict=True)}
+    for ax, side in zip(axes, ("left", "right"), strict=True):
+        _plot.keyline_sides(by_name, side=side, ax=ax)
         ax.set_xlabel("x'' - x0 [mm]")
         ax.set_ylabel("y'' - y0 [mm]")
-        ax.set_title(f"Fitted {side_name} sides, inflection at the origin")
-        ax.grid(alpha=0.3)
-        ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     ctx.figure(
         fig,
         "keyline_family",
@@ -214,10 +203,13 @@ def _section_scan(ctx) -> None:
     scan = scan + rng.normal(scale=0.05, size=scan.shape)
     res = _elastica.fit(scan, resample=True, tolerance=0.5)
     fig, axes = _plot.new_axes(3, width=5.2, height=4.0)
-    axes[0].plot(*scan.T, ".", color="black", ms=2, label="scan")
-    axes[0].plot(*res.points.T, "-", color="tab:red", lw=1, label="discrete elastica")
-    axes[0].set_title(f"section scan, case ({res.case}), k = {res.params.k:.3g}")
-    axes[0].legend(fontsize="small")
+    _plot.elastica_fit(
+        res,
+        scan,
+        start=False,
+        ax=axes[0],
+        title=f"section scan, case ({res.case}), k = {res.params.k:.3g}",
+    )
     if res.deviation is None:  # a fit always measures its deviation; the demo relies on it
         raise CurveError("the section scan's fit has no deviation")
     _plot.deviation_along(axes[1], scan, res.deviation, tolerance=0.5)

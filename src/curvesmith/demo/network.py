@@ -23,7 +23,6 @@ def run(ctx) -> None:
     import pyogrio
     import shapely
     from matplotlib import cbook
-    from matplotlib.colors import LightSource
 
     from .. import geo
 
@@ -87,8 +86,8 @@ def run(ctx) -> None:
     ax = axes[0]
     _plot.draw_geometries(ax, before, color="0.6", lw=2.5)
     _plot.draw_geometries(ax, after, color="tab:blue", lw=1.0)
-    ax.plot(topo_nodes[:, 0], topo_nodes[:, 1], "k.", ms=4)
-    ax.add_patch(plt.Rectangle((cx - half, cy - half), 2 * half, 2 * half, fill=False, ec="red"))
+    _plot.mark_points(ax, topo_nodes, marker=".", ms=4)
+    _plot.window_box(ax, (cx - half, cy - half, cx + half, cy + half), lw=1.0)
     ax.set_title("OSM ways: input (grey), smooth_network (blue), fixed nodes (black)")
     ax.set_aspect("equal")
     ax.set_xlabel("x (m, EPSG:27700)")
@@ -104,7 +103,7 @@ def run(ctx) -> None:
         dash = "--" if geoms is bounded else "-"
         window = (cx - half, cy - half, cx + half, cy + half)
         _plot.draw_geometries(ax, geoms, window=window, ls=dash, color=color, lw=lw, label=label)
-    ax.plot(topo_nodes[:, 0], topo_nodes[:, 1], "k.", ms=6)
+    _plot.mark_points(ax, topo_nodes, marker=".", ms=6)
     ax.set_title("Zoom (120 m) on the busiest junction")
     ax.legend(loc="lower left", fontsize=8)
     ctx.figure(
@@ -152,12 +151,9 @@ def run(ctx) -> None:
         "steep rough terrain it does not (below), while the network never lets two levels "
         "meet."
     )
-    ls = LightSource(azdeg=315, altdeg=45)
-    shade = ls.hillshade(z, vert_exag=2, dx=dx, dy=dy)
-    extent = (x[0] - dx / 2, x[-1] + dx / 2, y[-1] - dy / 2, y[0] + dy / 2)
     fig, axes = plt.subplots(1, 2, figsize=(14, 6.2))
     for ax, zoom in zip(axes, (None, 3000.0), strict=True):
-        ax.imshow(shade, cmap="gray", extent=extent, origin="upper")
+        _plot.hillshade(z, x, y, vert_exag=2, ax=ax)
         if zoom is None:
             geoms = [(res.geometry, "tab:red", 0.6)]
         else:
@@ -231,8 +227,7 @@ def steep(ctx) -> None:
         _plot.draw_geometries(ax, raw, window=window, color="0.75", lw=3.0)
         _plot.draw_geometries(ax, df, window=window, color="tab:blue", lw=1.2, marker=".", ms=2)
         p = _crossings(df)
-        if len(p):
-            ax.plot(p[:, 0], p[:, 1], "rx", ms=10, mew=2)
+        _plot.mark_points(ax, p, marker="x", color="r", ms=10, mew=2)
         ax.set_title(f"{name}\n{counts[name]} crossing points in all (24 m zoom)")
         ax.set_xlabel("x (m)")
     ctx.figure(

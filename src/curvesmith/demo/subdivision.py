@@ -62,7 +62,7 @@ def run(ctx) -> None:
 
     # Area loss per iteration: linear schemes converge to a curve of smaller area.
     its = np.arange(0, 7)
-    fig, (ax,) = plot.new_axes(1, width=6.5, height=4.2)
+    changes = {}
     for name, fn in {
         "Chaikin": lambda k: subdivision.chaikin(lake, closed=True, iterations=k),
         "de Rham gamma=1.2": lambda k: subdivision.de_rham(
@@ -76,17 +76,22 @@ def run(ctx) -> None:
         ),
     }.items():
         rel = [geometry.signed_area(fn(int(k))) / a0 - 1 for k in its]
-        ax.plot(its, 100 * np.asarray(rel), marker="o", label=name)
+        changes[name] = 100 * np.asarray(rel)
         ctx.number(
             f"area_change_{name.replace(' ', '_')}_x6",
             float(rel[-1]),
             "relative area change after 6 steps",
         )
-    ax.axhline(0, color="k", lw=0.8)
-    ax.set_xlabel("iterations")
-    ax.set_ylabel("area change (%)")
-    ax.set_title("Linear corner cutting loses area (cca keeps it exactly)")
-    ax.grid(alpha=0.3)
+    fig, (ax,) = plot.new_axes(1, width=6.5, height=4.2)
+    plot.convergence(
+        changes,
+        logy=False,
+        baseline=0.0,
+        xlabel="iterations",
+        ylabel="area change (%)",
+        title="Linear corner cutting loses area (cca keeps it exactly)",
+        ax=ax,
+    )
     ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0.0)
     ctx.figure(
         fig,
