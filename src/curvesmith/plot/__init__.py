@@ -14,9 +14,10 @@ convergence, length_bracket, alpha_profile
     Sequences against the level or iteration; de Rham's certified length; CCA's profile.
 affine_approximation, affine_curvature, spline_curvature
     Affine arc length polylines, their discrete affine curvature, G2 against C1 splines.
-elastica_fit, elastica_invariant, elastica_segments, segments_deviation, fit_panels,
-fit_figure, deviation_along, curvature_along
-    Elastica fits over their data, in data units.
+elastica_fit, elastica_invariant, elastica_segments, segments_deviation
+    Elastica fits over their data; Prop. 4.1's invariant; multi-segment fits.
+fit_panels, fit_figure, deviation_along, curvature_along
+    A fit's curve, deviation and curvature along the curve, in data units.
 inflection_estimate, keyline_fit, keyline_scans, keyline_sides
     Keylines: the RDP inflection, the fits per side, 3D scans, a family of sides.
 draw_geometries, layer_before_after, area_change, z_profile, hillshade
