@@ -79,6 +79,10 @@ def test_hillshade_is_north_up_whatever_the_row_order(ax):
     [
         (lambda ax, p: p.hillshade(np.zeros((3, 4)), np.arange(3), np.arange(3), ax=ax), "x and y"),
         (lambda ax, p: p.hillshade(np.zeros(5), ax=ax), "2-D array"),
+        (
+            lambda ax, p: p.hillshade(np.zeros((3, 4)), [0, 2, 1, 3], np.arange(3), ax=ax),
+            "strictly monotone",
+        ),
         (lambda ax, p: p.mark_points(ax, [[0, 0], [1, 1]], names=["A"]), "names must have"),
         (lambda ax, p: p.window_box(ax, (1, 0, 0, 1)), "window must be"),
         (lambda ax, p: p.keyline_sides({}, side="top", ax=ax), "side"),

@@ -368,9 +368,9 @@ def hillshade(
         xs, z = xs[::-1], z[:, ::-1]
     if ys[0] < ys[-1]:  # row 0 to the north
         ys, z = ys[::-1], z[::-1]
+    if not (np.all(np.diff(xs) > 0) and np.all(np.diff(ys) < 0)):
+        raise CurveError("x and y must be strictly monotone (the cell centres of a regular grid)")
     dx, dy = float(np.mean(np.diff(xs))), float(np.mean(-np.diff(ys)))
-    if not (dx > 0 and dy > 0):
-        raise CurveError("x and y must be strictly monotone")
     if ax is None:
         _, (ax,) = new_axes(width=7.0, height=6.0)
     light = LightSource(azdeg=azimuth, altdeg=altitude)
