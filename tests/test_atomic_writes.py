@@ -165,6 +165,31 @@ def test_gis_writer_reporting_success_with_a_damaged_file_is_caught(tmp_path, mo
     assert _listing(tmp_path) == []
 
 
+def test_geopackage_with_a_truncated_geometry_blob_is_caught(tmp_path, monkeypatch):
+    # GDAL reports success; one feature's blob lost its tail (WKB header intact): the file
+    # reads back with a NULL geometry there, which the read-back check counts
+    import sqlite3
+
+    out = tmp_path / "out.gpkg"
+    real = pyogrio.write_dataframe
+
+    def damaging(df, path, **kwargs):
+        real(df, path, **kwargs)
+        con = sqlite3.connect(path)
+        for fn in ("ST_IsEmpty", "ST_MinX", "ST_MaxX", "ST_MinY", "ST_MaxY"):  # R-tree triggers
+            con.create_function(fn, 1, lambda blob: 0)
+        table = con.execute("SELECT table_name FROM gpkg_contents").fetchone()[0]
+        fid, blob = con.execute(f'SELECT fid, geom FROM "{table}" LIMIT 1 OFFSET 1').fetchone()
+        con.execute(f'UPDATE "{table}" SET geom = ? WHERE fid = ?', (blob[: len(blob) - 9], fid))
+        con.commit()
+        con.close()
+
+    monkeypatch.setattr(pyogrio, "write_dataframe", damaging)
+    with pytest.raises(CurveFormatError, match=r"reads back as 4 features \(1 without geometry\)"):
+        geo.write_file(_frame(), out)
+    assert _listing(tmp_path) == []
+
+
 @pytest.mark.filterwarnings("ignore:'crs' was not provided:UserWarning")
 def test_shapefile_output_replaces_stale_sidecars(tmp_path):
     out = tmp_path / "o.shp"

@@ -105,13 +105,13 @@ def test_geopackage_written_in_slices_equals_one_write(tmp_path, monkeypatch, ki
     monkeypatch.setattr(_io, "WRITE_CHUNK_VERTICES", 37)
     assert len(slices(np.asarray(df.geometry.values, dtype=object))) > 3
     reads = []
-    real_read = pyogrio.read_dataframe
+    real_read = pyogrio.raw.read
 
     def counting_read(*args, **kwargs):
         reads.append(kwargs.get("max_features"))
         return real_read(*args, **kwargs)
 
-    monkeypatch.setattr(pyogrio, "read_dataframe", counting_read)
+    monkeypatch.setattr(pyogrio.raw, "read", counting_read)
     many = tmp_path / "many.gpkg"
     geo.write_file(df, many)
     assert len(reads) > 3 and None not in reads  # read back slice by slice
