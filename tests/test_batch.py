@@ -141,6 +141,31 @@ def test_partitioned_linear_rings_and_none(cluster):
     )
 
 
+def test_partitioned_polygon_and_line_layers_exact_with_types(cluster, counties_file):
+    # the ragged packets: holes, MultiPolygons of one and of several parts, empties and
+    # NULLs come back as geo.smooth gives them, type for type and bit for bit; a line layer too
+    _, df = counties_file
+    g = list(df.geometry.values[:30])
+    hole = shapely.Polygon(g[0].exterior, [shapely.affinity.scale(g[0], 0.3, 0.3).exterior])
+    polys = [*g[:10], hole, shapely.MultiPolygon([g[11]]), shapely.MultiPolygon(g[12:14])]
+    polys += [None, shapely.Polygon(), shapely.MultiPolygon(), *g[14:]]
+    lines = [None if p is None or p.is_empty else p.exterior for p in polys[:10]]
+    lines = [shapely.LineString(ln.coords) if ln is not None else None for ln in lines]
+    lines += [shapely.MultiLineString([lines[0], lines[1]]), shapely.LineString()]
+    with distributed.Client(cluster.scheduler_address) as client:
+        for layer in (polys, lines):
+            out, errors, _, _ = batch.smooth_partitioned(
+                layer, client=client, partition_size=4, iterations=2
+            )
+            ref = geo.smooth(layer, iterations=2)
+            assert errors == ()
+            for a, b in zip(out, ref, strict=True):
+                assert (a is None) == (b is None)
+                if a is not None:
+                    assert a.geom_type == b.geom_type
+                    assert shapely.to_wkb(a) == shapely.to_wkb(b)
+
+
 def test_z_kept_and_equal_to_the_single_process_run(cluster, counties_file, tmp_path):
     """Z (issue 14.3): batch gives the Z of geo.smooth_file, per feature and in coverage mode."""
     _, df = counties_file

@@ -314,7 +314,45 @@ def test_the_pinched_ring_passes_the_arc_proof_but_not_the_polygon_proof():
     uses = coverage_flat_uses(topo)
     shells = coverage_shells(topo)
     assert geo_coverage.certainly_valid(topo.arcs, topo.loops, uses, shells, topo.ring_sign, g)
-    assert list(coverage_valid_by_proof(topo, uses)) == [False, True]
+    assert list(coverage_valid_by_proof(topo, uses, g)) == [False, True]
+
+
+def test_polygons_with_holes_and_parts_are_proven_valid_without_geos(monkeypatch):
+    # a donut, its island filling the hole, a MultiPolygon of two squares (one inside a
+    # hole of the donut's neighbour), and a hole touching its shell at a node (the ring
+    # passes the node twice: GEOS decides)
+    donut = shapely.Polygon(
+        [(0, 0), (10, 0), (10, 10), (0, 10)], [[(3, 3), (3, 7), (7, 7), (7, 3)]]
+    )
+    island = shapely.Polygon([(3, 3), (7, 3), (7, 7), (3, 7)])
+    frame = shapely.Polygon(
+        [(10, 0), (30, 0), (30, 10), (10, 10)], [[(12, 2), (12, 8), (18, 8), (18, 2)]]
+    )
+    multi = shapely.MultiPolygon([shapely.box(12, 2, 18, 8), shapely.box(40, 0, 42, 2)])
+    touching = shapely.Polygon(
+        [(50, 0), (60, 0), (60, 10), (50, 10), (50, 5)], [[(50, 5), (55, 3), (55, 7)]]
+    )
+    g = np.array([donut, island, frame, multi, touching], dtype=object)
+    assert shapely.is_valid(g).all() and shapely.coverage_is_valid(g)
+    topo = geo_coverage.coverage_topology(g)
+    uses = coverage_flat_uses(topo)
+    shells = coverage_shells(topo)
+    assert geo_coverage.certainly_valid(topo.arcs, topo.loops, uses, shells, topo.ring_sign, g)
+    assert list(coverage_valid_by_proof(topo, uses, g)) == [True, True, True, True, False]
+    # smoothed: the output proof needs GEOS for the touching one only
+    asked = []
+    real = shapely.is_valid
+
+    def counting(geoms, **kwargs):
+        asked.append(len(np.atleast_1d(geoms)))
+        return real(geoms, **kwargs)
+
+    monkeypatch.setattr(shapely, "is_valid", counting)
+    res = geo.smooth_coverage(g, iterations=2, full_output=True)
+    monkeypatch.undo()
+    assert res.coverage_valid and sum(asked) == 2  # the touching polygon, in and out
+    assert all(shapely.is_valid(res.geometry))
+    np.testing.assert_allclose(shapely.area(res.geometry), shapely.area(g), rtol=1e-12)
 
 
 def test_coverage_passes_none_and_empty_through():

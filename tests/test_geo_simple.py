@@ -23,7 +23,7 @@ shapely = pytest.importorskip("shapely")
 pytest.importorskip("numba")
 
 from curvesmith import geo  # noqa: E402
-from curvesmith.internals import geo_simple  # noqa: E402
+from curvesmith.internals import geo_simple, geo_smooth  # noqa: E402
 
 rings_certainly_simple = geo_simple.rings_certainly_simple
 
@@ -137,3 +137,69 @@ def test_real_layers():
         rings = [r for p in layer for q in shapely.get_parts(p) for r in shapely.get_rings(q)]
         fast, valid = _check(rings)
         assert fast.sum() >= 0.85 * valid.sum()
+
+
+# ----------------------------------------------------------------- nesting of disjoint rings
+
+
+def _disjoint_rings(rng, n, scale, origin):
+    """Up to n polygonal circles in metres whose rings do not meet (GEOS), nested or apart."""
+    out = []
+    for _ in range(40 * n):
+        c = rng.uniform(0, scale, 2)
+        r = rng.uniform(0.02, 0.4) * scale
+        t = np.sort(rng.uniform(0, 2 * np.pi, rng.integers(5, 40)))
+        ring = origin + c + r * np.c_[np.cos(t), np.sin(t)]
+        if shapely.LinearRing(ring).is_simple and not any(
+            shapely.intersects(shapely.LinearRing(ring), shapely.LinearRing(o)) for o in out
+        ):
+            out.append(ring)
+        if len(out) == n:
+            break
+    return out
+
+
+@pytest.mark.parametrize("seed", range(40))
+def test_nesting_of_disjoint_rings_agrees_with_geos(seed):
+    # random (Multi)Polygons made of disjoint rings given random roles (shell or hole,
+    # of any part): holes outside their shell or inside another hole, shells inside
+    # another part or inside its hole; proven exactly when GEOS calls them valid
+    rng = np.random.default_rng(seed)
+    feats, expected = [], []
+    for _ in range(30):
+        origin = np.array([rng.uniform(3e5, 7e5), rng.uniform(4e6, 5e6)])  # UTM metres
+        rings = _disjoint_rings(rng, int(rng.integers(2, 7)), 1e4, origin)
+        cuts = np.sort(
+            rng.choice(np.arange(1, len(rings)), rng.integers(0, len(rings)), replace=False)
+        )
+        parts = [
+            shapely.Polygon(rs[0], rs[1:])
+            for rs in np.split(np.arange(len(rings)), cuts)
+            if len(rs)
+            for rs in [[rings[i] for i in rs]]
+        ]
+        g = parts[0] if len(parts) == 1 and rng.uniform() < 0.5 else shapely.MultiPolygon(parts)
+        feats.append(g)
+        expected.append(bool(shapely.is_valid(g)))
+    feats = np.array(feats, dtype=object)
+    was_polygon = shapely.get_type_id(feats) == shapely.GeometryType.POLYGON
+    xy, ring_off, part_off, feat_off = geo_smooth.polygon_ragged(feats, was_polygon)
+    got = geo_simple.nesting_certainly_valid(xy, ring_off, part_off, feat_off)
+    assert got.tolist() == expected
+    assert 0 < sum(expected) < len(expected)  # both kinds occur
+
+
+def test_nesting_doubtful_signs_are_not_proven():
+    # a hole's first vertex on a sloping edge of its shell (the rings meet: the caller's
+    # rule broken; its side is not certain) or NaN
+    shell = [(0, 0), (10, 0), (10, 10), (0, 10)]
+    on_edge = shapely.Polygon(shell, [[(10, 5), (9, 6), (9, 4)]])
+    fine = shapely.Polygon(shell, [[(5, 1), (6, 2), (4, 2)]])
+    feats = np.array([on_edge, fine, fine], dtype=object)
+    xy, ring_off, part_off, feat_off = geo_smooth.polygon_ragged(feats, np.ones(3, dtype=bool))
+    xy[ring_off[3]] = xy[ring_off[4] - 1] = (np.nan, 5.0)  # the hole of the second one
+    assert geo_simple.nesting_certainly_valid(xy, ring_off, part_off, feat_off).tolist() == [
+        False,
+        False,
+        True,
+    ]

@@ -82,29 +82,25 @@ class BatchReport:
 
 
 def _smooth_partition(
-    data: np.ndarray,
+    packet: Any,
     start: int,
     options: dict[str, Any],
-    as_wkb: bool = True,
     labels: np.ndarray | None = None,
-) -> tuple[np.ndarray, list[tuple[int, str]], int]:
+) -> tuple[Any, list[tuple[int, str]], int]:
     """Smooth one partition; a failing feature is kept unchanged and reported.
 
-    Geometries travel as WKB (``as_wkb``: one vectorized encode/decode per partition
-    instead of one pickle per geometry; WKB keeps float64 coordinates exactly), or as
-    shapely objects when the input has LinearRings, which WKB cannot represent. Errors
-    are reported at ``start + k``; their messages name the file's feature, ``start + k``
-    or, when given, ``labels[k]``.
+    Geometries travel both ways as packets (:mod:`curvesmith.geo._packets`: the ragged
+    coordinate arrays of a layer of polygons or lines, WKB or the objects for others).
+    Errors are reported at ``start + k``; their messages name the file's feature,
+    ``start + k`` or, when given, ``labels[k]``.
     """
-    import shapely
-
     from . import geo
+    from .geo._packets import pack, unpack
 
-    geoms = shapely.from_wkb(data) if as_wkb else data
-    encode = shapely.to_wkb if as_wkb else (lambda x: x)
+    geoms = unpack(packet)
     try:
         res = geo.smooth(geoms, full_output=True, **options)
-        return encode(res.geometry), [], len(res.reductions)
+        return pack(res.geometry), [], len(res.reductions)
     except Exception:  # retried feature by feature below, to isolate the failing ones
         pass
     out = np.array(geoms, dtype=object, copy=True)
@@ -119,7 +115,7 @@ def _smooth_partition(
             feature = start + k if labels is None else int(labels[k])  # the file's index
             reason = str(exc).replace("geometry[0]", f"feature {feature}", 1)
             errors.append((start + k, f"{type(exc).__name__}: {reason}"))
-    return encode(out), errors, n_red
+    return pack(out), errors, n_red
 
 
 def _smooth_arc_chunk(
@@ -207,13 +203,32 @@ class _Workers:
             self._own.close()
 
 
-def _run(client, fn: Callable, args: Sequence[tuple], progress: bool) -> list[Any]:
-    """Submit one task per argument tuple, show a progress bar, gather in order."""
+def _run(
+    client,
+    fn: Callable,
+    args: Sequence[tuple],
+    progress: bool,
+    on_result: Callable[[int, Any], None] | None = None,
+) -> list[Any]:
+    """Submit one task per argument tuple, show a progress bar, gather in order.
+
+    With `on_result`, each result is handed to ``on_result(k, result)`` as soon as it
+    arrives (task ``k``), so the client decodes results while the workers still compute,
+    and its task is released then; the list returned is empty.
+    """
     distributed = require("distributed", "dask", "batch smoothing")
     futures = [client.submit(fn, *a, pure=False) for a in args]
     if progress:
         distributed.progress(futures, notebook=False)
-    return client.gather(futures)
+    if on_result is None:
+        return client.gather(futures)
+    task = {f.key: k for k, f in enumerate(futures)}
+    arriving = distributed.as_completed(futures, with_results=True)
+    del futures  # each task is released once its result is handed on
+    for future, result in arriving:
+        on_result(task[future.key], result)
+        del future, result
+    return []
 
 
 # ---------------------------------------------------------------------------- API
@@ -291,23 +306,25 @@ def smooth_partitioned(
     ):
         if value is not None:
             options[key] = value
-    starts = list(range(0, len(geoms), partition_size))
-    import shapely
+    from .geo._packets import pack, unpack
 
-    # WKB has no LinearRing type: send those partitions' geometries as objects
-    present = np.array([g is not None for g in geoms], dtype=bool)
-    rings = bool(np.any(shapely.get_type_id(geoms[present]) == shapely.GeometryType.LINEARRING))
-    data = geoms if rings else shapely.to_wkb(geoms)
-    args = [(data[s : s + partition_size], s, options, not rings) for s in starts]
-    with _Workers(client, workers, scheduler) as pool:
-        results = _run(pool.client, _smooth_partition, args, progress) if args else []
+    starts = list(range(0, len(geoms), partition_size))
+    args = [(pack(geoms[s : s + partition_size]), s, options) for s in starts]
     out = np.array(geoms, dtype=object, copy=True)
     errors: list[FeatureError] = []
     n_red = 0
-    for s, (part, errs, nr) in zip(starts, results, strict=True):
-        out[s : s + len(part)] = part if rings else shapely.from_wkb(part)
-        errors += [FeatureError(i, r) for i, r in errs]
+
+    def take(k: int, result) -> None:
+        nonlocal n_red
+        packet, errs, nr = result
+        out[starts[k] : starts[k] + len(packet)] = unpack(packet)
+        errors.extend(FeatureError(i, r) for i, r in errs)
         n_red += nr
+
+    with _Workers(client, workers, scheduler) as pool:
+        if args:
+            _run(pool.client, _smooth_partition, args, progress, on_result=take)
+    errors.sort(key=lambda e: e.index)
     return wrap(out), tuple(errors), len(args), n_red
 
 
@@ -526,9 +543,8 @@ def _equal_area_on_dask(
     :func:`curvesmith.geo.smooth_file` with ``equal_area=True``, feature for feature);
     the projected features of every region go to the workers in partitions.
     """
-    import shapely
-
     from .geo._io import _smooth_equal_area
+    from .geo._packets import pack, unpack
     from .geo._smooth import check_method
 
     check_method(options["method"], options["iterations"], options["alpha"])
@@ -540,21 +556,23 @@ def _equal_area_on_dask(
         nonlocal n_tasks
         args, where = [], []
         for k, (geoms, labels, extra) in enumerate(jobs):
-            rings = bool(np.any(shapely.get_type_id(geoms) == shapely.GeometryType.LINEARRING))
             for s in range(0, len(geoms), partition_size):
-                part = geoms[s : s + partition_size]
-                data = part if rings else shapely.to_wkb(part)
                 opts = {**options, "make_valid": make_valid, **extra}
-                args.append((data, s, opts, not rings, labels[s : s + partition_size]))
-                where.append((k, s, rings))
+                part = pack(geoms[s : s + partition_size])
+                args.append((part, s, opts, labels[s : s + partition_size]))
+                where.append((k, s))
         n_tasks += len(args)
-        results = _run(pool.client, _smooth_partition, args, progress) if args else []
-        outs = [(np.array(g, dtype=object, copy=True), 0, []) for g, _, _ in jobs]
-        for (k, s, rings), (part, errs, nr) in zip(where, results, strict=True):
-            out, n_red, job_errors = outs[k]
-            out[s : s + len(part)] = part if rings else shapely.from_wkb(part)
-            outs[k] = (out, n_red + nr, job_errors + [(i, r) for i, r in errs])
-        return outs
+        outs = [[np.array(g, dtype=object, copy=True), 0, []] for g, _, _ in jobs]
+
+        def take(t: int, result) -> None:
+            (k, s), (packet, errs, nr) = where[t], result
+            outs[k][0][s : s + len(packet)] = unpack(packet)
+            outs[k][1] += nr
+            outs[k][2] += errs
+
+        if args:
+            _run(pool.client, _smooth_partition, args, progress, on_result=take)
+        return [(out, n_red, sorted(errs)) for out, n_red, errs in outs]
 
     with pool:
         out, n_red, _, _ = _smooth_equal_area(

@@ -138,6 +138,7 @@ _ON_DEMAND: dict[str, tuple[str, str | None]] = {
     "geo_smooth": (".geo._smooth", None),
     "geo_coverage": (".geo._coverage", None),
     "geo_simple": (".geo._simple", None),
+    "geo_packets": (".geo._packets", None),
     "clearance_kernel": (".geo._clearance_kernel", None),
     "lon_arc": (".geo._io", "_lon_arc"),
     "slices": (".geo._io", "_slices"),

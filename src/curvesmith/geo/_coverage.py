@@ -575,35 +575,65 @@ def _proven_topology(g: np.ndarray) -> tuple[Topology, Any, bool]:
 def _polygons_valid(g: np.ndarray, topo: Topology, uses, proven: bool) -> bool:
     """Whether every polygon is valid: by the coverage proof where it can tell, else GEOS."""
     shapely = _shapely()
-    doubt = ~_valid_by_proof(topo, uses) if proven else np.ones(len(g), dtype=bool)
+    doubt = ~_valid_by_proof(topo, uses, g) if proven else np.ones(len(g), dtype=bool)
     return not doubt.any() or bool(shapely.is_valid(g[doubt]).all())
 
 
-def _valid_by_proof(topo: Topology, uses) -> np.ndarray:
+#: Features whose rings times vertices exceed this go to GEOS (the nesting test's cost).
+NESTING_BUDGET = 1 << 24
+
+
+def _valid_by_proof(topo: Topology, uses, polygons: np.ndarray) -> np.ndarray:
     """Per polygon of a coverage that :func:`certainly_valid` proved: whether it is valid.
 
-    True for a Polygon of one ring that passes through no node twice. Its arcs are
-    simple and meet only at their end nodes (part (a) of the proof), so two of its arcs
-    that are not consecutive in the ring could meet only at a node the ring passes twice:
-    the ring is simple, and its orientation is not zero (the proof checks it), so the
-    polygon is valid. The other geometries (holes, several parts) are checked by GEOS.
+    `polygons`: the coverage's geometries, built from the topology's rings (the input,
+    or the rebuilt output). The arcs are simple and meet only at their end nodes (part
+    (a) of the proof). So a ring that passes through no node twice is simple (two of its
+    arcs that are not consecutive could meet only at a node it passes twice), and two
+    rings of one feature that share no node and no arc do not meet at all. A Polygon of
+    one such ring is valid (its orientation is not zero: the proof checks it); a feature
+    of several such rings is valid when they nest as a valid (Multi)Polygon's do, which
+    :func:`curvesmith.geo._simple.nesting_certainly_valid` decides from one vertex per
+    ring. False: not proven (GEOS decides).
     """
+    from ._simple import nesting_certainly_valid
+    from ._smooth import polygon_ragged
     from ._topology_kernel import point_ids
 
     ring, arc, fwd = uses
     poly_off, geom_off = topo.ring_offsets
-    n_rings = int(poly_off[-1])
+    n_geoms = len(geom_off) - 1
+    ring_poly = np.searchsorted(poly_off, ring, side="right") - 1
+    feat = np.searchsorted(geom_off, ring_poly, side="right") - 1  # the feature of every use
     first = np.array([a[0] for a in topo.arcs]).reshape(-1, 2)
     last = np.array([a[-1] for a in topo.arcs]).reshape(-1, 2)
     on_node = ~np.asarray(topo.loops, dtype=bool)[arc]  # a loop's ring has no node
     start = np.where(fwd[:, None], first[arc], last[arc])[on_node]  # the node a use leaves
     nid, n_ids = point_ids(np.ascontiguousarray(start) + 0.0)
-    key = np.sort(ring[on_node] * max(n_ids, 1) + nid)
-    twice = np.zeros(n_rings, dtype=bool)
-    twice[key[1:][key[1:] == key[:-1]] // max(n_ids, 1)] = True
-    first_poly = geom_off[:-1]
-    one_ring = topo.was_polygon & (poly_off[first_poly + 1] - poly_off[first_poly] == 1)
-    return one_ring & ~twice[poly_off[first_poly]]
+    doubt = np.zeros(n_geoms, dtype=bool)
+    # a node passed twice by the rings of one feature (by one ring, or by two), or an arc
+    # used twice in one feature (a loop in two of its rings)
+    for owner, item, n_items in (
+        (feat[on_node], nid, max(n_ids, 1)),
+        (feat, arc, max(len(topo.arcs), 1)),
+    ):
+        key = np.sort(owner * n_items + item)
+        doubt[key[1:][key[1:] == key[:-1]] // n_items] = True
+    n_rings = np.diff(poly_off[geom_off])  # of every feature
+    one_ring = topo.was_polygon & (n_rings == 1)
+    valid = one_ring & ~doubt
+    # the other features of disjoint simple rings, within a budget of rings x vertices
+    cand = np.flatnonzero(~one_ring & ~doubt)
+    if len(cand):
+        shapely = _shapely()
+        g = np.asarray(polygons, dtype=object)[cand]
+        n_rings_of = np.diff(poly_off[geom_off])[cand]
+        cheap = n_rings_of * shapely.get_num_coordinates(g) <= NESTING_BUDGET
+        cand, g = cand[cheap], g[cheap]
+        if len(cand):
+            xy, ring_off, part_off, feat_off = polygon_ragged(g, topo.was_polygon[cand])
+            valid[cand] = nesting_certainly_valid(xy, ring_off, part_off, feat_off)
+    return valid
 
 
 def smooth_arc_blocks(
@@ -880,11 +910,10 @@ def _shells(topo: Topology) -> np.ndarray:
 def _output_valid(topo, uses, smoothed, coords, offs, new, ragged=None) -> bool:
     """:func:`shapely.coverage_is_valid` of the rebuilt polygons, proven when possible.
 
-    The proof (:func:`certainly_valid`) needs valid polygons. A Polygon of one ring is
-    valid when its ring is simple, and it is: its arcs are simple and meet only at their
-    end nodes (part (a) of the proof) and the ring passes through the nodes of its input
-    ring, a simple ring, so through none twice. The other geometries (holes, several
-    parts) are checked by GEOS.
+    The proof (:func:`certainly_valid`) needs valid polygons: part (a) of it makes the
+    rings of every feature simple and disjoint where they pass through no node twice and
+    share none (:func:`_valid_by_proof`), and then one vertex per ring tells whether they
+    nest validly. GEOS checks the other features (a hole touching its shell at a node).
     """
     import shapely
 
@@ -899,9 +928,8 @@ def _output_valid(topo, uses, smoothed, coords, offs, new, ragged=None) -> bool:
     sign = ring_orientation(coords, offs)
     shells = _shells(topo)
     if certainly_valid(smoothed, topo.loops, uses, shells, sign, new, ends=ends, ragged=ragged):
-        poly_off, geom_off = topo.ring_offsets
-        one_ring = topo.was_polygon & (poly_off[geom_off[:-1] + 1] - poly_off[geom_off[:-1]] == 1)
-        if shapely.is_valid(new[~one_ring]).all():
+        doubt = ~_valid_by_proof(topo, uses, new)
+        if not doubt.any() or shapely.is_valid(new[doubt]).all():
             return True
     return bool(shapely.coverage_is_valid(new))
 
