@@ -91,3 +91,52 @@ def test_smooth_batch_with_refused_curves_is_curve_by_curve(close_rings):
             close_rings=close_rings,
         )  # fmt: skip
         np.testing.assert_array_equal(out[oo[k] : oo[k + 1]], want)
+
+
+def _refusal_reference(coords, offsets, closed):
+    """The refusal scan in plain numpy, row by row as written in _cca_refused's notes."""
+    from curvesmith.internals import cca_input
+
+    cand = []
+    for k in range(len(offsets) - 1):
+        p = coords[offsets[k] : offsets[k + 1]]
+        short = len(p) < (4 if closed[k] else 2)
+        gaps = len(p) > 1 and bool(cca_input.zero_gap(p[1:] - p[:-1]).any())
+        ends = bool(
+            closed[k]
+            and len(p) > 1
+            and cca_input.zero_gap((p[-1] - p[0])[None])[0]
+            and np.any(p[-1] != p[0])
+        )
+        cand.append(short or gaps or ends)
+    return np.array(cand, dtype=bool)
+
+
+@pytest.mark.parametrize("seed", range(12))
+def test_refusal_scan_kernel_matches_the_reference(seed):
+    # repeated rows, gaps of 5e-324 and 1e-170 (squares underflow), 1e-150 (they do not),
+    # ring ends almost equal or equal, NaN, empty and short curves, open and closed
+    from curvesmith.internals import cca_kernel
+
+    rng = np.random.default_rng(seed)
+    pieces, closed = [], []
+    for _ in range(60):
+        n = int(rng.integers(0, 9))
+        p = rng.uniform(-1, 1, (n, 2)) * 10.0 ** rng.integers(-160, 6)
+        if n > 1 and rng.uniform() < 0.5:
+            i = int(rng.integers(1, n))
+            p[i] = p[i - 1] + rng.choice([0.0, 5e-324, 1e-170, 1e-150]) * rng.choice([1, -1])
+        ring = bool(rng.uniform() < 0.6)
+        if ring and n > 1:
+            p[-1] = p[0] + rng.choice([0.0, 0.0, 5e-324, 1e-3]) * rng.integers(0, 2, 2)
+        if n and rng.uniform() < 0.05:
+            p[int(rng.integers(n))] = np.nan
+        pieces.append(p)
+        closed.append(ring)
+    coords = np.concatenate(pieces) if pieces else np.empty((0, 2))
+    offsets = np.concatenate([[0], np.cumsum([len(p) for p in pieces])]).astype(np.int64)
+    closed = np.array(closed)
+    got = cca_kernel.refusal_candidates(np.ascontiguousarray(coords), offsets, closed)
+    want = _refusal_reference(coords, offsets, closed)
+    assert got.tolist() == want.tolist()
+    assert 0 < want.sum() < len(want)

@@ -752,3 +752,31 @@ def ring_areas(P, offsets):
             acc += (xi - xj) * (yi + yj)
         out[k] = 0.5 * acc
     return out
+
+
+@njit(cache=True, nogil=True)
+def refusal_candidates(P, offsets, closed):
+    """Per curve: whether CCA might refuse it (the scan of ``geo``'s ``_cca_refused``).
+
+    A curve is a candidate when it is short (fewer than 4 rows for a ring given with its
+    closing vertex, 2 for a line), when two consecutive rows are equal or so close that
+    both squared components underflow, or when a ring's last row is that close to its
+    first without being equal. One pass over ``P``, no temporaries.
+    """
+    m = offsets.shape[0] - 1
+    cand = np.zeros(m, dtype=np.bool_)
+    for k in range(m):
+        s, e = offsets[k], offsets[k + 1]
+        n = e - s
+        if n < (4 if closed[k] else 2):
+            cand[k] = True
+            continue
+        for i in range(s + 1, e):
+            if _zero_gap(P[i, 0] - P[i - 1, 0], P[i, 1] - P[i - 1, 1]):
+                cand[k] = True
+                break
+        if not cand[k] and closed[k]:
+            dx, dy = P[e - 1, 0] - P[s, 0], P[e - 1, 1] - P[s, 1]
+            if _zero_gap(dx, dy) and (dx != 0.0 or dy != 0.0):
+                cand[k] = True
+    return cand

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
@@ -100,6 +101,13 @@ class Topology:
     ring_offsets: tuple[np.ndarray, np.ndarray]
     was_polygon: np.ndarray
     ring_sign: np.ndarray | None = None
+
+    @functools.cached_property
+    def _ends(self) -> tuple[np.ndarray, np.ndarray]:
+        """The first and the last vertex of every arc, ``(M, 2)`` each (computed once)."""
+        first = np.array([a[0] for a in self.arcs]).reshape(-1, 2)
+        last = np.array([a[-1] for a in self.arcs]).reshape(-1, 2)
+        return first, last
 
 
 @dataclass(frozen=True)
@@ -289,9 +297,9 @@ def coverage_topology(polygons: Any, *, frozen_edges: Any = None) -> Topology:
     loops = dloop
     frozen = frozen_cls[c0s]
     arc_polys: list[tuple[int, ...]] = []
-    for c0 in c0s.tolist():
-        if count[c0] <= 2:
-            lo_g, hi_g = int(gmin[c0]), int(gmax[c0])
+    lo_l, hi_l, few = gmin[c0s].tolist(), gmax[c0s].tolist(), (count[c0s] <= 2).tolist()
+    for c0, lo_g, hi_g, two in zip(c0s.tolist(), lo_l, hi_l, few, strict=True):
+        if two:  # one or two polygons along the arc: the least and the greatest
             arc_polys.append((lo_g,) if lo_g == hi_g else (lo_g, hi_g))
         else:
             arc_polys.append(tuple(sorted({int(x) for x in seg_geom[cls == c0]})))
@@ -516,6 +524,8 @@ def smooth_coverage(
     if uses is None:
         uses = _flat_uses(topo)
     ragged = (rag["xy"], rag["off"]) if rag else _ragged(smoothed, topo.loops)
+    # the output proof's longest part, the arcs' meetings, runs while the polygons are built
+    meets = _in_background(_arc_meetings, *ragged, topo.loops) if validate else None
     coords, offs = ring_coordinates(topo, smoothed, uses, ragged)
     poly_off, geom_off = topo.ring_offsets
     new = assemble_polygons(coords, offs, poly_off, geom_off, topo.was_polygon)
@@ -525,7 +535,7 @@ def smooth_coverage(
     change = float(np.max(np.abs(a1 - a0) / np.where(a0 > 0, a0, 1.0)))
     valid = None
     if validate:
-        valid = _output_valid(topo, uses, smoothed, coords, offs, new, ragged)
+        valid = _output_valid(topo, uses, smoothed, coords, offs, new, ragged, meets)
     res = wrap(out)
     if not full_output:
         return res
@@ -583,7 +593,7 @@ def _polygons_valid(g: np.ndarray, topo: Topology, uses, proven: bool) -> bool:
 NESTING_BUDGET = 1 << 24
 
 
-def _valid_by_proof(topo: Topology, uses, polygons: np.ndarray) -> np.ndarray:
+def _valid_by_proof(topo: Topology, uses, polygons: np.ndarray, rings=None) -> np.ndarray:
     """Per polygon of a coverage that :func:`certainly_valid` proved: whether it is valid.
 
     `polygons`: the coverage's geometries, built from the topology's rings (the input,
@@ -594,10 +604,11 @@ def _valid_by_proof(topo: Topology, uses, polygons: np.ndarray) -> np.ndarray:
     one such ring is valid (its orientation is not zero: the proof checks it); a feature
     of several such rings is valid when they nest as a valid (Multi)Polygon's do, which
     :func:`curvesmith.geo._simple.nesting_certainly_valid` decides from one vertex per
-    ring. False: not proven (GEOS decides).
+    ring. False: not proven (GEOS decides). `rings`: ``(coords, offsets)`` of the
+    polygons' rings in the topology's order (closed), when at hand.
     """
-    from ._simple import nesting_certainly_valid
-    from ._smooth import polygon_ragged
+    from ._simple import nesting_certainly_valid, nesting_certainly_valid_rows
+    from ._smooth import _expand, polygon_ragged
     from ._topology_kernel import point_ids
 
     ring, arc, fwd = uses
@@ -605,8 +616,7 @@ def _valid_by_proof(topo: Topology, uses, polygons: np.ndarray) -> np.ndarray:
     n_geoms = len(geom_off) - 1
     ring_poly = np.searchsorted(poly_off, ring, side="right") - 1
     feat = np.searchsorted(geom_off, ring_poly, side="right") - 1  # the feature of every use
-    first = np.array([a[0] for a in topo.arcs]).reshape(-1, 2)
-    last = np.array([a[-1] for a in topo.arcs]).reshape(-1, 2)
+    first, last = topo._ends
     on_node = ~np.asarray(topo.loops, dtype=bool)[arc]  # a loop's ring has no node
     start = np.where(fwd[:, None], first[arc], last[arc])[on_node]  # the node a use leaves
     nid, n_ids = point_ids(np.ascontiguousarray(start) + 0.0)
@@ -630,10 +640,24 @@ def _valid_by_proof(topo: Topology, uses, polygons: np.ndarray) -> np.ndarray:
         n_rings_of = np.diff(poly_off[geom_off])[cand]
         cheap = n_rings_of * shapely.get_num_coordinates(g) <= NESTING_BUDGET
         cand, g = cand[cheap], g[cheap]
-        if len(cand):
+        if len(cand) and rings is not None:  # the features' rings, parts and polygons
+            part_idx, feat_off = _expand(geom_off, cand)
+            ring_idx, part_off = _expand(poly_off, part_idx)
+            r_off = rings[1]
+            valid[cand] = nesting_certainly_valid_rows(
+                rings[0], r_off[ring_idx], r_off[ring_idx + 1], part_off, feat_off
+            )
+        elif len(cand):
             xy, ring_off, part_off, feat_off = polygon_ragged(g, topo.was_polygon[cand])
             valid[cand] = nesting_certainly_valid(xy, ring_off, part_off, feat_off)
     return valid
+
+
+#: Threads of the one engine call that smooths all arcs of a coverage (None: cca's default,
+#: up to 4, 1 in Dask workers, which set OMP_NUM_THREADS=1). Unlike a layer's many small
+#: rings, the arcs are one large batch: 2 threads took the counties' arcs from 0.23-0.30 s
+#: to 0.14-0.19 s wall (about the same CPU); the result does not depend on it.
+ARC_THREADS: int | None = None
 
 
 def smooth_arc_blocks(
@@ -672,7 +696,7 @@ def smooth_arc_blocks(
     try:
         fmask = fixed.mask(xy) if fixed is not None else None
         new_xy, new_off = smooth_batch(
-            method, alpha, xy, off, closed, level, fmask, close_rings=True
+            method, alpha, xy, off, closed, level, fmask, close_rings=True, threads=ARC_THREADS
         )
     except Exception:  # isolate the failing arcs, one by one
         smoother = make_smoother(method, alpha, fixed)
@@ -770,10 +794,15 @@ def _arc_lines(arcs, ring: np.ndarray):
 
 def _ragged(arcs, ring: np.ndarray):
     """Coordinates and offsets of the arcs (loops closed by repeating their first vertex)."""
-    pts = [np.vstack([x, x[:1]]) if r else x for x, r in zip(arcs, ring, strict=True)]
-    off = np.zeros(len(pts) + 1, dtype=np.int64)
-    np.cumsum([len(x) for x in pts], out=off[1:])
-    return np.ascontiguousarray(np.concatenate(pts), dtype=np.float64), off
+    from ._smooth import _close_ragged
+
+    off = np.zeros(len(arcs) + 1, dtype=np.int64)
+    np.cumsum(np.fromiter((len(x) for x in arcs), dtype=np.int64, count=len(arcs)), out=off[1:])
+    xy = np.concatenate(arcs) if len(arcs) else np.empty((0, 2))
+    ring = np.asarray(ring, dtype=bool)
+    if ring.any():
+        xy, off = _close_ragged(xy, off, ring)
+    return np.ascontiguousarray(xy, dtype=np.float64), off
 
 
 def shifts_within(before, after, max_shift: float) -> np.ndarray:
@@ -907,7 +936,7 @@ def _shells(topo: Topology) -> np.ndarray:
     return shell
 
 
-def _output_valid(topo, uses, smoothed, coords, offs, new, ragged=None) -> bool:
+def _output_valid(topo, uses, smoothed, coords, offs, new, ragged=None, meets=None) -> bool:
     """:func:`shapely.coverage_is_valid` of the rebuilt polygons, proven when possible.
 
     The proof (:func:`certainly_valid`) needs valid polygons: part (a) of it makes the
@@ -921,14 +950,13 @@ def _output_valid(topo, uses, smoothed, coords, offs, new, ragged=None) -> bool:
 
     if uses is None:
         uses = _flat_uses(topo)
-    ends = (
-        np.array([a[0] for a in topo.arcs]).reshape(-1, 2),
-        np.array([a[-1] for a in topo.arcs]).reshape(-1, 2),
-    )
+    ends = topo._ends
     sign = ring_orientation(coords, offs)
     shells = _shells(topo)
-    if certainly_valid(smoothed, topo.loops, uses, shells, sign, new, ends=ends, ragged=ragged):
-        doubt = ~_valid_by_proof(topo, uses, new)
+    if certainly_valid(
+        smoothed, topo.loops, uses, shells, sign, new, ends=ends, ragged=ragged, meets=meets
+    ):
+        doubt = ~_valid_by_proof(topo, uses, new, (coords, offs))
         if not doubt.any() or shapely.is_valid(new[doubt]).all():
             return True
     return bool(shapely.coverage_is_valid(new))
@@ -959,8 +987,32 @@ def _orient_signs(o, p, q) -> np.ndarray:
     return sign
 
 
+def _arc_meetings(X: np.ndarray, off: np.ndarray, loops: np.ndarray):
+    """Part (a) of :func:`certainly_valid`: every segment pair of the arcs that meets."""
+    from ._arrangement_kernel import meetings
+
+    n = len(off) - 1
+    loops = np.asarray(loops, dtype=bool)
+    return meetings(X, off, loops, np.zeros(n, np.int64), np.ones(n, bool), self_pairs=True)
+
+
+def _in_background(fn, *args):
+    """``fn(*args)`` started in a thread of its own; returns its future.
+
+    For a compiled kernel that releases the GIL: it runs beside what the caller does
+    meanwhile, and ``future.result()`` gives its value or raises its exception.
+    """
+    from concurrent.futures import ThreadPoolExecutor
+
+    pool = ThreadPoolExecutor(1, thread_name_prefix="curvesmith")
+    try:
+        return pool.submit(fn, *args)
+    finally:
+        pool.shutdown(wait=False)  # the thread ends with its task
+
+
 def certainly_valid(
-    arcs, loops, uses, shell, ring_sign, polygons, *, ends=None, ragged=None
+    arcs, loops, uses, shell, ring_sign, polygons, *, ends=None, ragged=None, meets=None
 ) -> bool:
     """Whether the polygons rebuilt from `arcs` are proven to form a valid coverage.
 
@@ -994,11 +1046,13 @@ def certainly_valid(
     (a hole touching its shell), a component has only single-segment arcs (no probe
     vertex) or an exact sign is undecided: then GEOS decides.
     `ends`: the arcs' input end nodes, which the output arcs must keep; `ragged`:
-    :func:`_ragged` of `arcs`, when at hand.
+    :func:`_ragged` of `arcs`, when at hand; `meets`: a future of :func:`_arc_meetings`
+    of that ragged form, started earlier (in a thread, while the polygons were built).
     """
     import shapely
 
-    from ._arrangement_kernel import MEET, meetings
+    from ._arrangement_kernel import MEET
+    from ._topology_kernel import point_ids
 
     n_arcs = len(arcs)
     if n_arcs == 0 or np.any(ring_sign == 0):
@@ -1016,9 +1070,7 @@ def certainly_valid(
     ):
         return False
     # (a)
-    got = meetings(
-        X, off, loops, np.zeros(n_arcs, np.int64), np.ones(n_arcs, bool), self_pairs=True
-    )
+    got = meets.result() if meets is not None else _arc_meetings(X, off, loops)
     if got is None or np.any(got[2] == MEET):
         return False
     # (b)
@@ -1079,9 +1131,7 @@ def certainly_valid(
     from scipy.sparse.csgraph import connected_components
 
     pts = np.concatenate([first[opn], last[opn]])
-    _, pid = np.unique(pts, axis=0, return_inverse=True)
-    pid = pid.reshape(-1)
-    n_nodes = int(pid.max()) + 1 if len(pid) else 0
+    pid, n_nodes = point_ids(np.ascontiguousarray(pts, dtype=np.float64) + 0.0)
     lp = np.flatnonzero(loops)
     reps = [X[off[lp] + 1] if len(lp) else np.empty((0, 2))]
     if n_nodes:

@@ -38,7 +38,12 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["MAX_CHAINS", "nesting_certainly_valid", "rings_certainly_simple"]
+__all__ = [
+    "MAX_CHAINS",
+    "nesting_certainly_valid",
+    "nesting_certainly_valid_rows",
+    "rings_certainly_simple",
+]
 
 #: Rings with more x-monotone chains than this go to GEOS.
 MAX_CHAINS = 32
@@ -121,11 +126,28 @@ def nesting_certainly_valid(
     (F,) bool ndarray
         True: proven valid; False: not proven (ask GEOS).
     """
+    ring_offsets = np.asarray(ring_offsets, dtype=np.int64)
+    return nesting_certainly_valid_rows(
+        xy, ring_offsets[:-1], ring_offsets[1:], part_offsets, feature_offsets
+    )
+
+
+def nesting_certainly_valid_rows(
+    xy: np.ndarray,
+    ring_starts: np.ndarray,
+    ring_ends: np.ndarray,
+    part_offsets: np.ndarray,
+    feature_offsets: np.ndarray,
+) -> np.ndarray:
+    """:func:`nesting_certainly_valid` with the rings picked out of a larger batch.
+
+    Ring ``r`` is rows ``ring_starts[r] .. ring_ends[r] - 1`` of `xy` (not copied).
+    """
     k = _compiled()
     return k.nesting_proven(
         np.ascontiguousarray(xy, dtype=np.float64),
         *(
             np.ascontiguousarray(o, dtype=np.int64)
-            for o in (ring_offsets, part_offsets, feature_offsets)
+            for o in (ring_starts, ring_ends, part_offsets, feature_offsets)
         ),
     )

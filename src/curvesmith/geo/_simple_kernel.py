@@ -338,21 +338,21 @@ def _inside(X, s, e, bb, px, py):
 
 
 @njit(cache=True, nogil=True)
-def nesting_proven(X, ring_off, part_off, feat_off):
+def nesting_proven(X, ring_lo, ring_hi, part_off, feat_off):
     """Per (Multi)Polygon of pairwise disjoint simple rings: whether they nest validly.
 
-    Rings are closed (shapely's layout); part ``p`` has rings ``part_off[p] ..
-    part_off[p + 1] - 1``, its shell first; feature ``f`` has parts ``feat_off[f] ..
-    feat_off[f + 1] - 1``. With disjoint simple rings, a hole is inside its shell and
-    in no other hole of its part, and a part's shell is inside no other part's region
-    (its shell without its holes), as the first vertex of each ring tells. False: a rule
-    fails or a sign is not certain.
+    Ring ``r`` is rows ``ring_lo[r] .. ring_hi[r] - 1`` of ``X``, closed (shapely's
+    layout); part ``p`` has rings ``part_off[p] .. part_off[p + 1] - 1``, its shell
+    first; feature ``f`` has parts ``feat_off[f] .. feat_off[f + 1] - 1``. With
+    disjoint simple rings, a hole is inside its shell and in no other hole of its part,
+    and a part's shell is inside no other part's region (its shell without its holes),
+    as the first vertex of each ring tells. False: a rule fails or a sign is not certain.
     """
-    nr = ring_off.shape[0] - 1
+    nr = ring_lo.shape[0]
     bb = np.empty((nr, 4))
     for r in range(nr):
         x0, x1, y0, y1 = np.inf, -np.inf, np.inf, -np.inf
-        for i in range(ring_off[r], ring_off[r + 1]):
+        for i in range(ring_lo[r], ring_hi[r]):
             x0, x1 = min(x0, X[i, 0]), max(x1, X[i, 0])
             y0, y1 = min(y0, X[i, 1]), max(y1, X[i, 1])
         bb[r, 0], bb[r, 1], bb[r, 2], bb[r, 3] = x0, x1, y0, y1
@@ -363,28 +363,28 @@ def nesting_proven(X, ring_off, part_off, feat_off):
         for p in range(feat_off[f], feat_off[f + 1]):
             shell = part_off[p]
             for a in range(shell + 1, part_off[p + 1]):  # the holes of part p
-                px, py = X[ring_off[a], 0], X[ring_off[a], 1]
-                if _inside(X, ring_off[shell], ring_off[shell + 1], bb[shell], px, py) != 1:
+                px, py = X[ring_lo[a], 0], X[ring_lo[a], 1]
+                if _inside(X, ring_lo[shell], ring_hi[shell], bb[shell], px, py) != 1:
                     ok = False
                     break
                 for b in range(shell + 1, part_off[p + 1]):
-                    if b != a and _inside(X, ring_off[b], ring_off[b + 1], bb[b], px, py) != 0:
+                    if b != a and _inside(X, ring_lo[b], ring_hi[b], bb[b], px, py) != 0:
                         ok = False
                         break
                 if not ok:
                     break
             if not ok:
                 break
-            px, py = X[ring_off[shell], 0], X[ring_off[shell], 1]
+            px, py = X[ring_lo[shell], 0], X[ring_lo[shell], 1]
             for q in range(feat_off[f], feat_off[f + 1]):  # the other parts' regions
                 if q == p:
                     continue
                 sq = part_off[q]
-                c = _inside(X, ring_off[sq], ring_off[sq + 1], bb[sq], px, py)
+                c = _inside(X, ring_lo[sq], ring_hi[sq], bb[sq], px, py)
                 if c == 1:  # inside q's shell: fine only inside one of q's holes
                     c = 0
                     for h in range(sq + 1, part_off[q + 1]):
-                        c = _inside(X, ring_off[h], ring_off[h + 1], bb[h], px, py)
+                        c = _inside(X, ring_lo[h], ring_hi[h], bb[h], px, py)
                         if c != 0:
                             break
                     if c != 1:

@@ -137,6 +137,7 @@ def smooth_batch(
     level: Level,
     fixed_mask: np.ndarray | None = None,
     close_rings: bool = False,
+    threads: int | None = 1,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Smooth many rings/lines at one level in one call of the ragged engine.
 
@@ -166,7 +167,7 @@ def smooth_batch(
             # a layer is many small curves: threads within a call bring no wall time there
             # (measured: 200,000 footprints 0.97 s with 2 threads, 1.04 s with 1) and cost
             # 15-40 % more CPU; layers run in parallel by partition (curvesmith batch)
-            "threads": 1,
+            "threads": threads,
         }
         xy, off = spec.smooth_ragged(
             coords,
@@ -196,25 +197,15 @@ def _cca_refused(coords: np.ndarray, offsets: np.ndarray, closed: Any) -> np.nda
     the candidates (short curves, a zero gap between neighbours, or between a ring's ends
     that are not the same point); CCA's own de-duplication counts their vertices.
     """
-    from ..cca._input import dedupe_ragged, zero_gap
+    from ..cca._input import dedupe_ragged
+    from ..cca._kernel import refusal_candidates
 
     n_rows, n = coords.shape[0], offsets.size - 1
     if n_rows < 2 or n == 0:
         return None
     off = np.asarray(offsets, dtype=np.int64)
     cl = np.broadcast_to(np.asarray(closed, dtype=bool), (n,))
-    gap = np.zeros(n_rows, dtype=bool)
-    gap[1:] = zero_gap(coords[1:] - coords[:-1])
-    lens = np.diff(off)
-    nonempty = lens > 0
-    gap[off[:-1][nonempty]] = False  # a curve's first vertex follows another curve
-    ring = cl & (lens > 1)
-    first, last = coords[off[:-1][ring]], coords[off[1:][ring] - 1]
-    ends = zero_gap(last - first) & (last != first).any(axis=1)
-    cand = np.zeros(n, dtype=bool)
-    cand[nonempty] = np.logical_or.reduceat(gap, off[:-1][nonempty])
-    cand[np.flatnonzero(ring)[ends]] = True
-    cand |= lens < np.where(cl, 4, 2)  # 3 rows of a ring: 2 points and the closing one
+    cand = refusal_candidates(np.ascontiguousarray(coords, dtype=np.float64), off, cl)
     if not cand.any():
         return None
     idx = np.flatnonzero(cand)

@@ -86,12 +86,8 @@ def split_zm(geoms: np.ndarray) -> tuple[np.ndarray, ZMSource | None]:
     """Planar copies of `geoms` and their Z/M source (``None`` when no feature has Z or M)."""
     shapely = _shapely()
     geoms = np.asarray(geoms, dtype=object)
-    present = np.array([g is not None for g in geoms], dtype=bool)
-    has_z = np.zeros(len(geoms), dtype=bool)
-    has_m = np.zeros(len(geoms), dtype=bool)
-    if present.any():
-        has_z[present] = shapely.has_z(geoms[present])
-        has_m[present] = shapely.has_m(geoms[present])
+    has_z = shapely.has_z(geoms)  # False for None
+    has_m = shapely.has_m(geoms)
     dims = has_z | has_m
     if not dims.any():
         return geoms, None
