@@ -382,8 +382,10 @@ def _conflicts(
     bad: set[int] = set()
     if len(to_check) == 0:
         return bad
-    arc_of = np.array([p.arc for p in pieces])
-    level = np.array([p.level for p in pieces])
+    n = len(pieces)
+    arc_of = np.fromiter((p.arc for p in pieces), dtype=np.int64, count=n)
+    level = np.fromiter((p.level for p in pieces), dtype=np.int64, count=n)
+    loop = np.fromiter((p.loop for p in pieces), dtype=bool, count=n)
     grp = groups[arc_of]
     changed = level < top
     closed = shapely.is_closed(geoms)
@@ -403,7 +405,7 @@ def _conflicts(
     # pairs
     tree = shapely.STRtree(geoms)
     bad |= _near_contacts(
-        pieces, arcs, geoms, tree, to_check, grp, changed, input_geom, scale[arc_of], ragged
+        pieces, arcs, geoms, tree, to_check, grp, changed, input_geom, scale[arc_of], ragged, loop
     )
     if found is not None:
         a, b, hit, _ = found
@@ -426,7 +428,6 @@ def _conflicts(
     if len(rest_idx):
         ra, rb = a[rest_idx], b[rest_idx]
         inter = shapely.intersection(geoms[ra], geoms[rb])
-        loop = np.array([pieces[k].loop for k in range(len(pieces))])
 
         def ends(k):
             return np.stack(
@@ -507,7 +508,7 @@ def _unique_pairs(a: np.ndarray, b: np.ndarray, n: int) -> tuple[np.ndarray, np.
 
 
 def _near_contacts(
-    pieces, arcs, geoms, tree, to_check, grp, changed, input_geom, scale, ragged=None
+    pieces, arcs, geoms, tree, to_check, grp, changed, input_geom, scale, ragged=None, loop=None
 ) -> set[int]:
     """Changed pieces closer than the clearance margin to a piece they do not touch in the input.
 
@@ -516,7 +517,8 @@ def _near_contacts(
     each other and that share no end vertex; a compiled segment screening keeps those
     within ``MARGIN_EDGE * l``, and only for these few GEOS computes both distances. A
     pair is a conflict when ``0 < d`` and the output distance is below
-    ``min(MARGIN_EDGE * l, MARGIN_GAP * d)``.
+    ``min(MARGIN_EDGE * l, MARGIN_GAP * d)``. `loop`: per piece, whether it is an unsplit
+    loop (read from the pieces when not given).
     """
     import shapely
 
@@ -544,7 +546,8 @@ def _near_contacts(
     inv = inv.reshape(-1)
     ends_a, ends_b = fixed_ends[inv[: len(a)]], fixed_ends[inv[len(a) :]]
     share = np.all(ends_a[:, :, None, :] == ends_b[:, None, :, :], axis=-1).any(axis=(1, 2))
-    loop = np.array([pieces[k].loop for k in range(len(pieces))])
+    if loop is None:
+        loop = np.fromiter((p.loop for p in pieces), dtype=bool, count=len(pieces))
     share &= ~(loop[a] | loop[b])
     a, b = a[~share], b[~share]
     if len(a) == 0:
