@@ -656,7 +656,7 @@ def _valid_by_proof(topo: Topology, uses, polygons: np.ndarray, rings=None) -> n
 #: Threads of the one engine call that smooths all arcs of a coverage (None: cca's default,
 #: up to 4, 1 in Dask workers, which set OMP_NUM_THREADS=1). Unlike a layer's many small
 #: rings, the arcs are one large batch: 2 threads took the counties' arcs from 0.23-0.30 s
-#: to 0.14-0.19 s wall (about the same CPU); the result does not depend on it.
+#: to 0.14-0.25 s wall (CPU the same to a third more); the result does not depend on it.
 ARC_THREADS: int | None = None
 
 
