@@ -203,3 +203,8 @@ def test_nesting_doubtful_signs_are_not_proven():
         False,
         True,
     ]
+    # above the budget of rings x vertices a feature is not tested (the third has 2 x 9)
+    got = geo_simple.nesting_certainly_valid(xy, ring_off, part_off, feat_off, budget=17)
+    assert got.tolist() == [False, False, False]
+    got = geo_simple.nesting_certainly_valid(xy, ring_off, part_off, feat_off, budget=18)
+    assert got.tolist() == [False, False, True]

@@ -589,10 +589,6 @@ def _polygons_valid(g: np.ndarray, topo: Topology, uses, proven: bool) -> bool:
     return not doubt.any() or bool(shapely.is_valid(g[doubt]).all())
 
 
-#: Features whose rings times vertices exceed this go to GEOS (the nesting test's cost).
-NESTING_BUDGET = 1 << 24
-
-
 def _valid_by_proof(topo: Topology, uses, polygons: np.ndarray, rings=None) -> np.ndarray:
     """Per polygon of a coverage that :func:`certainly_valid` proved: whether it is valid.
 
@@ -632,24 +628,21 @@ def _valid_by_proof(topo: Topology, uses, polygons: np.ndarray, rings=None) -> n
     n_rings = np.diff(poly_off[geom_off])  # of every feature
     one_ring = topo.was_polygon & (n_rings == 1)
     valid = one_ring & ~doubt
-    # the other features of disjoint simple rings, within a budget of rings x vertices
+    # the other features: rings simple and disjoint, so their nesting decides
     cand = np.flatnonzero(~one_ring & ~doubt)
-    if len(cand):
-        shapely = _shapely()
+    if len(cand) == 0:
+        return valid
+    if rings is None:  # the rings as shapely gives them: the topology's order
         g = np.asarray(polygons, dtype=object)[cand]
-        n_rings_of = np.diff(poly_off[geom_off])[cand]
-        cheap = n_rings_of * shapely.get_num_coordinates(g) <= NESTING_BUDGET
-        cand, g = cand[cheap], g[cheap]
-        if len(cand) and rings is not None:  # the features' rings, parts and polygons
-            part_idx, feat_off = _expand(geom_off, cand)
-            ring_idx, part_off = _expand(poly_off, part_idx)
-            r_off = rings[1]
-            valid[cand] = nesting_certainly_valid_rows(
-                rings[0], r_off[ring_idx], r_off[ring_idx + 1], part_off, feat_off
-            )
-        elif len(cand):
-            xy, ring_off, part_off, feat_off = polygon_ragged(g, topo.was_polygon[cand])
-            valid[cand] = nesting_certainly_valid(xy, ring_off, part_off, feat_off)
+        xy, ring_off, part_off, feat_off = polygon_ragged(g, topo.was_polygon[cand])
+        valid[cand] = nesting_certainly_valid(xy, ring_off, part_off, feat_off)
+    else:  # the rebuilt rings, read in place
+        part_idx, feat_off = _expand(geom_off, cand)
+        ring_idx, part_off = _expand(poly_off, part_idx)
+        xy, r_off = rings
+        valid[cand] = nesting_certainly_valid_rows(
+            xy, r_off[ring_idx], r_off[ring_idx + 1], part_off, feat_off
+        )
     return valid
 
 

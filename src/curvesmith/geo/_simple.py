@@ -40,6 +40,7 @@ import numpy as np
 
 __all__ = [
     "MAX_CHAINS",
+    "NESTING_BUDGET",
     "nesting_certainly_valid",
     "nesting_certainly_valid_rows",
     "rings_certainly_simple",
@@ -98,8 +99,16 @@ def rings_certainly_simple(
     )
 
 
+#: Features whose rings times vertices exceed this are not tested (GEOS decides).
+NESTING_BUDGET = 1 << 24
+
+
 def nesting_certainly_valid(
-    xy: np.ndarray, ring_offsets: np.ndarray, part_offsets: np.ndarray, feature_offsets: np.ndarray
+    xy: np.ndarray,
+    ring_offsets: np.ndarray,
+    part_offsets: np.ndarray,
+    feature_offsets: np.ndarray,
+    budget: int = NESTING_BUDGET,
 ) -> np.ndarray:
     """Per (Multi)Polygon whose rings are simple and pairwise disjoint: whether it is valid.
 
@@ -111,7 +120,7 @@ def nesting_certainly_valid(
     outside each other, so one vertex of each ring decides, by a crossing count whose
     every side test is Shewchuk's filtered orientation (a sign not certain, NaN or huge
     coordinates: not proven). Cost: per feature, its rings times its vertices at most
-    (boxes prune most pairs).
+    (boxes prune most pairs); features above `budget` are not proven.
 
     Parameters
     ----------
@@ -128,7 +137,7 @@ def nesting_certainly_valid(
     """
     ring_offsets = np.asarray(ring_offsets, dtype=np.int64)
     return nesting_certainly_valid_rows(
-        xy, ring_offsets[:-1], ring_offsets[1:], part_offsets, feature_offsets
+        xy, ring_offsets[:-1], ring_offsets[1:], part_offsets, feature_offsets, budget
     )
 
 
@@ -138,6 +147,7 @@ def nesting_certainly_valid_rows(
     ring_ends: np.ndarray,
     part_offsets: np.ndarray,
     feature_offsets: np.ndarray,
+    budget: int = NESTING_BUDGET,
 ) -> np.ndarray:
     """:func:`nesting_certainly_valid` with the rings picked out of a larger batch.
 
@@ -150,4 +160,5 @@ def nesting_certainly_valid_rows(
             np.ascontiguousarray(o, dtype=np.int64)
             for o in (ring_starts, ring_ends, part_offsets, feature_offsets)
         ),
+        int(budget),
     )

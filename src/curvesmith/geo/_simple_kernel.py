@@ -338,7 +338,7 @@ def _inside(X, s, e, bb, px, py):
 
 
 @njit(cache=True, nogil=True)
-def nesting_proven(X, ring_lo, ring_hi, part_off, feat_off):
+def nesting_proven(X, ring_lo, ring_hi, part_off, feat_off, budget):
     """Per (Multi)Polygon of pairwise disjoint simple rings: whether they nest validly.
 
     Ring ``r`` is rows ``ring_lo[r] .. ring_hi[r] - 1`` of ``X``, closed (shapely's
@@ -346,7 +346,8 @@ def nesting_proven(X, ring_lo, ring_hi, part_off, feat_off):
     first; feature ``f`` has parts ``feat_off[f] .. feat_off[f + 1] - 1``. With
     disjoint simple rings, a hole is inside its shell and in no other hole of its part,
     and a part's shell is inside no other part's region (its shell without its holes),
-    as the first vertex of each ring tells. False: a rule fails or a sign is not certain.
+    as the first vertex of each ring tells. False: a rule fails, a sign is not certain,
+    or the feature's rings times its rows exceed `budget` (the test's worst-case cost).
     """
     nr = ring_lo.shape[0]
     bb = np.empty((nr, 4))
@@ -359,6 +360,12 @@ def nesting_proven(X, ring_lo, ring_hi, part_off, feat_off):
     nf = feat_off.shape[0] - 1
     out = np.zeros(nf, dtype=np.bool_)
     for f in range(nf):
+        r0, r1 = part_off[feat_off[f]], part_off[feat_off[f + 1]]
+        rows = 0
+        for r in range(r0, r1):
+            rows += ring_hi[r] - ring_lo[r]
+        if (r1 - r0) * rows > budget:
+            continue
         ok = True
         for p in range(feat_off[f], feat_off[f + 1]):
             shell = part_off[p]
