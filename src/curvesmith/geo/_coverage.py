@@ -15,7 +15,7 @@ from ..errors import CurveError
 from ..methods import GisMethod
 from . import _zm
 from ._corners import with_corners
-from ._engine import levels_for, resolve_arcs
+from ._engine import in_background, levels_for, resolve_arcs
 from ._smooth import (
     FixedVertices,
     _shapely,
@@ -525,7 +525,7 @@ def smooth_coverage(
         uses = _flat_uses(topo)
     ragged = (rag["xy"], rag["off"]) if rag else _ragged(smoothed, topo.loops)
     # the output proof's longest part, the arcs' meetings, runs while the polygons are built
-    meets = _in_background(_arc_meetings, *ragged, topo.loops) if validate else None
+    meets = in_background(_arc_meetings, *ragged, topo.loops) if validate else None
     coords, offs = ring_coordinates(topo, smoothed, uses, ragged)
     poly_off, geom_off = topo.ring_offsets
     new = assemble_polygons(coords, offs, poly_off, geom_off, topo.was_polygon)
@@ -987,21 +987,6 @@ def _arc_meetings(X: np.ndarray, off: np.ndarray, loops: np.ndarray):
     n = len(off) - 1
     loops = np.asarray(loops, dtype=bool)
     return meetings(X, off, loops, np.zeros(n, np.int64), np.ones(n, bool), self_pairs=True)
-
-
-def _in_background(fn, *args):
-    """``fn(*args)`` started in a thread of its own; returns its future.
-
-    For a compiled kernel that releases the GIL: it runs beside what the caller does
-    meanwhile, and ``future.result()`` gives its value or raises its exception.
-    """
-    from concurrent.futures import ThreadPoolExecutor
-
-    pool = ThreadPoolExecutor(1, thread_name_prefix="curvesmith")
-    try:
-        return pool.submit(fn, *args)
-    finally:
-        pool.shutdown(wait=False)  # the thread ends with its task
 
 
 def certainly_valid(

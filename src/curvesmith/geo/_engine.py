@@ -35,7 +35,7 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["Level", "Reduction", "resolve_arcs"]
+__all__ = ["Level", "Reduction", "in_background", "resolve_arcs"]
 
 #: Pieces with at most this many vertices are not cut further: they are smoothed less.
 MIN_PIECE_VERTICES = 16
@@ -106,6 +106,53 @@ class _Piece:
     loop: bool  # an unsplit closed loop without a node
     level: int
     split: bool = False  # cut out of a longer piece by the resolution
+
+
+@dataclass(frozen=True)
+class _PieceTable:
+    """The pieces of a round as arrays: arc, first and last vertex, loop, level, closed."""
+
+    arc: np.ndarray
+    start: np.ndarray
+    stop: np.ndarray
+    loop: np.ndarray
+    level: np.ndarray
+    closed: np.ndarray  # the piece's geometry is closed (GEOS is_closed)
+
+    @classmethod
+    def of(cls, pieces: Sequence[_Piece], closed: np.ndarray) -> _PieceTable:
+        n = len(pieces)
+
+        def col(name, dtype):
+            return np.fromiter((getattr(p, name) for p in pieces), dtype=dtype, count=n)
+
+        return cls(
+            col("arc", np.int64), col("start", np.int64), col("stop", np.int64),
+            col("loop", bool), col("level", np.int64), np.asarray(closed, dtype=bool),
+        )  # fmt: skip
+
+    def renewed(self, src: np.ndarray, changed, fresh, closed) -> _PieceTable:
+        """The next round's table: row ``k`` is row ``src[k]``, or (``src[k] < 0``) new."""
+        new = _PieceTable.of(fresh, closed)
+        kept = src >= 0
+        cols = []
+        for old, add in zip(self._columns(), new._columns(), strict=True):
+            col = np.empty(len(src), dtype=old.dtype)
+            col[kept] = old[src[kept]]
+            col[changed] = add
+            cols.append(col)
+        return _PieceTable(*cols)
+
+    def _columns(self):
+        return self.arc, self.start, self.stop, self.loop, self.level, self.closed
+
+
+def _flat(arcs: Sequence[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+    """All arcs' vertices one after the other, and where each arc starts."""
+    off = np.zeros(len(arcs) + 1, dtype=np.int64)
+    np.cumsum(np.fromiter((len(x) for x in arcs), dtype=np.int64, count=len(arcs)), out=off[1:])
+    xy = np.concatenate(arcs) if len(arcs) else np.empty((0, 2))
+    return xy, off
 
 
 def _piece_points(xy: np.ndarray, piece: _Piece, closed_arc: bool) -> np.ndarray:
@@ -215,21 +262,17 @@ def resolve_arcs(
             for key, out in zip(group, batch(pts, loop, levels[lev]), strict=True):
                 cache[key] = out
 
-    def geoms_of(plist: list[_Piece], ragged: dict | None = None) -> np.ndarray:
-        """LineStrings of the pieces (`ragged` receives their coordinates and offsets)."""
+    def ragged_of(plist: list[_Piece]) -> dict:
+        """The pieces' coordinates (loops closed) ``"xy"`` and offsets ``"off"``."""
         if batch is not None:
             smooth_missing(plist)
         pts = []
         for p in plist:
             xy = smoothed_piece(p)
             pts.append(np.vstack([xy, xy[:1]]) if p.loop else xy)
-        lens = np.fromiter((len(x) for x in pts), dtype=np.int64, count=len(pts))
-        xy = np.concatenate(pts)
-        if ragged is not None:
-            ragged["off"] = np.zeros(len(pts) + 1, dtype=np.int64)
-            np.cumsum(lens, out=ragged["off"][1:])
-            ragged["xy"] = xy
-        return shapely.linestrings(xy, indices=np.repeat(np.arange(len(pts)), lens))
+        off = np.zeros(len(pts) + 1, dtype=np.int64)
+        np.cumsum(np.fromiter((len(x) for x in pts), dtype=np.int64, count=len(pts)), out=off[1:])
+        return {"xy": np.concatenate(pts), "off": off}
 
     simple_orig: dict[tuple[int, int, int, bool], bool] = {}
     in_geom: dict[tuple[int, int, int, bool], Any] = {}
@@ -258,20 +301,22 @@ def resolve_arcs(
             simple_orig[key] = val
         return val
 
-    ragged: dict | None = {}
     if initial_ragged is not None and initial is not None and start is None:
         # the first round's pieces are the arcs at full strength (none frozen: they all
         # came from the one call), their coordinates at hand
-        ragged = dict(initial_ragged)
-        lens = np.diff(ragged["off"])
-        geoms = shapely.linestrings(ragged["xy"], indices=np.repeat(np.arange(n_arcs), lens))
+        ragged: dict | None = dict(initial_ragged)
     else:
-        geoms = geoms_of(pieces, ragged)
+        ragged = ragged_of(pieces)
+    assert ragged is not None
     to_check = np.arange(len(pieces))
+    # per piece, as arrays carried from round to round (only the changed pieces are new)
+    table = _PieceTable.of(pieces, _closed_lines(ragged))
+    arc_xy, arc_off = _flat(arcs)
+    geoms = None  # the first round makes them from `ragged`
     for _ in range(MAX_ROUNDS):
-        bad = _conflicts(
+        bad, geoms = _conflicts(
             pieces, arcs, geoms, to_check, groups, top, check_simple, original_simple, input_geom,
-            scale, ragged,
+            scale, ragged, table, (arc_xy, arc_off),
         )  # fmt: skip
         ragged = None  # the coordinates of the first round's pieces
         if not bad:
@@ -304,7 +349,9 @@ def resolve_arcs(
         src = np.asarray(kept_from)
         new_geoms = np.empty(len(new_pieces), dtype=object)
         new_geoms[src >= 0] = geoms[src[src >= 0]]
-        new_geoms[changed] = geoms_of([new_pieces[k] for k in changed])
+        fresh = [new_pieces[k] for k in changed]
+        new_geoms[changed] = _lines(ragged_of(fresh))
+        table = table.renewed(src, changed, fresh, shapely.is_closed(new_geoms[changed]))
         pieces, geoms = new_pieces, new_geoms
         to_check = np.asarray(changed, dtype=int)
     else:  # pragma: no cover - each round strictly refines, MAX_ROUNDS is a guard
@@ -335,6 +382,39 @@ def resolve_arcs(
             xy = xy[:-1]
         out.append(xy)
     return out, reductions
+
+
+def in_background(fn, *args):
+    """``fn(*args)`` started in a thread of its own; returns its future.
+
+    For a compiled kernel that releases the GIL: it runs beside what the caller does
+    meanwhile, and ``future.result()`` gives its value or raises its exception.
+    """
+    from concurrent.futures import ThreadPoolExecutor
+
+    pool = ThreadPoolExecutor(1, thread_name_prefix="curvesmith")
+    try:
+        return pool.submit(fn, *args)
+    finally:
+        pool.shutdown(wait=False)  # the thread ends with its task
+
+
+def _lines(ragged: dict) -> np.ndarray:
+    """LineStrings of ragged coordinates (``"xy"``, ``"off"``)."""
+    import shapely
+
+    off = ragged["off"]
+    owner = np.repeat(np.arange(len(off) - 1), np.diff(off))
+    return shapely.linestrings(ragged["xy"], indices=owner)
+
+
+def _closed_lines(ragged: dict) -> np.ndarray:
+    """GEOS' ``is_closed`` of :func:`_lines`, from the coordinates: first vertex equals last."""
+    xy, off = ragged["xy"], ragged["off"]
+    closed = np.diff(off) > 0
+    first, last = off[:-1][closed], off[1:][closed] - 1
+    closed[closed] = np.all(xy[first] == xy[last], axis=1)
+    return closed
 
 
 def _mean_edges(arcs: Sequence[np.ndarray], loops: np.ndarray) -> np.ndarray:
@@ -371,27 +451,39 @@ def _conflicts(
     original_simple,
     input_geom,
     scale,
-    ragged=None,
-) -> set[int]:
+    ragged,
+    table,
+    flat,
+) -> tuple[set[int], np.ndarray]:
     """Indices of pieces in a new crossing, self-intersection or near-contact (margin).
 
-    `ragged`: the pieces' coordinates and offsets, when at hand.
+    Returns them and `geoms`, the pieces' LineStrings: None in the first round, made
+    here from `ragged` (after the compiled arrangement started on the coordinates).
+
+    `ragged`: the pieces' coordinates and offsets, when at hand (else None); `table`: the
+    pieces' :class:`_PieceTable`; `flat`: :func:`_flat` of `arcs`.
     """
     import shapely
 
     bad: set[int] = set()
     if len(to_check) == 0:
-        return bad
-    n = len(pieces)
-    arc_of = np.fromiter((p.arc for p in pieces), dtype=np.int64, count=n)
-    level = np.fromiter((p.level for p in pieces), dtype=np.int64, count=n)
-    loop = np.fromiter((p.loop for p in pieces), dtype=bool, count=n)
+        return bad, geoms
+    arc_of, level, loop, closed = table.arc, table.level, table.loop, table.closed
     grp = groups[arc_of]
     changed = level < top
-    closed = shapely.is_closed(geoms)
-    found = None
+    found = pending = None
     if len(to_check) == len(pieces) and len(pieces) >= COMPILED_PAIRS:
-        found = _meeting_pairs(geoms, pieces, grp, changed, closed, ragged)
+        # a full round: the compiled arrangement (which releases the GIL) runs in a
+        # thread beside the spatial index and the clearance screening
+        pending = in_background(_meeting_pairs, geoms, pieces, grp, changed, closed, ragged, loop)
+    if geoms is None:
+        geoms = _lines(ragged)
+    tree = shapely.STRtree(geoms)
+    bad |= _near_contacts(
+        pieces, geoms, tree, to_check, grp, changed, input_geom, scale[arc_of], ragged, table, flat
+    )
+    if pending is not None:
+        found = pending.result()
     # self-intersections: GEOS decides the candidates (all changed pieces, or those the
     # compiled arrangement saw meet themselves: a superset of the pieces that are not simple)
     cand = to_check[changed[to_check]]
@@ -403,10 +495,6 @@ def _conflicts(
             if check_simple[arc_of[k]] and original_simple(pieces[k]):
                 bad.add(int(k))
     # pairs
-    tree = shapely.STRtree(geoms)
-    bad |= _near_contacts(
-        pieces, arcs, geoms, tree, to_check, grp, changed, input_geom, scale[arc_of], ragged, loop
-    )
     if found is not None:
         a, b, hit, _ = found
     else:
@@ -415,7 +503,7 @@ def _conflicts(
         keep = (qi != qj) & (grp[qi] == grp[qj]) & (changed[qi] | changed[qj])
         qi, qj = qi[keep], qj[keep]
         if len(qi) == 0:
-            return bad
+            return bad, geoms
         a, b = _unique_pairs(np.minimum(qi, qj), np.maximum(qi, qj), len(pieces))
         hit = np.zeros(len(a), dtype=bool)
         # open pieces may only share end points: no interior meets anything of the other
@@ -453,10 +541,10 @@ def _conflicts(
             bad.add(int(i))
         if changed[j]:
             bad.add(int(j))
-    return bad
+    return bad, geoms
 
 
-def _meeting_pairs(geoms, pieces, grp, changed, closed, ragged=None):
+def _meeting_pairs(geoms, pieces, grp, changed, closed, ragged=None, loop=None):
     """The pairs of a full round that meet, and which of them conflict: ``(a, b, hit, self_meet)``.
 
     What the STRtree ``intersects`` query and ``relate_pattern(.., "FF*F*****")`` give
@@ -480,7 +568,8 @@ def _meeting_pairs(geoms, pieces, grp, changed, closed, ragged=None):
         xy = shapely.get_coordinates(geoms)
         off = np.zeros(len(geoms) + 1, dtype=np.int64)
         np.cumsum(shapely.get_num_coordinates(geoms), out=off[1:])
-    loop = np.fromiter((p.loop for p in pieces), dtype=bool, count=len(pieces))
+    if loop is None:
+        loop = np.fromiter((p.loop for p in pieces), dtype=bool, count=len(pieces))
     got = meetings(xy, off, loop, grp, changed, self_pairs=True)
     if got is None:
         return None
@@ -488,15 +577,16 @@ def _meeting_pairs(geoms, pieces, grp, changed, closed, ragged=None):
     pa = np.searchsorted(off, sa, "right") - 1
     pb = np.searchsorted(off, sb, "right") - 1
     own = pa == pb
-    self_meet = np.zeros(len(geoms), dtype=bool)
+    n = len(off) - 1
+    self_meet = np.zeros(n, dtype=bool)
     self_meet[pa[own & (v == MEET)]] = True
     pa, pb, v = pa[~own], pb[~own], v[~own]
     lo, hi = np.minimum(pa, pb), np.maximum(pa, pb)
-    key = lo * len(geoms) + hi
+    key = lo * n + hi
     uk, inv = np.unique(key, return_inverse=True)
     hit = np.zeros(len(uk), dtype=bool)
     np.logical_or.at(hit, inv.reshape(-1), v == MEET)
-    a, b = uk // len(geoms), uk % len(geoms)
+    a, b = uk // n, uk % n
     hit &= ~(closed[a] | closed[b])
     return a, b, hit, self_meet
 
@@ -508,7 +598,7 @@ def _unique_pairs(a: np.ndarray, b: np.ndarray, n: int) -> tuple[np.ndarray, np.
 
 
 def _near_contacts(
-    pieces, arcs, geoms, tree, to_check, grp, changed, input_geom, scale, ragged=None, loop=None
+    pieces, geoms, tree, to_check, grp, changed, input_geom, scale, ragged, table, flat
 ) -> set[int]:
     """Changed pieces closer than the clearance margin to a piece they do not touch in the input.
 
@@ -517,8 +607,8 @@ def _near_contacts(
     each other and that share no end vertex; a compiled segment screening keeps those
     within ``MARGIN_EDGE * l``, and only for these few GEOS computes both distances. A
     pair is a conflict when ``0 < d`` and the output distance is below
-    ``min(MARGIN_EDGE * l, MARGIN_GAP * d)``. `loop`: per piece, whether it is an unsplit
-    loop (read from the pieces when not given).
+    ``min(MARGIN_EDGE * l, MARGIN_GAP * d)``. `table`: the pieces' :class:`_PieceTable`;
+    `flat`: the arcs' vertices (:func:`_flat`), where the pieces' fixed ends are read.
     """
     import shapely
 
@@ -537,18 +627,16 @@ def _near_contacts(
     # pieces that share an end vertex touch in the input (ring neighbours, arcs at a node)
     # the fixed end vertices of the pieces (pinned: equal to the input's)
     ks, inv = np.unique(np.concatenate([a, b]), return_inverse=True)
-    fixed_ends = np.empty((len(ks), 2, 2))
-    for t, q in enumerate(ks.tolist()):
-        p = pieces[q]
-        xy = arcs[p.arc]
-        fixed_ends[t, 0] = xy[p.start]
-        fixed_ends[t, 1] = xy[p.stop % len(xy)]
+    arc_xy, arc_off = flat
+    arc = table.arc[ks]
+    first, size = arc_off[arc], arc_off[arc + 1] - arc_off[arc]
+    fixed_ends = np.stack(
+        [arc_xy[first + table.start[ks]], arc_xy[first + table.stop[ks] % size]], axis=1
+    )
     inv = inv.reshape(-1)
     ends_a, ends_b = fixed_ends[inv[: len(a)]], fixed_ends[inv[len(a) :]]
     share = np.all(ends_a[:, :, None, :] == ends_b[:, None, :, :], axis=-1).any(axis=(1, 2))
-    if loop is None:
-        loop = np.fromiter((p.loop for p in pieces), dtype=bool, count=len(pieces))
-    share &= ~(loop[a] | loop[b])
+    share &= ~(table.loop[a] | table.loop[b])
     a, b = a[~share], b[~share]
     if len(a) == 0:
         return set()
