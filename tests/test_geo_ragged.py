@@ -274,3 +274,81 @@ def test_assemble_polygons_gives_back_every_geometry(seed):
     got2 = geo_smooth.assemble_polygons(xy, ring_off, poly_off, geom_off2, was2)
     assert got2[3].is_empty and got2[3].geom_type == "MultiPolygon"
     assert all(shapely.to_wkb(np.delete(got2, 3)) == shapely.to_wkb(geoms))
+
+
+def _close_reference(xy, off, closed):
+    """The plain loop: every curve, and the first vertex again after a closed non-empty one."""
+    rows, lens = [], []
+    for k in range(len(off) - 1):
+        cur = [xy[i] for i in range(off[k], off[k + 1])]
+        if closed[k] and cur:
+            cur.append(xy[off[k]])
+        rows += cur
+        lens.append(len(cur))
+    out_off = np.concatenate([[0], np.cumsum(lens)]).astype(np.int64)
+    return np.array(rows, dtype=float).reshape(-1, xy.shape[1]), out_off
+
+
+@pytest.mark.parametrize("seed", range(8))
+def test_close_ragged_equals_the_plain_loop(seed):
+    """The compiled closing of ragged curves: empty curves, mixed flags, 2 and 3 columns."""
+    from curvesmith.internals import close_ragged
+
+    rng = np.random.default_rng(seed)
+    n = int(rng.integers(1, 60))
+    lens = rng.integers(0, 9, n)
+    lens[rng.random(n) < 0.2] = 0  # empty curves stay empty, closed or not
+    off = np.concatenate([[0], np.cumsum(lens)]).astype(np.int64)
+    dim = 2 + seed % 2
+    xy = rng.normal(scale=1e5, size=(int(off[-1]), dim)) + 6e6  # UTM-like metres
+    closed = rng.random(n) < 0.6
+    got, got_off = close_ragged(xy, off, closed)
+    want, want_off = _close_reference(xy, off, closed)
+    np.testing.assert_array_equal(got_off, want_off)
+    np.testing.assert_array_equal(got, want)
+    assert got.shape == (int(want_off[-1]), dim)
+
+
+def test_engine_closed_lines_are_geos_is_closed():
+    """The first round's closed flags, read from coordinates, are GEOS' is_closed."""
+    from curvesmith.internals import engine_closed_lines, engine_lines
+
+    rng = np.random.default_rng(3)
+    curves = []
+    for k in range(200):
+        m = int(rng.integers(2, 12))
+        c = rng.normal(size=(m, 2)).round(1)
+        if k % 3 == 0:
+            c = np.vstack([c, c[:1]])  # a loop closed by its first vertex
+        if k % 7 == 0:
+            c[-1] = c[0] + [0.0, 5e-324]  # off by the smallest step: not closed
+        curves.append(c)
+    curves.append(np.array([[1.0, 2.0], [1.0, 2.0]]))  # two equal points: closed for GEOS
+    off = np.concatenate([[0], np.cumsum([len(c) for c in curves])]).astype(np.int64)
+    rag = {"xy": np.concatenate(curves), "off": off}
+    got = engine_closed_lines(rag)
+    want = shapely.is_closed(engine_lines(rag))
+    np.testing.assert_array_equal(got, want)
+    assert 0 < got.sum() < len(curves)
+
+
+def test_piece_table_renewal_keeps_old_rows_and_takes_new_ones():
+    """A round's table: kept rows from the old one (by index), new pieces from themselves."""
+    from curvesmith.internals import EnginePiece, EnginePieceTable
+
+    old = [
+        EnginePiece(0, 0, 9, False, 0),
+        EnginePiece(1, 0, 5, True, 0),
+        EnginePiece(2, 0, 30, False, 1),
+    ]
+    table = EnginePieceTable.of(old, np.array([False, True, False]))
+    # piece 2 is cut in two, piece 0 goes one level down; piece 1 is kept
+    new = [EnginePiece(0, 0, 9, False, 1), old[1], EnginePiece(2, 0, 15, False, 1, True),
+           EnginePiece(2, 15, 30, False, 1, True)]  # fmt: skip
+    src = np.array([-1, 1, -1, -1])
+    changed = [0, 2, 3]
+    renewed = table.renewed(src, changed, [new[k] for k in changed], np.array([False, False, True]))
+    want = EnginePieceTable.of(new, np.array([False, True, False, True]))
+    for a, b in zip(renewed._columns(), want._columns(), strict=True):
+        np.testing.assert_array_equal(a, b)
+        assert a.dtype == b.dtype

@@ -247,14 +247,15 @@ def _smooth_batch_except(
 
 def _close_ragged(xy: np.ndarray, off: np.ndarray, closed: np.ndarray):
     """Repeat the first vertex at the end of the closed curves (shapely's ring layout)."""
-    lens = np.diff(off) + closed.astype(np.int64)
-    new_off = np.zeros(off.size, dtype=np.int64)
-    np.cumsum(lens, out=new_off[1:])
-    out = np.empty((int(new_off[-1]), xy.shape[1]))
+    from ..cca import _kernel
+
+    off = np.asarray(off, dtype=np.int64)
+    closed = np.asarray(closed, dtype=bool)
     ln = np.diff(off)
-    out[np.repeat(new_off[:-1] - off[:-1], ln) + np.arange(off[-1])] = xy
-    ring = np.flatnonzero(closed & (ln > 0))
-    out[new_off[1:][ring] - 1] = xy[off[:-1][ring]]
+    new_off = np.zeros(off.size, dtype=np.int64)
+    np.cumsum(ln + (closed & (ln > 0)), out=new_off[1:])
+    out = np.empty((int(new_off[-1]), xy.shape[1]))
+    _kernel.close_ragged(np.ascontiguousarray(xy, dtype=np.float64), off, closed, out, new_off)
     return out, new_off
 
 
@@ -657,13 +658,7 @@ def assemble_polygons(
 
 def _close_rings(xy: np.ndarray, off: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Ragged rings with their first vertex repeated at the end (shapely's ring layout)."""
-    lens = np.diff(off)
-    new_off = off + np.arange(off.size)
-    out = np.empty((xy.shape[0] + lens.size, xy.shape[1]))
-    body = np.arange(xy.shape[0]) + np.repeat(np.arange(lens.size), lens)
-    out[body] = xy
-    out[new_off[1:] - 1] = xy[off[:-1]]
-    return out, new_off
+    return _close_ragged(xy, off, np.ones(len(off) - 1, dtype=bool))
 
 
 class _RaggedView:
