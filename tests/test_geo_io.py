@@ -225,3 +225,43 @@ def test_invalid_feature_in_file_needs_make_valid(tmp_path):
         geo.smooth_file(src, tmp_path / "o.gpkg")
     geo.smooth_file(src, tmp_path / "o.gpkg", make_valid=True)
     assert shapely.is_valid(geo.read_file(tmp_path / "o.gpkg").geometry.values).all()
+
+
+def test_geopackage_written_without_journal_then_synced_and_options_restored(tmp_path, monkeypatch):
+    """The GeoPackage goes out with SQLite's journal and syncs off, is fsynced before it
+    replaces anything, and GDAL's options are as before afterwards (a user's own kept)."""
+    from curvesmith.internals import geo_io
+
+    # pyogrio reads a config option "OFF" back as False
+    seen, synced = [], []
+    real_write = pyogrio.write_dataframe
+
+    def spy(*a, **kw):
+        seen.append({k: pyogrio.get_gdal_config_option(k) for k in geo_io._GPKG_WRITE_OPTIONS})
+        return real_write(*a, **kw)
+
+    monkeypatch.setattr(pyogrio, "write_dataframe", spy)
+    monkeypatch.setattr(geo_io, "_fsync", lambda p: synced.append((p, p.is_file())))
+    df = sample_frame()
+    geo.write_file(df, tmp_path / "a.gpkg")
+    assert seen == [{"OGR_SQLITE_JOURNAL": False, "OGR_SQLITE_SYNCHRONOUS": False}]
+    # the temporary file, synced while it exists, before the rename
+    assert len(synced) == 1 and synced[0][0] != tmp_path / "a.gpkg" and synced[0][1]
+    assert all(pyogrio.get_gdal_config_option(k) is None for k in geo_io._GPKG_WRITE_OPTIONS)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a.gpkg"]  # no journal left
+    back = geo.read_file(tmp_path / "a.gpkg")
+    assert list(back["name"]) == ["c", "a", "b"]
+    assert shapely.equals(back.geometry.values, df.geometry.values).all()
+    # a journal mode the user chose is theirs: kept while writing and after
+    pyogrio.set_gdal_config_options({"OGR_SQLITE_JOURNAL": "DELETE"})
+    try:
+        geo.write_file(df, tmp_path / "b.gpkg")
+        assert seen[-1] == {"OGR_SQLITE_JOURNAL": "DELETE", "OGR_SQLITE_SYNCHRONOUS": False}
+        assert pyogrio.get_gdal_config_option("OGR_SQLITE_JOURNAL") == "DELETE"
+        assert pyogrio.get_gdal_config_option("OGR_SQLITE_SYNCHRONOUS") is None
+    finally:
+        pyogrio.set_gdal_config_options({"OGR_SQLITE_JOURNAL": None})
+    # other formats are written with GDAL's options untouched and not synced here
+    geo.write_file(df, tmp_path / "c.fgb")
+    assert seen[-1] == {"OGR_SQLITE_JOURNAL": None, "OGR_SQLITE_SYNCHRONOUS": None}
+    assert len(synced) == 2

@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
+import contextlib
 import itertools
 import math
+import os
 import shutil
 import warnings
 from collections.abc import Sequence
@@ -554,15 +556,53 @@ def write_file(df: Any, path: str | Path, *, layer: str | None = None) -> None:
         if driver == "GPKG" and layer is not None and path.is_file():
             shutil.copy2(path, tmp)  # a named layer replaces that layer only: keep the others
         try:
-            for k, part in enumerate(slices):
-                piece = df if len(slices) == 1 else df.iloc[part]
-                pyogrio.write_dataframe(
-                    piece, tmp, layer=layer, driver=driver, append=k > 0, **kwargs
-                )
-                del piece
+            with _fast_sqlite(pyogrio, driver == "GPKG"):
+                for k, part in enumerate(slices):
+                    piece = df if len(slices) == 1 else df.iloc[part]
+                    pyogrio.write_dataframe(
+                        piece, tmp, layer=layer, driver=driver, append=k > 0, **kwargs
+                    )
+                    del piece
         except Exception as exc:
             raise CurveFormatError(f"cannot write {str(path)!r}: {exc}") from exc
         _verify_written(tmp, path, len(df), n_null, layer if driver == "GPKG" else None, slices)
+        if driver == "GPKG":
+            _fsync(tmp)  # on disk before it replaces anything (SQLite did not sync it)
+
+
+#: SQLite settings for writing a GeoPackage under its temporary name: no rollback
+#: journal and no sync per transaction. A crash can spoil only that temporary file, which
+#: never replaces anything; the finished file is read back and synced (:func:`_fsync`)
+#: before the rename. Measured on 1 M smoothed footprints (77 M vertices, 1.6 GB):
+#: 28.8-30.4 s against 38.0-38.4 s with SQLite's defaults, interleaved.
+_GPKG_WRITE_OPTIONS = {"OGR_SQLITE_JOURNAL": "OFF", "OGR_SQLITE_SYNCHRONOUS": "OFF"}
+
+
+@contextlib.contextmanager
+def _fast_sqlite(pyogrio: Any, on: bool):
+    """GDAL's config options of :data:`_GPKG_WRITE_OPTIONS` while writing, then as before.
+
+    An option the user has set (in the environment or through GDAL) is left as it is.
+    """
+    if not on:
+        yield
+        return
+    mine = {
+        k: v for k, v in _GPKG_WRITE_OPTIONS.items() if pyogrio.get_gdal_config_option(k) is None
+    }
+    pyogrio.set_gdal_config_options(mine)
+    try:
+        yield
+    finally:
+        pyogrio.set_gdal_config_options(dict.fromkeys(mine))
+
+
+def _fsync(path: Path) -> None:
+    fd = os.open(path, os.O_RDONLY)
+    try:
+        os.fsync(fd)
+    finally:
+        os.close(fd)
 
 
 #: A GeoPackage is written and read back in slices of about this many vertices (16 bytes
