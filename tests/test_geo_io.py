@@ -237,17 +237,17 @@ def test_geopackage_written_without_journal_then_synced_and_options_restored(tmp
     real_write = pyogrio.write_dataframe
 
     def spy(*a, **kw):
-        seen.append({k: pyogrio.get_gdal_config_option(k) for k in geo_io._GPKG_WRITE_OPTIONS})
+        seen.append({k: pyogrio.get_gdal_config_option(k) for k in geo_io.GPKG_WRITE_OPTIONS})
         return real_write(*a, **kw)
 
     monkeypatch.setattr(pyogrio, "write_dataframe", spy)
-    monkeypatch.setattr(geo_io, "_fsync", lambda p: synced.append((p, p.is_file())))
+    monkeypatch.setattr(geo_io, "fsync_path", lambda p: synced.append((p, p.is_file())))
     df = sample_frame()
     geo.write_file(df, tmp_path / "a.gpkg")
     assert seen == [{"OGR_SQLITE_JOURNAL": False, "OGR_SQLITE_SYNCHRONOUS": False}]
     # the temporary file, synced while it exists, before the rename
     assert len(synced) == 1 and synced[0][0] != tmp_path / "a.gpkg" and synced[0][1]
-    assert all(pyogrio.get_gdal_config_option(k) is None for k in geo_io._GPKG_WRITE_OPTIONS)
+    assert all(pyogrio.get_gdal_config_option(k) is None for k in geo_io.GPKG_WRITE_OPTIONS)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["a.gpkg"]  # no journal left
     back = geo.read_file(tmp_path / "a.gpkg")
     assert list(back["name"]) == ["c", "a", "b"]
