@@ -787,11 +787,10 @@ def _arc_lines(arcs, ring: np.ndarray):
 
 def _ragged(arcs, ring: np.ndarray):
     """Coordinates and offsets of the arcs (loops closed by repeating their first vertex)."""
+    from ._engine import _flat
     from ._smooth import _close_ragged
 
-    off = np.zeros(len(arcs) + 1, dtype=np.int64)
-    np.cumsum(np.fromiter((len(x) for x in arcs), dtype=np.int64, count=len(arcs)), out=off[1:])
-    xy = np.concatenate(arcs) if len(arcs) else np.empty((0, 2))
+    xy, off = _flat(arcs)
     ring = np.asarray(ring, dtype=bool)
     if ring.any():
         xy, off = _close_ragged(xy, off, ring)

@@ -276,7 +276,8 @@ def resolve_arcs(
 
     simple_orig: dict[tuple[int, int, int, bool], bool] = {}
     in_geom: dict[tuple[int, int, int, bool], Any] = {}
-    scale = _mean_edges(arcs, loops)
+    arc_xy, arc_off = _flat(arcs)
+    scale = _mean_edges(arcs, loops, (arc_xy, arc_off))
 
     def input_geom(p: _Piece):
         """The piece's input vertices as a LineString."""
@@ -311,7 +312,6 @@ def resolve_arcs(
     to_check = np.arange(len(pieces))
     # per piece, as arrays carried from round to round (only the changed pieces are new)
     table = _PieceTable.of(pieces, _closed_lines(ragged))
-    arc_xy, arc_off = _flat(arcs)
     geoms = None  # the first round makes them from `ragged`
     for _ in range(MAX_ROUNDS):
         bad, geoms = _conflicts(
@@ -417,13 +417,15 @@ def _closed_lines(ragged: dict) -> np.ndarray:
     return closed
 
 
-def _mean_edges(arcs: Sequence[np.ndarray], loops: np.ndarray) -> np.ndarray:
-    """Mean input edge length of every arc (a loop with its closing edge)."""
+def _mean_edges(arcs: Sequence[np.ndarray], loops: np.ndarray, flat) -> np.ndarray:
+    """Mean input edge length of every arc (a loop with its closing edge).
+
+    `flat`: :func:`_flat` of `arcs`.
+    """
     cnt = np.array([len(x) for x in arcs], dtype=np.int64)
     if len(arcs) == 0 or cnt.min() == 0:
         return np.array([_mean_edge(x, bool(lp)) for x, lp in zip(arcs, loops, strict=True)])
-    off = np.concatenate([[0], np.cumsum(cnt)])
-    xy = np.concatenate(arcs)
+    xy, off = flat
     d = np.zeros(len(xy))
     d[:-1] = np.hypot(xy[1:, 0] - xy[:-1, 0], xy[1:, 1] - xy[:-1, 1])
     d[off[1:] - 1] = 0.0  # no edge from an arc's last vertex to the next arc
