@@ -103,6 +103,7 @@ def best_cpu(fn, repeats: int):
     """Smallest wall time, smallest CPU time (user + system, this process) and the output."""
     walls, cpus, out = [], [], None
     for _ in range(repeats):
+        out = None  # the previous run's output is freed before, not inside, this run's timing
         c0 = time.process_time()
         t0 = time.perf_counter()
         out = fn()
@@ -227,6 +228,7 @@ def best_user(fn, repeats: int):
     """
     walls, cpus, users, out = [], [], [], None
     for _ in range(repeats):
+        out = None  # freed before, not inside, this run's timing
         r0 = resource.getrusage(resource.RUSAGE_SELF)
         c0 = time.process_time()
         t0 = time.perf_counter()

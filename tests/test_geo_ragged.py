@@ -352,3 +352,38 @@ def test_piece_table_renewal_keeps_old_rows_and_takes_new_ones():
     for a, b in zip(renewed._columns(), want._columns(), strict=True):
         np.testing.assert_array_equal(a, b)
         assert a.dtype == b.dtype
+
+
+@pytest.mark.parametrize("courtyards", [False, True])
+def test_output_proof_beside_geos_changes_nothing(monkeypatch, courtyards):
+    # the output's proof and areas in a thread beside GEOS building the polygons: the
+    # same geometries, reductions and area check as proving after the build
+    polys = _footprints(2500, 5)
+    if not courtyards:
+        polys = [shapely.Polygon(p.exterior) for p in polys]
+    polys = np.array(polys, dtype=object)
+    started = []
+    real = geo_smooth.in_background
+
+    def counting(fn, *args):
+        started.append(fn)
+        return real(fn, *args)
+
+    monkeypatch.setattr(geo_smooth, "in_background", counting)
+    runs = {}
+    for beside in (False, True):
+        monkeypatch.setattr(geo_smooth, "beside_worthwhile", lambda n, b=beside: b)
+        res = geo.smooth(polys, iterations=2, full_output=True)
+        runs[beside] = (shapely.to_wkb(res.geometry).tolist(), res.reductions, res.max_area_change)
+    assert len(started) == 1
+    assert runs[True] == runs[False]
+    assert runs[True][1]  # some features were re-smoothed less (the check found them)
+    assert runs[True][2] < 1e-9
+
+
+def test_output_proof_beside_geos_only_when_worthwhile(monkeypatch):
+    monkeypatch.setattr(geo_smooth, "BACKGROUND_MIN", 100)
+    monkeypatch.setenv("OMP_NUM_THREADS", "1")
+    assert not geo_smooth.beside_worthwhile(10**6)
+    monkeypatch.setenv("OMP_NUM_THREADS", "2")
+    assert not geo_smooth.beside_worthwhile(99)

@@ -15,7 +15,7 @@ from ..errors import CurveError, require
 from ..geometry import _signed_area
 from ..methods import GisMethod
 from ._corners import with_corners
-from ._engine import Level, levels_for, resolve_arcs
+from ._engine import Level, in_background, levels_for, resolve_arcs
 from ._zm import split_zm
 
 __all__ = ["GeometryReduction", "SmoothResult", "smooth"]
@@ -758,6 +758,19 @@ def _smooth_feature_array(
     return out, reductions, n_curves, max_change
 
 
+#: Output vertices from which :func:`smooth` proves the output beside GEOS building it (a
+#: thread's start costs about 0.1 ms). Measured on the 2-core machine, interleaved, 20,000
+#: footprints, 15 rounds: median 168 ms against 181 ms proving after the build.
+BACKGROUND_MIN = 1 << 16
+
+
+def beside_worthwhile(n_rows: int) -> bool:
+    """Whether to prove `n_rows` output vertices in a thread beside GEOS (2+ cores, big)."""
+    from ..cca._input import default_threads
+
+    return n_rows >= BACKGROUND_MIN and default_threads() > 1
+
+
 #: Input vertices per call of the ragged engine in :func:`smooth` (a layer goes in chunks).
 CHUNK_VERTICES = 1 << 20
 
@@ -822,17 +835,25 @@ def _smooth_polygonal(g, feat_index, smoother, levels, batch, single_rings=None)
     new_xy, new_off = smooth_batch(
         method, alpha, coords, ring_off, True, full, fmask, close_rings=True
     )
-    a1 = _ring_areas(new_xy, new_off)
+    # a feature of one ring proven simple by the compiled test is valid; GEOS checks the
+    # rest. The proof and the output's areas (compiled, without the GIL) run beside GEOS
+    # building the polygons (which holds it)
+    from ._simple import rings_certainly_simple
+
+    def proof_and_areas(xy, off, centres):
+        return rings_certainly_simple(xy, off, True, centres), _ring_areas(xy, off)
 
     build = assemble_polygons
-    res = build(new_xy, new_off, poly_off, geom_off, was_polygon)
+    if beside_worthwhile(new_xy.shape[0]):
+        future = in_background(proof_and_areas, new_xy, new_off, centres)
+        res = build(new_xy, new_off, poly_off, geom_off, was_polygon)
+        proven, a1 = future.result()
+    else:
+        res = build(new_xy, new_off, poly_off, geom_off, was_polygon)
+        proven, a1 = proof_and_areas(new_xy, new_off, centres)
     rings_per_geom = np.bincount(ring_geom, minlength=len(g))
     hard = rings_per_geom > 1  # holes or parts: checked for conflicts anyway
     one = np.flatnonzero(~hard)
-    # a feature of one ring proven simple by the compiled test is valid; GEOS checks the rest
-    from ._simple import rings_certainly_simple
-
-    proven = rings_certainly_simple(new_xy, new_off, True, centres)
     doubt = one[~proven[first_ring_of_geom[one]]]
     hard[doubt] = ~shapely.is_valid(res[doubt])
     reductions: list[GeometryReduction] = []
