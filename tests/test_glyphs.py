@@ -441,3 +441,74 @@ def test_cli_reports_the_written_rounding(tmp_path):
     assert s["deviation_written"] <= 2.048 and abs(s["area_change_written"]) < 2e-3
     r = runner.invoke(main, ["glyphs", SANS, "-o", str(tmp_path / "x.ttf"), "--rounding", "best"])
     assert r.exit_code == 2 and "best" in r.output
+
+
+@pytest.mark.parametrize("damage", ["truncated", "glyf bytes"])
+def test_cli_damaged_font_one_line_no_output(tmp_path, damage):
+    # fontTools reads a table (a glyph's bytes) when first used: a cut file or damaged glyph
+    # data must fail at the start with one line, not with fontTools' traceback mid-way
+    from fontTools.ttLib import TTFont
+
+    with open(SANS, "rb") as fh:
+        data = bytearray(fh.read())
+    if damage == "truncated":
+        data = data[:20000]
+    else:
+        e = TTFont(SANS).reader.tables["glyf"]
+        for i in range(e.offset + 1000, e.offset + e.length, 997):
+            data[i] ^= 0xFF
+    bad = tmp_path / "bad.ttf"
+    bad.write_bytes(bytes(data))
+    out = tmp_path / "out.ttf"
+    r = CliRunner().invoke(main, ["glyphs", str(bad), "-o", str(out), "--glyphs", "S"])
+    assert r.exit_code == 1, r.output
+    assert "Traceback" not in r.output and len(r.output.strip().splitlines()) == 1
+    assert "not a TrueType/OpenType font, or a damaged one" in r.output
+    if damage == "truncated":
+        assert "runs past the end of the file" in r.output
+    assert not out.exists()
+
+
+def test_small_tolerance_does_not_sample_finer_than_the_floor(sans, monkeypatch):
+    # the samples grew as 1 / tolerance (1e-5 font units: 24 GB for one glyph); now the
+    # spacing stops at MIN_SPACING_EM, and the fit is asked to pass that close to them
+    seen = []
+
+    def fit(points, **kw):
+        seen.append((len(points), kw["tolerance"]))
+        raise CurveError("stop here")
+
+    monkeypatch.setattr(glyphs.curves, "fit", fit)
+    with pytest.raises(CurveError, match="stop here"):
+        glyphs.refit_glyph(sans, "S", tolerance=1e-9)
+    n, tol = seen[0]
+    outline = fonts.read_glyph(sans, "S")
+    length = sum(
+        float(np.sum(np.hypot(*np.diff(s, axis=0).T))) for c in outline.contours for s in c.segments
+    )
+    finest = glyphs.MIN_SPACING_EM * 2048
+    assert tol == 1e-9 and length / finest * 0.9 < n <= length / finest + 4 * 28
+    with pytest.raises(CurveError, match=r"spacing must be >= 0.2048 font units .* got 0.01"):
+        glyphs.refit_glyph(sans, "S", tolerance=1.0, spacing=0.01)
+
+
+def test_ttf_tolerance_below_the_integer_grid_says_so(sans):
+    # the rounding retries lowered the fit's tolerance below 0 and showed the fit's own
+    # "tolerance must be > 0, got -1.4"; now the grid is named as the reason
+    with pytest.raises(CurveError) as err:
+        glyphs.refit_glyph(sans, "S", tolerance=0.1, grid=1.0)
+    msg = str(err.value)
+    assert "the integer grid (1 per source unit) cannot keep it that close" in msg
+    assert "must be > 0" not in msg
+
+
+def test_ttf_table_shows_the_written_area_change(tmp_path):
+    runner = CliRunner()
+    out = tmp_path / "o.ttf"
+    r = runner.invoke(main, ["glyphs", SANS, "-o", str(out), "--glyphs", "o", "--json"])
+    row = json.loads(r.output)["glyphs"][0]
+    assert abs(row["area_change"]) < 1e-12 and abs(row["area_change_written"]) > 1e-5
+    r = runner.invoke(main, ["glyphs", SANS, "-o", str(tmp_path / "p.ttf"), "--glyphs", "o"])
+    assert r.exit_code == 0, r.output
+    line = next(ln for ln in r.output.splitlines() if ln.startswith("o "))
+    assert f"{row['area_change_written']:.2e}" in line.split()

@@ -49,6 +49,11 @@ from . import curves
 from ._validate import as_choice
 from .errors import CurveError
 
+#: Finest sample spacing along an outline, as a fraction of the em (0.2 units at 2048): a
+#: smaller tolerance does not sample more finely (the samples grew as 1 / tolerance: a
+#: glyph at 1e-5 units took 24 GB), it asks the fit to pass closer to these samples.
+MIN_SPACING_EM = 1e-4
+
 __all__ = ["GlyphReport", "refit_font", "refit_glyph"]
 
 
@@ -184,7 +189,8 @@ def refit_glyph(
         cca smoothing steps on the sampled contour before fitting (corners anchored);
         0 refits the outline as it is.
     spacing : float, optional
-        Sample spacing along the outline; default ``tolerance``, at most 1/200 em.
+        Sample spacing along the outline; default ``tolerance``, at most 1/200 em and
+        at least :data:`MIN_SPACING_EM` em (the least allowed).
     grid : float, optional
         Round for TrueType: output units per source unit (1 keeps the ``unitsPerEm``;
         8 for 2048 -> 16384). The written contours (``written``) are within
@@ -215,7 +221,10 @@ def refit_glyph(
     as_choice(rounding, ("search", "plain"), name="rounding")
     outline = read_glyph(font, name)
     upm = font.units_per_em if hasattr(font, "units_per_em") else int(font["head"].unitsPerEm)
-    step = spacing if spacing is not None else min(float(tolerance), upm / 200.0)
+    finest = MIN_SPACING_EM * upm
+    if spacing is not None and not spacing >= finest:
+        raise CurveError(f"spacing must be >= {finest:g} font units (1/10000 em), got {spacing}")
+    step = spacing if spacing is not None else max(min(float(tolerance), upm / 200.0), finest)
     fitted, before, after, devs, g2 = [], 0, 0, [], []
     written, g2w, g2p, devw, jumps = [], [], [], [], []
     g1w, g1p = [], []
@@ -258,6 +267,13 @@ def refit_glyph(
             # the rounding's bound is first order: ask it (and, if need be, the fit) for less
             round_tol -= dev_w - tolerance + 0.01 * tolerance
             fit_tol = min(fit_tol, round_tol - 0.5 / grid)
+            if not fit_tol > 0.05 * tolerance:
+                raise CurveError(
+                    f"glyph {name}, contour {k}: rounded to integers, the contour deviates "
+                    f"{dev_w:.3g} > tolerance {tolerance:.3g}: the integer grid ({grid:g} "
+                    "per source unit) cannot keep it that close; use a larger tolerance, a finer "
+                    "grid (units per em) or a UFO"
+                )
         if grid is not None:
             written.append(out)
             jumps.append(jump)

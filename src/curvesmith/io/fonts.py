@@ -22,6 +22,7 @@ import copy
 import itertools
 import math
 import os
+import struct
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -184,10 +185,23 @@ def open_font(path):
 
     try:
         font = TTFont(os.fspath(path), lazy=False)
-    except (TTLibError, OSError, AssertionError) as exc:
+        # fontTools reads a table when it is first used: a truncated or damaged file
+        # would fail in the middle of the work, so the tables are checked here
+        size = path.stat().st_size
+        for tag, entry in font.reader.tables.items():
+            if entry.offset + entry.length > size:
+                raise TTLibError(
+                    f"the {tag.strip()!r} table runs past the end of the file "
+                    f"({entry.offset + entry.length} > {size} bytes: truncated?)"
+                )
+        for tag in ("head", "maxp", "hhea", "hmtx", "cmap", "loca", "glyf", "CFF "):
+            if tag in font:
+                font[tag]
+    except (TTLibError, OSError, AssertionError, struct.error, IndexError, ValueError) as exc:
         if isinstance(exc, FileNotFoundError):
             raise
-        raise CurveFormatError(f"{path}: not a TrueType/OpenType font ({exc})") from None
+        msg = f"{path}: not a TrueType/OpenType font, or a damaged one ({exc})"
+        raise CurveFormatError(msg) from None
     if "glyf" not in font and "CFF " not in font:
         raise CurveFormatError(f"{path}: the font has no glyf or CFF outlines")
     return font
@@ -294,6 +308,7 @@ def read_glyph(font, name: str) -> GlyphOutline:
     """
     from fontTools.pens.basePen import decomposeQuadraticSegment, decomposeSuperBezierSegment
     from fontTools.pens.recordingPen import DecomposingRecordingPen, RecordingPen
+    from fontTools.ttLib import TTLibError
 
     if isinstance(font, _UFO):
         pen = RecordingPen()
@@ -303,7 +318,13 @@ def read_glyph(font, name: str) -> GlyphOutline:
     else:
         gs = font.getGlyphSet()
         pen = DecomposingRecordingPen(gs)
-        gs[name].draw(pen)
+        try:
+            gs[name].draw(pen)
+        except (TTLibError, struct.error, IndexError, ValueError, AssertionError) as exc:
+            # fontTools unpacks a glyph's bytes when it is drawn: damaged data fails here
+            raise CurveFormatError(
+                f"glyph {name}: its outline data is damaged ({type(exc).__name__}: {exc})"
+            ) from None
         advance = int(font["hmtx"][name][0])
         ops = pen.value
     contours = []
