@@ -165,3 +165,67 @@ def test_fair_writes_dxf_3d_polylines(tmp_path):
     assert line.dxftype() == "POLYLINE" and line.is_3d_polyline
     xyz = np.array([tuple(v.dxf.location) for v in line.vertices])
     np.testing.assert_allclose(xyz, pts, atol=1e-6)  # an exact elastica: faired = input
+
+
+def _point_polyline_distance(p, poly):
+    """Plain reference: distance of every point of `p` to the polyline `poly` (any dimension)."""
+    a, b = poly[:-1], poly[1:]
+    ab = b - a
+    t = np.einsum("pkd,kd->pk", p[:, None, :] - a[None], ab) / np.einsum("kd,kd->k", ab, ab)
+    near = a[None] + np.clip(t, 0, 1)[..., None] * ab[None]
+    return np.sqrt(((p[:, None, :] - near) ** 2).sum(-1)).min(axis=1)
+
+
+def test_fair_3d_tolerance_counts_the_distance_from_the_plane(tmp_path):
+    """A section scan in metres that bulges 2 mm out of its plane: the tolerance is met in
+    the plane (5e-5 m) but not in space (3.4e-4 m); the report and the verdict are in space."""
+    rng = np.random.default_rng(7)
+    flat = sample((0.0, 0.0, 2.0, 0.3, 0.06, 0.4, 0.7), 100) / 1000.0
+    flat = flat + rng.normal(scale=2e-7, size=flat.shape)
+    bulge = 0.002 * np.sin(np.linspace(0, np.pi, len(flat))) * 0.17
+    c, s = np.cos(0.4), np.sin(0.4)
+    rot = np.array([[1, 0, 0], [0, c, -s], [0, s, c]])
+    pts = np.column_stack([flat, bulge]) @ rot.T + [10.0, 20.0, 5.0]
+    src, out, rep = tmp_path / "scan.xyz", tmp_path / "out.csv", tmp_path / "r.json"
+    np.savetxt(src, pts)
+    args = ["fair", str(src), "-o", str(out), "--report", str(rep)]
+    result = CliRunner().invoke(cli(), [*args, "--tolerance", "1e-3"])
+    assert result.exit_code == 0, result.output
+    row = json.loads(rep.read_text())["curves"][0]
+    written = np.loadtxt(out, delimiter=",", skiprows=1)
+    truth = _point_polyline_distance(pts, written)
+    assert row["max_deviation"] == pytest.approx(truth.max(), rel=1e-6)
+    assert row["max_deviation_in_plane"] < 0.3 * row["max_deviation"]
+    assert row["plane"]["max_distance"] <= row["max_deviation"] <= 1e-3
+    tol = 0.5 * (row["max_deviation_in_plane"] + row["max_deviation"])
+    out.unlink()
+    result = CliRunner().invoke(cli(), [*args, "--tolerance", f"{tol:.6g}"])
+    assert result.exit_code == 1
+    assert not out.exists() and "no output written" in result.output
+    assert "in its best plane, but its points lie up to" in result.output
+    row = json.loads(rep.read_text())["curves"][0]
+    assert row["within_tolerance_in_plane"] is True and row["within_tolerance"] is False
+
+
+@pytest.mark.parametrize("where", ["report", "plot", "suffix"])
+def test_fair_checks_every_destination_before_fitting(tmp_path, monkeypatch, where):
+    """A report or plot into a missing folder, or an output of unknown suffix, is refused
+    before any fit (it was found after the output was written, or after all the fitting)."""
+    import curvesmith.elastica as elastica
+
+    def no_fit(*a, **k):
+        raise AssertionError("fitted before the destinations were checked")
+
+    monkeypatch.setattr(elastica, "fit", no_fit)
+    src, out = data.path("elastica_wave.csv"), tmp_path / "out.csv"
+    args = ["fair", str(src), "-o", str(out)]
+    if where == "report":
+        args += ["--report", str(tmp_path / "missing" / "r.json")]
+    elif where == "plot":
+        args += ["--plot", str(tmp_path / "missing" / "p.png")]
+    else:
+        args[3] = str(tmp_path / "out.xyz")
+    result = CliRunner().invoke(cli(), args)
+    assert result.exit_code == 1 and "Traceback" not in result.output
+    assert ("missing" if where != "suffix" else "unknown file suffix '.xyz'") in result.output
+    assert not out.exists() and not (tmp_path / "out.xyz").exists()

@@ -10,7 +10,7 @@ import click
 import numpy as np
 
 from ..errors import CurveError
-from ._common import FORMAT_OPTION, POSITIVE, read_curves, write_curves
+from ._common import FORMAT_OPTION, POSITIVE, check_output, read_curves, write_curves
 
 __all__ = ["fair_command"]
 
@@ -54,6 +54,26 @@ def _plane_2d(points: np.ndarray, index: int):
             f"({rms / extent:.2g} of its extent); fitted in that plane"
         )
     return np.ascontiguousarray(coords[:, :2]), (centroid, axes), plane, warning
+
+
+def _in_space(row: dict, in_plane: np.ndarray, off_plane: np.ndarray) -> None:
+    """A 3D curve's row: deviations from the written (3D) fit instead of in its plane.
+
+    The fit lies in the plane, so the distance of an input point from it is the
+    in-plane distance of the point's projection and its distance from the plane in
+    quadrature; the in-plane figures are kept as ``*_in_plane``.
+    """
+    dev = np.hypot(np.asarray(in_plane, dtype=float), off_plane)
+    row["max_deviation_in_plane"] = row["max_deviation"]
+    row["rms_deviation_in_plane"] = row["rms_deviation"]
+    row["max_deviation"] = float(dev.max()) if dev.size else 0.0
+    row["rms_deviation"] = float(np.sqrt(np.mean(dev**2))) if dev.size else 0.0
+    row["message"] += (
+        f"; with the distances from the plane: max deviation {row['max_deviation']:.3g}"
+    )
+    if row["tolerance"] is not None:
+        row["within_tolerance_in_plane"] = row["within_tolerance"]
+        row["within_tolerance"] = bool(row["max_deviation"] <= row["tolerance"])
 
 
 def _report_row(index: int, res, resampled: bool, plane) -> dict:
@@ -227,11 +247,21 @@ def fair_command(
     report lists the segments and the G1 defect and curvature jump at each joint.
     """
     from ..elastica import SPACING_TOL, fit, fit_segments, spacing_spread
+    from ..io import check_destination
 
     if step is not None and resample is False:
         raise click.UsageError("--step needs resampling; drop --no-resample")
     if max_segments is not None and tolerance is None:
         raise click.UsageError("--max-segments needs --tolerance (the deviation to meet)")
+    # every destination checked before the fitting: no output is written and then
+    # followed by an error about the report or the plot
+    if fmt is None and dest.lower().endswith(".dxf"):
+        check_destination(dest)
+    else:
+        check_output(dest, fmt)
+    for extra in (report, plot):
+        if extra is not None:
+            check_destination(extra)
     curves = _read(source, fmt)
     out: list = []
     rows: list[dict[str, Any]] = []
@@ -276,12 +306,16 @@ def fair_command(
             faired = centroid + faired @ axes[:2]
         out.append(curve.replace(points=faired))
         if max_segments is not None:
-            rows.append(_segments_row(index, res, do_resample, plane))
+            row = _segments_row(index, res, do_resample, plane)
         else:
-            rows.append(_report_row(index, res, do_resample, plane))
+            row = _report_row(index, res, do_resample, plane)
+        if frame is not None:
+            _in_space(row, res.deviation, np.abs((curve.points - frame[0]) @ frame[1][2]))
+        rows.append(row)
         fits.append((index, res, pts))
     failed = [r for r in rows if not r["success"]]
     missed = [r for r in rows if r["within_tolerance"] is False]
+    off_plane = [r for r in missed if r.get("within_tolerance_in_plane")]
     if not failed and not missed:
         if fmt is None and dest.lower().endswith(".dxf"):
             from ..io.dxf import write_dxf
@@ -299,6 +333,14 @@ def fair_command(
         raise CurveError(
             f"{len(failed)} of {len(rows)} fits failed (no output written); "
             f"curve {first['index']}: {first['message']}"
+        )
+    if off_plane:
+        first = off_plane[0]
+        raise CurveError(
+            f"{len(missed)} of {len(rows)} fits miss the tolerance {tolerance:g} (no output "
+            f"written); curve {first['index']}: within {first['max_deviation_in_plane']:.6g} "
+            f"in its best plane, but its points lie up to {first['plane']['max_distance']:.6g} "
+            f"from that plane: {first['max_deviation']:.6g} from the fit in space"
         )
     if missed and max_segments is not None:
         first = missed[0]
