@@ -15,6 +15,7 @@ import signal
 import time
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from curvesmith.errors import CurveFormatError
@@ -168,3 +169,44 @@ def test_smoothed_svg_keeps_the_source_paint(tmp_path):
     assert 'width="72pt"' in head and 'height="72pt"' in head and 'viewBox="0 0 72 72"' in head
     invisible = sum(1 for s in by_feature.values() if s and s.get("opacity") == "0")
     assert invisible >= 1 and text.count('opacity="0"') == invisible
+
+
+def _transformed(transform: str) -> str:
+    return (
+        '<svg xmlns="http://www.w3.org/2000/svg"><g><path id="p" d="M 0 0 L 10 0 L 10 10 Z" '
+        f'transform="{transform}"/></g></svg>'
+    )
+
+
+@pytest.mark.parametrize(
+    "transform",
+    ["rotate(bad)", "matrix(1 2 3)", "translate(a,b)", "foo(1)", "rotate(30 1)",
+     "scale(2) junk", "translate(10px, 5mm)", "scale(2%)", "skewX()"],
+)  # fmt: skip
+def test_malformed_transform_is_a_format_error(transform):
+    # svgelements raised IndexError on some (a traceback) and ignored others silently
+    with pytest.raises(CurveFormatError) as err:
+        read_svg(io.StringIO(_transformed(transform)))
+    assert f'<path id="p"> has transform={transform!r}, not an SVG transform list' in str(err.value)
+
+
+@pytest.mark.parametrize(
+    ("transform", "matrix"),
+    [
+        ("translate(3e1 -2.5E-1)", (1, 0, 0, 1, 30, -0.25)),
+        (" scale(2) , translate(1 2) ", (2, 0, 0, 2, 2, 4)),
+        ("translate(10px, 5px)", (1, 0, 0, 1, 10, 5)),
+        ("rotate(0.25turn)", (0, 1, -1, 0, 0, 0)),
+        ("rotate(90 5 5)", (0, 1, -1, 0, 10, 0)),
+        ("skewX(45deg)", (1, 0, 1, 1, 0, 0)),
+        ("", (1, 0, 0, 1, 0, 0)),
+    ],
+)
+def test_valid_transforms_read_as_their_matrix(transform, matrix):
+    a, b, c, d, e, f = matrix
+    got = read_svg(io.StringIO(_transformed(transform)))[0].points
+    ref = read_svg(io.StringIO(_transformed(f"matrix({a} {b} {c} {d} {e} {f})")))[0].points
+    assert np.allclose(got, ref, rtol=0, atol=1e-12)
+    square = [[0, 0], [10, 0], [10, 10]]
+    want = [[a * x + c * y + e, b * x + d * y + f] for x, y in square]
+    assert np.allclose(ref, want, rtol=0, atol=1e-12)

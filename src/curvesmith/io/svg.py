@@ -264,10 +264,63 @@ def _marked_document(text: str, name: str):
         return None, text  # svgelements' parse reports it with line and column
     k = 0
     for element in root.iter():
+        transform = element.get("transform")
+        if transform is not None:
+            _check_transform(transform, element, name)
         if _local(element.tag) in _SHAPES:
             element.set(_NODE, str(k))
             k += 1
     return root, ET.tostring(root, encoding="unicode")
+
+
+#: How many numbers each transform function takes (SVG 1.1 and the CSS 2D functions that
+#: svgelements reads).
+_TRANSFORM_ARGS = {
+    "matrix": (6,), "translate": (1, 2), "translatex": (1,), "translatey": (1,),
+    "scale": (1, 2), "scalex": (1,), "scaley": (1,), "rotate": (1, 3), "skew": (1, 2),
+    "skewx": (1,), "skewy": (1,),
+}  # fmt: skip
+
+
+_ANGLE_UNITS = ("deg", "rad", "grad", "turn")
+
+
+def _check_transform(value: str, element, name: str) -> None:
+    """Raise if a ``transform`` attribute is not a transform list.
+
+    svgelements failed on some with an IndexError and silently ignored others.
+    """
+    import svgelements as se
+
+    text = value.lower()
+    ok = True
+    end = 0
+    for m in se.REGEX_TRANSFORM_TEMPLATE.finditer(text):
+        if text[end : m.start()].strip(" \t\r\n,"):
+            ok = False  # something between the functions that is not one
+        end = m.end()
+        args = m.group(2)
+        params = se.REGEX_TRANSFORM_PARAMETER.findall(args)
+        numbers = se.REGEX_FLOAT.findall(args)
+        rest = se.REGEX_TRANSFORM_PARAMETER.sub("", args).strip(" \t\r\n,")
+        fn = m.group(1)
+        if rest or len(params) != len(numbers) or len(params) not in _TRANSFORM_ARGS[fn]:
+            ok = False
+        for i, (_, unit) in enumerate(params):
+            angle = fn in ("rotate", "skew", "skewx", "skewy") and i == 0
+            lengths = fn.startswith("translate") or (fn == "rotate" and i > 0)
+            if unit not in ("",) + (_ANGLE_UNITS if angle else ("px",) if lengths else ()):
+                ok = False  # lengths in mm, % ...: no page size to resolve them against
+    if text[end:].strip(" \t\r\n,"):
+        ok = False
+    if not ok:
+        tag = _local(element.tag)
+        ident = f' id="{element.get("id")}"' if element.get("id") else ""
+        raise CurveFormatError(
+            f"{name}: <{tag}{ident}> has transform={value!r}, not an SVG transform list "
+            "(matrix of 6 numbers, translate, scale, rotate of 1 or 3, skewX, skewY; lengths "
+            "without units or in px)"
+        )
 
 
 def _page_of(text: str) -> dict[str, str]:
