@@ -82,10 +82,38 @@ def test_curvesmith_smooth_routes_gis_files_through_geo(tmp_path):
     np.testing.assert_allclose(
         shapely.area(back.geometry.values), shapely.area(df.geometry.values), rtol=1e-9
     )
-    # GIS-only options on a plain curve file, and derham on a GIS file: one-line errors.
+    # GIS-only options on a plain curve file, and derham on a GIS file: one-line usage
+    # errors, exit status 2 as the README's contract says (they exited 1 before)
     csv = tmp_path / "a.csv"
     csv.write_text("x,y\n0,0\n1,1\n2,0\n")
     res = runner.invoke(main, ["smooth", str(csv), "-o", str(tmp_path / "b.csv"), "--coverage"])
-    assert res.exit_code == 1 and "apply to GIS files" in res.output
+    assert res.exit_code == 2 and "apply to GIS files" in res.output
     res = runner.invoke(main, ["smooth", str(src), "-o", str(out), "--method", "derham"])
-    assert res.exit_code == 1 and "not available for GIS files" in res.output
+    assert res.exit_code == 2 and "not available for GIS files" in res.output
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["--method", "derham"],
+        ["--coverage", "--network"],
+        ["--anchors", "1,2"],
+        ["--curves", "quadratic"],
+        ["--snap", "1"],
+        ["--coverage", "--snap", "nan"],
+    ],
+)
+def test_option_clashes_on_gis_files_are_usage_errors(tmp_path, args):
+    # options that do not go together, or a bad value, are usage errors (exit 2, as the README
+    # says); they exited 1, a data error. From Python they stay CurveErrors.
+    from click.testing import CliRunner
+
+    from curvesmith.cli import main
+
+    src = tmp_path / "x.gpkg"
+    geo.write_file(geo.us_counties(states=["10"]), src)
+    out = tmp_path / "o.gpkg"
+    res = CliRunner().invoke(main, ["smooth", str(src), "-o", str(out), *args])
+    assert res.exit_code == 2, res.output
+    assert res.output.startswith("Error: ") and len(res.output.strip().splitlines()) == 1
+    assert not out.exists()

@@ -36,6 +36,14 @@ __all__ = [
 ]
 
 
+class OptionError(click.UsageError, CurveError):
+    """Options that do not go together: exit status 2 on the command line, a CurveError in Python.
+
+    The command line's functions (``smooth_geofile``, ...) are also called from Python
+    (the QGIS plugin, scripts), where a CurveError is what callers catch.
+    """
+
+
 class _Number(click.FloatRange):
     """A finite float in a range (click's FloatRange lets ``nan`` and ``inf`` through)."""
 
@@ -72,6 +80,8 @@ COUNT = click.IntRange(min=0)
 POSITIVE_INT = click.IntRange(min=1)
 #: tolerances, steps, intervals: a finite number > 0
 POSITIVE = _Number(min=0.0, min_open=True)
+#: distances that may be 0 (a snap distance): a finite number >= 0
+NON_NEGATIVE = _Number(min=0.0)
 #: de Rham's ratio 1:gamma:1: a finite number > 1
 GAMMA = _Number(min=1.0, min_open=True)
 #: cca's cut parameter
@@ -258,16 +268,16 @@ def parse_indices(text: str, *, name: str) -> list[int]:
 
 
 def gis_method(method: str, *, what: str) -> methods.GisMethod:
-    """`method` if it smooths GIS layers, else the one-line error naming what it is not for.
+    """`method` if it smooths GIS layers, else the usage error naming what it is not for.
 
-    >>> gis_method("derham", what="GIS files")
+    >>> gis_method("derham", what="GIS files")  # doctest: +ELLIPSIS
     Traceback (most recent call last):
     ...
-    curvesmith.errors.CurveError: --method derham is not available for GIS files; use cca or chaikin
+    curvesmith.cli._common.OptionError: --method derham is not available for GIS files; use ...
     """
     gis = methods.as_gis(method)
     if gis is None:
-        raise CurveError(
+        raise OptionError(
             f"--method {method} is not available for {what}; use {' or '.join(methods.gis_names())}"
         )
     return gis

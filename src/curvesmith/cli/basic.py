@@ -19,7 +19,9 @@ from ._common import (
     KEEP_ANGLE_OPTION,
     MAX_SHIFT_OPTION,
     MIN_SEGMENT_OPTION,
+    NON_NEGATIVE,
     POSITIVE,
+    OptionError,
     check_output,
     parse_indices,
     read_curves,
@@ -185,7 +187,7 @@ def _where(row: dict) -> str:
 @click.option("--make-valid", is_flag=True, help="GIS: repair invalid input polygons first.")
 @click.option(
     "--snap",
-    type=click.FloatRange(min=0.0),
+    type=NON_NEGATIVE,
     default=None,
     help="GIS coverage: snap distance to clean it first.",
 )
@@ -253,7 +255,7 @@ def smooth_command(
         from .contours import smooth_network_geofile
 
         if anchors or coverage or make_valid or snap is not None or source == "-":
-            raise CurveError("--network takes a GIS file and no --anchors/--coverage/--snap")
+            raise OptionError("--network takes a GIS file and no --anchors/--coverage/--snap")
         smooth_network_geofile(
             source,
             dest,
@@ -273,7 +275,9 @@ def smooth_command(
         is_geofile(source, coverage=coverage) or (geojson_in and (gis_out or budget))
     ):
         if anchors or curve_kind:
-            raise CurveError("--anchors and --curves are not available for GIS files")
+            raise OptionError("--anchors and --curves are not available for GIS files")
+        if snap is not None and not coverage:
+            raise OptionError("--snap cleans a coverage: it needs --coverage")
         check_geo_output(dest, fmt)
         smooth_geofile(
             source,
@@ -294,7 +298,7 @@ def smooth_command(
         return
     flags = (coverage, layer is not None, equal_area, make_valid, snap is not None, allow_null)
     if any(flags) or budget:
-        raise CurveError(
+        raise OptionError(
             "--coverage, --layer, --equal-area, --make-valid, --snap, --allow-null, "
             "--max-shift and --min-segment apply to GIS files (.gpkg, .shp, .fgb, or GeoJSON)"
         )

@@ -22,6 +22,8 @@ from ._common import (
     KEEP_ANGLE_OPTION,
     MAX_SHIFT_OPTION,
     MIN_SEGMENT_OPTION,
+    NON_NEGATIVE,
+    OptionError,
     gis_method,
 )
 
@@ -233,7 +235,7 @@ def batch_group() -> None:
 @click.option("--make-valid", is_flag=True, help="Repair invalid polygons instead of failing them.")
 @click.option(
     "--snap",
-    type=click.FloatRange(min=0.0),
+    type=NON_NEGATIVE,
     default=None,
     help="Coverage: snapping distance (CRS units).",
 )
@@ -303,6 +305,8 @@ def batch_smooth_command(
         ]
         if clash:
             raise click.UsageError(f"--network cannot be combined with {clash[0]}")
+    if snap is not None and not coverage:
+        raise OptionError("--snap cleans a coverage: it needs --coverage")
     _check_batch_paths(source, dest)
     n_null, n_empty = _null_precheck(source, _layer(layer), allow_null)
 
