@@ -265,3 +265,25 @@ def test_geopackage_written_without_journal_then_synced_and_options_restored(tmp
     geo.write_file(df, tmp_path / "c.fgb")
     assert seen[-1] == {"OGR_SQLITE_JOURNAL": None, "OGR_SQLITE_SYNCHRONOUS": None}
     assert len(synced) == 2
+
+
+@pytest.mark.parametrize("suffix", [".shp", ".fgb", ".gpkg", ".geojson"])
+def test_write_file_with_an_empty_geometry(tmp_path, suffix):
+    # Shapefile and FlatGeobuf have no empty geometry (GDAL writes NULL): the read-back
+    # check expected no NULL and refused the file, blaming a full disk
+    df = gpd.GeoDataFrame(
+        {"a": [1, 2, 3]},
+        geometry=[shapely.box(0, 0, 10, 10), shapely.Polygon(), None],
+        crs="EPSG:3857",
+    )
+    out = tmp_path / f"o{suffix}"
+    geo.write_file(df, out)
+    back = geo.read_file(out)
+    assert back["a"].tolist() == [1, 2, 3]
+    assert shapely.equals(back.geometry.values[0], df.geometry.values[0])
+    second = back.geometry.values[1]
+    if suffix in (".shp", ".fgb"):
+        assert second is None
+    else:
+        assert second is None or shapely.is_empty(second)
+    assert back.geometry.values[2] is None

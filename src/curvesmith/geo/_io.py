@@ -500,7 +500,8 @@ def write_file(df: Any, path: str | Path, *, layer: str | None = None) -> None:
     GeoPackage written with an explicit ``layer`` keeps its other layers (that layer is
     replaced, or added). The new file is written completely to a temporary file in the same
     folder and read back before it replaces anything: a failed write (a full disk) leaves
-    the previous file untouched and no partial file.
+    the previous file untouched and no partial file. Shapefile and FlatGeobuf have no
+    empty geometry: an empty one is written as NULL (no geometry).
     """
     pyogrio = require("pyogrio", "geo", "writing GIS files")
     shapely = require("shapely", "geo", "writing GIS files")
@@ -545,7 +546,9 @@ def write_file(df: Any, path: str | Path, *, layer: str | None = None) -> None:
                 kwargs["promote_to_multi"] = True
             z = "3D " if shapely.has_z(geoms[present]).any() else ""
             kwargs["geometry_type"] = f"Measured {z}{name}"
-    n_null, _ = geometry_counts(df)
+    n_null, n_empty = geometry_counts(df)
+    if driver in _NO_EMPTY:
+        n_null += n_empty  # written as NULL: that is what reading back must find
     # a large GeoPackage goes in slices (the first creates the layer, the others append),
     # with the layer's type fixed for the whole frame, so that the WKB of the whole layer
     # is never held at once; every other file is written in one call
@@ -658,6 +661,9 @@ _TYPE_NAMES = {
     7: "GeometryCollection",
 }
 
+
+#: Formats without an empty geometry: GDAL writes an empty one as NULL (no geometry).
+_NO_EMPTY = ("ESRI Shapefile", "FlatGeobuf")
 
 #: Sidecar files of a Shapefile that an older output may have and a new one not.
 _SHAPEFILE_PARTS = (".shx", ".dbf", ".prj", ".cpg", ".qix", ".sbn", ".sbx")
