@@ -287,3 +287,99 @@ def test_write_file_with_an_empty_geometry(tmp_path, suffix):
     else:
         assert second is None or shapely.is_empty(second)
     assert back.geometry.values[2] is None
+
+
+def _field_types(path):
+    info = pyogrio.read_info(path)
+    types = zip(info["ogr_types"], info["ogr_subtypes"], strict=True)
+    return dict(zip(info["fields"], types, strict=True))
+
+
+@pytest.mark.parametrize("suffix", [".gpkg", ".fgb"])
+def test_field_types_survive_read_smooth_write(tmp_path, suffix):
+    # pyogrio's default reader turns an Integer/Boolean field with a NULL into float64 and a
+    # Date into datetime64, which were written back as Real and DateTime
+    import datetime as dt
+
+    import pandas as pd
+    import pyarrow as pa
+    from click.testing import CliRunner
+
+    from curvesmith.cli import main
+
+    df = gpd.GeoDataFrame(
+        {
+            "i32": pd.array([1, None, 3], dtype="Int32"),
+            "i64": pd.array([10, 20, None], dtype="Int64"),
+            "i16": pd.array([None, 2, 3], dtype="Int16"),
+            "flag": pd.array([True, None, False], dtype="boolean"),
+            "ok": np.array([1, 2, 3], dtype=np.int32),
+            "day": pd.array(
+                [dt.date(2020, 1, 31), None, dt.date(1999, 12, 1)], dtype=pd.ArrowDtype(pa.date32())
+            ),
+            "name": ["a", None, "c"],
+        },
+        geometry=[shapely.box(k * 20, 0, k * 20 + 10, 10) for k in range(3)],
+        crs="EPSG:32633",
+    )
+    src, out = tmp_path / f"in{suffix}", tmp_path / f"out{suffix}"
+    opts = {"layer_options": {"SPATIAL_INDEX": "NO"}} if suffix == ".fgb" else {}  # in order
+    pyogrio.write_dataframe(df, src, use_arrow=True, **opts)
+    want = _field_types(src)
+    assert want["i16"] == ("OFTInteger", "OFSTInt16")
+    assert want["day"][0] == ("OFTDate" if suffix == ".gpkg" else "OFTDateTime")  # FGB: no Date
+    back = geo.read_file(src)
+    assert back["i32"].tolist()[::2] == [1, 3] and back["i32"].isna().tolist() == [0, 1, 0]
+    assert str(back["i32"].dtype) == "Int32" and str(back["flag"].dtype) == "boolean"
+    assert back["ok"].dtype == np.int32  # no NULL: numpy's type, as before
+    res = CliRunner().invoke(main, ["smooth", str(src), "-o", str(out)])
+    assert res.exit_code == 0, res.output
+    assert _field_types(out) == want
+    got = pyogrio.read_dataframe(out, use_arrow=True)
+
+    def values(col):
+        return [None if pd.isna(v) else v for v in col]
+
+    for col in ("i32", "i64", "i16", "flag", "ok", "name"):
+        assert values(got[col]) == values(df[col]), col
+    days = [None if pd.isna(v) else pd.Timestamp(v).date() for v in got["day"]]
+    assert days == [dt.date(2020, 1, 31), None, dt.date(1999, 12, 1)]
+
+
+def test_reading_says_what_it_chose_or_could_not_find(tmp_path):
+    # several layers and no layer=: the first was read without a word; a Shapefile without
+    # its .dbf (no attributes) or .prj (no CRS) too
+    import shutil
+    import warnings
+
+    from click.testing import CliRunner
+
+    from curvesmith.cli import main
+    from curvesmith.internals import geo_io
+
+    df = geo.us_counties(states=["10"])
+    gpkg = tmp_path / "two.gpkg"
+    geo.write_file(df, gpkg, layer="a")
+    geo.write_file(df.iloc[:1], gpkg, layer="b")
+    with pytest.warns(
+        geo_io.InputWarning, match=r"2 layers with geometries \(a, b\): reading the first, 'a'"
+    ):
+        assert len(geo.read_file(gpkg)) == len(df)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", geo_io.InputWarning)
+        assert len(geo.read_file(gpkg, layer="b")) == 1
+    shp = tmp_path / "c.shp"
+    geo.write_file(df, shp)
+    for part, said in ((".dbf", "no attributes"), (".prj", "no CRS")):
+        bare = tmp_path / f"bare{part[1:]}"
+        bare.mkdir()
+        for sib in tmp_path.glob("c.*"):
+            if sib.suffix != part:
+                shutil.copy(sib, bare / sib.name)
+        with pytest.warns(geo_io.InputWarning, match=f"c.shp has no {part} beside it: .*{said}"):
+            geo.read_file(bare / "c.shp")
+    out = tmp_path / "o.gpkg"
+    res = CliRunner().invoke(main, ["smooth", str(gpkg), "-o", str(out)])
+    assert res.exit_code == 0, res.output
+    lines = [ln for ln in res.stderr.splitlines() if "layers with geometries" in ln]
+    assert len(lines) == 1 and lines[0].startswith("Warning: two.gpkg has 2 layers")

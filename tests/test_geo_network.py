@@ -343,7 +343,7 @@ def test_cli_smooth_network(tmp_path):
     r = CliRunner().invoke(main, ["smooth", str(src), "-o", str(geojson), "--network"])
     assert r.exit_code == 0 and len(gpd.read_file(geojson)) == 36
     r = CliRunner().invoke(main, ["smooth", str(src), "-o", str(out), "--network", "--coverage"])
-    assert r.exit_code == 1 and "Error: --network" in r.output
+    assert r.exit_code == 2 and "Error: --network" in r.output  # a usage error
     assert "Traceback" not in r.output
 
 

@@ -115,7 +115,16 @@ def smooth_network_geofile(
 
     gis = gis_method(method, what="networks")
     _check_output(out_path)
-    df = geo.read_file(in_path, layer=int(layer) if layer and layer.isdigit() else layer)
+    from ..geo._io import InputWarning
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", InputWarning)
+        df = geo.read_file(in_path, layer=int(layer) if layer and layer.isdigit() else layer)
+    for w in caught:
+        if issubclass(w.category, InputWarning):
+            click.echo(f"Warning: {w.message}", err=True)
+        else:
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
     crs = df.crs
     if equal_area and crs is None:
         raise CurveError(f"--equal-area needs a CRS, but {in_path!r} has none")

@@ -86,11 +86,14 @@ def _layer(layer: str | None) -> str | int | None:
 def _run_reporting_crs(fn, *args, **kwargs):
     """Call a file smoother and print its geographic-CRS warnings as one line each."""
     from .. import geo
+    from ..geo._io import InputWarning
 
+    kinds = (geo.GeographicCRSWarning, InputWarning)
     with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always", geo.GeographicCRSWarning)
+        for kind in kinds:
+            warnings.simplefilter("always", kind)
         report = fn(*args, **kwargs)
-    _echo_warnings(w for w in caught if issubclass(w.category, geo.GeographicCRSWarning))
+    _echo_warnings(w for w in caught if issubclass(w.category, kinds))
     return report
 
 
@@ -183,6 +186,11 @@ def _summary(report) -> None:
         )
     if report.n_points:
         parts.append(f"{report.n_points} Point/MultiPoint feature(s) written through unchanged")
+    if report.n_unchanged:
+        parts.append(
+            f"{report.n_unchanged} left as they were: no strength tried kept them within "
+            "--max-shift / --min-segment"
+        )
     if report.n_reductions:
         parts.append(f"{report.n_reductions} piece(s) smoothed less to stay valid")
     if report.not_equal_area:
@@ -362,7 +370,9 @@ def _check_batch_paths(source: str, dest: str) -> None:
 
 def _null_precheck(source: str, layer, allow_null: bool) -> tuple[int, int]:
     """Refuse NULL geometries before the cluster starts (they are often a damaged file)."""
-    from ..geo._io import check_null_geometries, read_file
+    from ..geo._io import InputWarning, check_null_geometries, read_file
 
-    geoms = read_file(source, layer=layer, columns=[])
+    with warnings.catch_warnings():  # said once, by the smoothing's own reading
+        warnings.simplefilter("ignore", InputWarning)
+        geoms = read_file(source, layer=layer, columns=[])
     return check_null_geometries(geoms, source, allow_null=allow_null)

@@ -405,7 +405,11 @@ def smooth_coverage(
     gap_width : float
         Gaps narrower than this are reported as invalid edges.
     make_valid : bool
-        Repair invalid input polygons with :func:`shapely.make_valid` instead of raising.
+        Repair invalid input polygons with :func:`shapely.make_valid` instead of raising,
+        by its ``method="structure"`` (as PostGIS' ``ST_MakeValid``): shells are unioned
+        and holes subtracted, so overlapping parts merge and a hole drawn inside another
+        hole (an island in a lake drawn as one polygon) is dropped; the default
+        ``"linework"`` method would keep every line, also those of the drawing errors.
     validate : bool
         Check the result with :func:`shapely.coverage_is_valid`. Its verdict is proven by
         a compiled test of the arcs and nodes where it can be (:func:`certainly_valid`,

@@ -47,6 +47,14 @@ class GeographicCRSWarning(UserWarning):
     """Smoothing in longitude/latitude degrees: planar area is not ground area."""
 
 
+class InputWarning(UserWarning):
+    """What reading a GIS file chose or could not find.
+
+    The first of several layers, a Shapefile's missing ``.dbf`` (no attributes) or
+    ``.prj`` (no CRS).
+    """
+
+
 @dataclass(frozen=True)
 class FileSmoothReport:
     """What :func:`smooth_file` did.
@@ -84,6 +92,9 @@ class FileSmoothReport:
         With ``equal_area``: features smoothed in the data's own CRS instead, because the
         projection folded them (valid in degrees, self-intersecting projected) or they
         were not valid after projecting back.
+    n_unchanged : int
+        Feature by feature with ``max_shift`` / ``min_segment`` (not ``equal_area``):
+        features that no strength tried kept within the bounds, written as they were.
     """
 
     n_features: int
@@ -99,6 +110,7 @@ class FileSmoothReport:
     n_empty: int = 0
     not_equal_area: tuple[int, ...] = ()
     n_points: int = 0
+    n_unchanged: int = 0
 
 
 def _driver_for(path: Path) -> str:
@@ -171,6 +183,19 @@ def read_file(
                 f"layer {str(chosen)!r} of {str(path)!r} is a table without geometries; "
                 f"layers with geometries: {spatial}"
             )
+    if layer is None and len(spatial) > 1:
+        warnings.warn(
+            f"{path.name} has {len(spatial)} layers with geometries ({', '.join(spatial)}): "
+            f"reading the first, {str(chosen)!r}; choose one with layer= (--layer)",
+            InputWarning,
+            stacklevel=2,
+        )
+    if path.suffix.lower() == ".shp":
+        for part, lost in ((".dbf", "the features have no attributes"), (".prj", "no CRS")):
+            if not any(path.with_suffix(x).exists() for x in (part, part.upper())):
+                warnings.warn(
+                    f"{path.name} has no {part} beside it: {lost}", InputWarning, stacklevel=2
+                )
     layer = chosen
     try:
         with warnings.catch_warnings(record=True) as caught:
@@ -184,7 +209,59 @@ def read_file(
             warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
     if measured:  # pyogrio's default reader drops M; its Arrow reader keeps it
         df = _read_measured(path, layer, columns)
+    else:
+        _restore_field_types(df, pyogrio.read_info(path, layer=layer))
     return df
+
+
+#: Where the file keeps its field types (``df.attrs``): the Date fields, which pandas reads
+#: as datetimes and :func:`write_file` writes back as dates.
+DATE_FIELDS = "curvesmith_date_fields"
+
+
+def _restore_field_types(df: Any, info: dict) -> None:
+    """Give back the field types that pyogrio's default reader loses, in place.
+
+    An Integer, Integer64, Int16 or Boolean field with a NULL reads as float64 (1.0,
+    NaN): it becomes pandas' nullable Int32, Int64, Int16 or boolean, which the writer
+    writes as the same field type. A Date field reads as datetime64: its name is kept in
+    ``df.attrs[DATE_FIELDS]`` so that :func:`write_file` writes it as a Date again.
+    """
+    nullable = {"OFSTBoolean": "boolean", "OFSTInt16": "Int16"}
+    dates = []
+    fields = zip(info["fields"], info["ogr_types"], info["ogr_subtypes"], strict=True)
+    for name, kind, sub in fields:
+        if name not in df.columns:
+            continue
+        col = df[name]
+        if kind in ("OFTInteger", "OFTInteger64") and col.dtype == np.float64:
+            dtype = nullable.get(sub, "Int64" if kind == "OFTInteger64" else "Int32")
+            df[name] = col.astype(dtype)
+        elif kind == "OFTDate" and str(col.dtype).startswith("datetime64"):
+            dates.append(str(name))
+    if dates:
+        df.attrs[DATE_FIELDS] = dates
+
+
+def _with_dates(df: Any) -> tuple[Any, bool]:
+    """`df` with its Date fields (see :func:`_restore_field_types`) as dates, for writing."""
+    names = [n for n in df.attrs.get(DATE_FIELDS, ()) if n in df.columns]
+    names = [n for n in names if str(df[n].dtype).startswith("datetime64")]
+    if not names:
+        return df, False
+    import pandas as pd
+
+    try:
+        import pyarrow as pa
+    except ImportError:  # without pyarrow the dates are written as date-times, as before
+        return df, False
+    out = df.copy()
+    for n in names:
+        col = out[n]
+        if col.dt.tz is not None or (col.dropna() != col.dropna().dt.normalize()).any():
+            continue  # times of day or a time zone: no longer plain dates
+        out[n] = pd.array(col.dt.date.where(col.notna(), None), dtype=pd.ArrowDtype(pa.date32()))
+    return out, True
 
 
 def _read_measured(path: Path, layer: Any, columns: Any) -> Any:
@@ -546,6 +623,9 @@ def write_file(df: Any, path: str | Path, *, layer: str | None = None) -> None:
                 kwargs["promote_to_multi"] = True
             z = "3D " if shapely.has_z(geoms[present]).any() else ""
             kwargs["geometry_type"] = f"Measured {z}{name}"
+    df, dated = _with_dates(df)
+    if dated:
+        kwargs["use_arrow"] = True  # pyogrio writes a Date field from Arrow's date32 only
     n_null, n_empty = geometry_counts(df)
     if driver in _NO_EMPTY:
         n_null += n_empty  # written as NULL: that is what reading back must find
@@ -1142,6 +1222,7 @@ def smooth_file(
         df = df.copy()
         df.geometry = np.where(points, np.array(None, dtype=object), kept)
     planar: list[int] = []
+    n_unchanged = 0
     # lon/lat data: vertices on the antimeridian and the poles stay put (Fiji, Chukotka and
     # Antarctica keep meeting there) and the output stays inside the domain
     edges = {"fixed": domain_fixed(crs)} if geographic and not equal_area else {}
@@ -1182,6 +1263,7 @@ def smooth_file(
         else:
             res = smooth(df, make_valid=make_valid, full_output=True, **options, **edges)
             out, n_red, change = res.geometry, len(res.reductions), float(res.max_area_change)
+            n_unchanged = res.n_unchanged
         invalid, valid = {}, None
     if geographic:
         out = out.copy()
@@ -1207,6 +1289,7 @@ def smooth_file(
         n_empty=n_empty,
         not_equal_area=tuple(planar),
         n_points=int(points.sum()),
+        n_unchanged=n_unchanged,
     )
 
 

@@ -67,12 +67,16 @@ class SmoothResult(RichRepr):
         Largest relative change ``|A' - A| / |A|`` of a ring's signed area (closed rings)
         or of the area between a line and its chord (open lines with non-zero such area).
         With ``method="cca"`` this is round-off (CCA keeps these areas exactly).
+    n_unchanged : int
+        With ``max_shift`` / ``min_segment``: features (with a geometry) that no
+        strength tried keeps within the bounds, returned as they were.
     """
 
     geometry: Any
     reductions: tuple[GeometryReduction, ...]
     n_curves: int
     max_area_change: float
+    n_unchanged: int = 0
 
 
 def _shapely():
@@ -1073,7 +1077,11 @@ def smooth(
         CCA cut ratio: the regular-polygon profile of the paper's Table 1, a constant in
         (0, 1/3), or a function of the interior angle in radians. Ignored by Chaikin.
     make_valid : bool
-        Repair invalid input polygons with :func:`shapely.make_valid` instead of raising.
+        Repair invalid input polygons with :func:`shapely.make_valid` instead of raising,
+        by its ``method="structure"`` (as PostGIS' ``ST_MakeValid``): shells are unioned
+        and holes subtracted, so overlapping parts merge and a hole drawn inside another
+        hole (an island in a lake drawn as one polygon) is dropped; the default
+        ``"linework"`` method would keep every line, also those of the drawing errors.
     full_output : bool
         Return a :class:`SmoothResult` with the reductions and the area check.
     fixed : (N,) bool array_like or callable, optional
@@ -1176,7 +1184,12 @@ def _smooth_within_budget(
     Every feature is smoothed at every strength (whole runs, so every candidate is a valid
     output with exact areas): with `max_shift`, one pass at 1/8, 1/4 and 1/2 of the cut
     ratio, then ``1 .. iterations`` passes; each feature takes the strongest that meets
-    both bounds, or stays as it is.
+    both bounds. A feature that even one pass at 1/8 moves too far (a large one: a 1 km
+    square moves about 19 m) is smoothed once more, alone with the others of its kind, at
+    the cut ratio scaled down by the power of 2 that the excess asks for (the shift of one
+    shallow pass is about proportional to the cut), halved again up to
+    :data:`WEAK_RETRIES` times while it still moves too far; what is left stays as it is
+    (``n_unchanged``).
     """
     from .._validate import as_float
 
@@ -1191,6 +1204,7 @@ def _smooth_within_budget(
     chosen = np.array(geoms, dtype=object, copy=True)
     level = np.full(len(geoms), -1, dtype=int)  # index into `steps`; -1: unchanged
     runs = {}
+    shifts: dict[int, np.ndarray] = {}  # per strength tried, the features' shifts
     flat = shapely.force_2d(geoms[present])
     top = int(options["iterations"])
     # the strengths tried, weakest first: with max_shift, one pass at 1/8, 1/4 and 1/2 of
@@ -1204,7 +1218,9 @@ def _smooth_within_budget(
         ok = np.ones(int(present.sum()), dtype=bool)
         smoothed = shapely.force_2d(out[present])
         if max_shift is not None:
-            ok &= shapely.hausdorff_distance(flat, smoothed) <= max_shift
+            shift = shapely.hausdorff_distance(flat, smoothed)
+            shifts[j] = shift
+            ok &= shift <= max_shift
         if min_segment is not None:
             # edges of the output: coordinates minus one per ring or line
             n_edges = shapely.get_num_coordinates(smoothed) - _num_linear(smoothed)
@@ -1215,13 +1231,61 @@ def _smooth_within_budget(
         runs[j] = res
         if max_shift is None and not ok.any():
             break  # more passes only add vertices (the shift need not grow monotonically)
-    reductions = tuple(
-        r for j, res in runs.items() for r in res.reductions if level[r.feature] == j
-    )
+    reductions = [r for j, res in runs.items() for r in res.reductions if level[r.feature] == j]
     changes = [res.max_area_change for j, res in runs.items() if (level == j).any()]
     n_curves = next(iter(runs.values())).n_curves if runs else 0
-    result = SmoothResult(wrap(chosen), reductions, n_curves, max(changes, default=0.0))
+    if max_shift is not None and max_shift > 0 and top and 0 in shifts:
+        # features that the weakest pass moved too far: shallower single passes, per feature
+        # the power of 2 its excess asks for, each group smoothed in one call of its own
+        pos = np.flatnonzero(present)
+        left = (level[pos] < 0) & (shifts[0] > max_shift) & (shifts[0] > 0)
+        with np.errstate(divide="ignore"):
+            need = np.ceil(np.log2(shifts[0] / max_shift))
+        for _ in range(WEAK_RETRIES + 1):
+            todo = pos[left]
+            if not todo.size:
+                break
+            for m in np.unique(need[left]):
+                sub = todo[need[left] == m]
+                scale = 0.125 * 2.0 ** -float(m)
+                alpha = _scaled_alpha(options["alpha"], scale)
+                res = smooth(
+                    geoms[sub], **{**options, "iterations": 1, "alpha": alpha}, full_output=True
+                )
+                out = np.asarray(res.geometry, dtype=object)
+                ok = (
+                    shapely.hausdorff_distance(shapely.force_2d(geoms[sub]), shapely.force_2d(out))
+                    <= max_shift
+                )
+                if min_segment is not None:
+                    two = shapely.force_2d(out)
+                    n_edges = shapely.get_num_coordinates(two) - _num_linear(two)
+                    ok &= shapely.length(two) >= min_segment * np.maximum(n_edges, 1)
+                chosen[sub[ok]] = out[ok]
+                level[sub[ok]] = len(steps)
+                reductions += [
+                    GeometryReduction(
+                        int(sub[r.feature]), r.ring, r.start, r.stop, r.iterations, r.alpha_scale
+                    )
+                    for r in res.reductions
+                    if ok[r.feature]
+                ]
+                if ok.any():
+                    changes.append(res.max_area_change)
+            done = level[pos] >= 0
+            left &= ~done
+            need = need + 1  # those still too far: half again
+    n_unchanged = int(np.count_nonzero(present & (level < 0))) if top else 0
+    result = SmoothResult(
+        wrap(chosen), tuple(reductions), n_curves, max(changes, default=0.0), n_unchanged
+    )
     return result if full_output else result.geometry
+
+
+#: Halvings of the cut ratio tried after the first shallow single pass of a feature that
+#: the weakest standard strength moves farther than ``max_shift`` (see
+#: :func:`_smooth_within_budget`).
+WEAK_RETRIES = 2
 
 
 def _scaled_alpha(alpha: Any, scale: float) -> Any:
