@@ -383,3 +383,43 @@ def test_reading_says_what_it_chose_or_could_not_find(tmp_path):
     assert res.exit_code == 0, res.output
     lines = [ln for ln in res.stderr.splitlines() if "layers with geometries" in ln]
     assert len(lines) == 1 and lines[0].startswith("Warning: two.gpkg has 2 layers")
+
+
+@pytest.mark.parametrize(
+    ("crs", "expected"),
+    [
+        ("EPSG:5070", True),
+        ("EPSG:3035", True),
+        ("EPSG:6933", True),
+        ("EPSG:8857", True),
+        ("ESRI:54008", True),
+        ("ESRI:54009", False),  # Mollweide: PROJ's is spherical
+        ("EPSG:2163", False),  # Lambert azimuthal on the sphere
+        ("EPSG:32633", False),
+        ("EPSG:4326", False),
+    ],
+)
+def test_is_equal_area_crs(crs, expected):
+    import pyproj
+
+    from curvesmith.internals import geo_io
+
+    assert geo_io.is_equal_area_crs(pyproj.CRS(crs)) is expected
+
+
+def test_equal_area_on_data_in_an_equal_area_crs_smooths_them_in_it(tmp_path):
+    # they were projected to another equal-area projection and back, which bent their straight
+    # edges: US counties in Albers came back with areas off by 1.8e-5 instead of 3e-15
+    df = geo.us_counties(states=["20"]).to_crs("EPSG:5070")
+    src = tmp_path / "ks.gpkg"
+    geo.write_file(df, src)
+    outs = {}
+    for flag in (False, True):
+        out = tmp_path / f"o{flag}.gpkg"
+        report = geo.smooth_file(src, out, equal_area=flag)
+        assert report.equal_area is flag
+        outs[flag] = geo.read_file(out).geometry.values
+    assert shapely.to_wkb(outs[True]).tolist() == shapely.to_wkb(outs[False]).tolist()
+    np.testing.assert_allclose(
+        shapely.area(outs[True]), shapely.area(df.geometry.values), rtol=1e-13
+    )

@@ -407,6 +407,7 @@ def smooth_file(
         check_network_back,
         clamp_to_domain,
         domain_fixed,
+        is_equal_area_crs,
         to_one_equal_area,
     )
 
@@ -419,6 +420,8 @@ def smooth_file(
     crs = df.crs
     if equal_area and crs is None:
         raise CurveError(f"equal_area needs a CRS, but {str(in_path)!r} has none")
+    if equal_area and is_equal_area_crs(crs):
+        equal_area = False  # already in an equal-area projection: smoothed in it
     if crs is not None and crs.is_geographic and not equal_area:
         warnings.warn(
             f"{str(in_path)!r} is in a geographic CRS ({crs.name}): smoothing keeps planar "

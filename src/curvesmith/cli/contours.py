@@ -128,6 +128,10 @@ def smooth_network_geofile(
     crs = df.crs
     if equal_area and crs is None:
         raise CurveError(f"--equal-area needs a CRS, but {in_path!r} has none")
+    from ..geo._io import is_equal_area_crs
+
+    if equal_area and is_equal_area_crs(crs):
+        equal_area = False  # already in an equal-area projection: smoothed in it
     if crs is not None and crs.is_geographic and not equal_area:
         click.echo(
             f"Warning: {in_path!r} is in a geographic CRS ({crs.name}): areas are kept in "
