@@ -266,3 +266,30 @@ def test_z_and_bad_options_rejected():
         geo.smooth(shapely.box(0, 0, 1, 1), alpha=0.5)
     with pytest.raises(CurveError, match="must be a shapely geometry or None, got str"):
         geo.smooth(["POLYGON"])
+
+
+def test_geographic_data_moved_off_the_map_is_warned():
+    # naturalearth in EPSG:4326: vertices on the antimeridian and the South Pole moved to
+    # -180.12 and -90.003 without a word; fixed=domain_fixed(crs) keeps them (as the CLI does)
+    import os
+    import warnings
+
+    import geopandas as gpd
+    import pyogrio
+    import shapely
+
+    shp = os.path.join(
+        os.path.dirname(pyogrio.__file__), "tests", "fixtures", "naturalearth_lowres",
+        "naturalearth_lowres.shp",
+    )  # fmt: skip
+    df = gpd.read_file(shp)
+    with pytest.warns(geo.GeographicCRSWarning, match="moved vertices beyond ±180°/±90°"):
+        out = geo.smooth(df, iterations=2)
+    x0, y0, x1, y1 = shapely.total_bounds(out.geometry.values)
+    assert x0 < -180 and y0 < -90
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", geo.GeographicCRSWarning)
+        fixed = geo.smooth(df, iterations=2, fixed=geo.domain_fixed(df.crs))
+    x0, y0, x1, y1 = shapely.total_bounds(fixed.geometry.values)
+    a0, b0, a1, _ = shapely.total_bounds(df.geometry.values)  # 180.00000000000006 itself
+    assert x0 >= min(-180, a0) and x1 <= max(180, a1) and y0 >= min(-90, b0) and y1 <= 90

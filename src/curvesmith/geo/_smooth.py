@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import itertools
+import warnings
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
@@ -1165,10 +1166,40 @@ def smooth(
     out, reductions, n, change = _smooth_feature_array(
         geoms, method=method, iterations=iterations, alpha=alpha, fixed=fixed_spec, facts=facts
     )
+    _warn_off_the_map(geometry, out)
     result = wrap(out if zm is None else zm.restore(out))
     if full_output:
         return SmoothResult(result, tuple(reductions), n, change)
     return result
+
+
+def _warn_off_the_map(geometry: Any, out: np.ndarray) -> None:
+    """Warn when smoothing data in a geographic CRS moved vertices beyond ±180° / ±90°.
+
+    Vertices on the antimeridian or a pole move like any other unless they are fixed
+    (``fixed=domain_fixed(crs)``, what ``curvesmith smooth`` does for such files).
+    """
+    crs = getattr(geometry, "crs", None)
+    if crs is None or not getattr(crs, "is_geographic", False) or not len(out):
+        return
+    shapely = _shapely()
+    present = out[~shapely.is_missing(out)]
+    if not len(present):
+        return
+    x0, y0, x1, y1 = shapely.total_bounds(present)
+    # beyond the domain and beyond the input (Natural Earth has 180.00000000000006 itself)
+    a0, b0, a1, b1 = shapely.total_bounds(np.asarray(getattr(geometry, "geometry", geometry)))
+    if x0 < min(-180.0, a0) or x1 > max(180.0, a1) or y0 < min(-90.0, b0) or y1 > max(90.0, b1):
+        from ._io import GeographicCRSWarning
+
+        warnings.warn(
+            f"smoothing in a geographic CRS ({crs.name}) moved vertices beyond ±180°/±90° "
+            f"(bounds {x0:.6g}, {y0:.6g}, {x1:.6g}, {y1:.6g}); pass "
+            f"fixed=curvesmith.geo.domain_fixed(crs) to keep the vertices on the antimeridian "
+            f"and the poles in place, or smooth in a projection",
+            GeographicCRSWarning,
+            stacklevel=3,
+        )
 
 
 def _smooth_within_budget(
