@@ -1264,3 +1264,24 @@ def test_format_registry_adds_a_format_in_one_registration(tmp_path, monkeypatch
         register(Format("other", "Other", (".csv",), read_pts, write_pts))
     with pytest.raises(CurveFormatError, match="supported suffixes are .csv, .txt \\(CSV\\)"):
         detect_format("a.xyz")
+
+
+@pytest.mark.parametrize(
+    ("coords", "said"),
+    [
+        ([[0], [1, 0]], "found [0] (position 0, 1 number)"),
+        ([[0, 0], [1, 0], [1, 2, 3, 4]], "found [1, 2, 3, 4] (position 2, 4 numbers)"),
+    ],
+)
+def test_geojson_bad_position_is_named(tmp_path, coords, said):
+    # the message gave the set of lengths found ("found [1, 2]"), not the position
+    import json as _json
+
+    from curvesmith.errors import CurveFormatError
+    from curvesmith.io import read_geojson
+
+    path = tmp_path / "bad.geojson"
+    path.write_text(_json.dumps({"type": "LineString", "coordinates": coords}))
+    with pytest.raises(CurveFormatError, match="positions must have 2 or 3 numbers") as err:
+        read_geojson(path)
+    assert said in str(err.value)

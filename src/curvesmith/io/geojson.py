@@ -167,9 +167,11 @@ class _GeoJSONReader:
             )
         sizes = {len(p) for p in coords}
         if sizes - {2, 3}:
+            k = next(k for k, p in enumerate(coords) if len(p) not in (2, 3))
             raise self.fail(
                 where,
-                f"positions must have 2 or 3 numbers (x, y[, z]), found {sorted(sizes)}",
+                f"positions must have 2 or 3 numbers (x, y[, z]), found {coords[k]} "
+                f"(position {k}, {len(coords[k])} number{'s' if len(coords[k]) != 1 else ''})",
             )
         if len(sizes) > 1:
             raise self.fail(where, "positions mix 2 and 3 coordinates")
