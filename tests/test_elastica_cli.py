@@ -176,9 +176,11 @@ def _point_polyline_distance(p, poly):
     return np.sqrt(((p[:, None, :] - near) ** 2).sum(-1)).min(axis=1)
 
 
-def test_fair_3d_tolerance_counts_the_distance_from_the_plane(tmp_path):
-    """A section scan in metres that bulges 2 mm out of its plane: the tolerance is met in
-    the plane (5e-5 m) but not in space (3.4e-4 m); the report and the verdict are in space."""
+def test_fair_3d_reports_and_warns_the_distance_from_the_plane(tmp_path):
+    """A section scan in metres that bulges 2 mm out of its plane: the tolerance is judged in
+    the plane (5e-5 m, as the section is faired there), but the report gives the distances
+    from the written 3D fit (3.4e-4 m) and a warning says when they exceed the tolerance
+    (it passed 1e-4 without a word)."""
     rng = np.random.default_rng(7)
     flat = sample((0.0, 0.0, 2.0, 0.3, 0.06, 0.4, 0.7), 100) / 1000.0
     flat = flat + rng.normal(scale=2e-7, size=flat.shape)
@@ -191,20 +193,21 @@ def test_fair_3d_tolerance_counts_the_distance_from_the_plane(tmp_path):
     args = ["fair", str(src), "-o", str(out), "--report", str(rep)]
     result = CliRunner().invoke(cli(), [*args, "--tolerance", "1e-3"])
     assert result.exit_code == 0, result.output
+    assert "from the fit in space" not in result.output
     row = json.loads(rep.read_text())["curves"][0]
     written = np.loadtxt(out, delimiter=",", skiprows=1)
     truth = _point_polyline_distance(pts, written)
-    assert row["max_deviation"] == pytest.approx(truth.max(), rel=1e-6)
-    assert row["max_deviation_in_plane"] < 0.3 * row["max_deviation"]
-    assert row["plane"]["max_distance"] <= row["max_deviation"] <= 1e-3
-    tol = 0.5 * (row["max_deviation_in_plane"] + row["max_deviation"])
-    out.unlink()
+    assert row["max_deviation_in_space"] == pytest.approx(truth.max(), rel=1e-6)
+    assert row["max_deviation"] < 0.3 * row["max_deviation_in_space"]
+    assert row["plane"]["max_distance"] <= row["max_deviation_in_space"] <= 1e-3
+    assert row["within_tolerance"] and row["within_tolerance_in_space"]
+    tol = 0.5 * (row["max_deviation"] + row["max_deviation_in_space"])
     result = CliRunner().invoke(cli(), [*args, "--tolerance", f"{tol:.6g}"])
-    assert result.exit_code == 1
-    assert not out.exists() and "no output written" in result.output
-    assert "in its best plane, but its points lie up to" in result.output
+    assert result.exit_code == 0, result.output
+    warning = [ln for ln in result.output.splitlines() if ln.startswith("Warning: curve 0 is")]
+    assert len(warning) == 1 and "from the fit in space" in warning[0]
     row = json.loads(rep.read_text())["curves"][0]
-    assert row["within_tolerance_in_plane"] is True and row["within_tolerance"] is False
+    assert row["within_tolerance"] is True and row["within_tolerance_in_space"] is False
 
 
 @pytest.mark.parametrize("where", ["report", "plot", "suffix"])
