@@ -510,3 +510,22 @@ def test_tol_below_machine_epsilon_converges_in_lm():
     assert tight.message.startswith("Levenberg-Marquardt (MINPACK lmder)")
     np.testing.assert_allclose(np.array(tight.params), np.array(default.params), atol=1e-9)
     assert abs(tight.cost - default.cost) <= 1e-12 * default.cost
+
+
+def test_a_glitch_does_not_pass_for_noise():
+    """An exact elastica with one point 5 % of its size off: the noise level was the mean of
+    the squared residuals (0.52, the glitch's), so the fit through the glitch read "at the
+    noise level"; the verdict's level leaves the glitch's residuals out."""
+    from curvesmith.internals import glitch_free_noise
+
+    rng = np.random.default_rng(3)
+    base = sample((0.0, 0.0, 2.0, 0.3, 0.06, 0.4, 0.7), 100)
+    glitched = base.copy()
+    glitched[50] += [0.0, 5.0]
+    res = fit(glitched)
+    assert res.noise < 1e-2 and "model error" in res.message
+    assert res.max_deviation > 3.0
+    # on white noise the verdict's level is the plain one (nothing is left out)
+    noisy = base + rng.normal(scale=0.01, size=base.shape)
+    assert glitch_free_noise(noisy) == _noise_level(noisy)
+    assert abs(_noise_level(noisy) / (0.01 * np.sqrt(2)) - 1) < 0.15

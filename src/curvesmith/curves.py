@@ -753,7 +753,12 @@ def fit(
     area: float | None = None,
     lines: bool = True,
 ) -> CurveFit:
-    """Fewest Bézier segments of a G2 quadratic B-spline within `tolerance` of a curve.
+    """Few Bézier segments of a G2 quadratic B-spline within `tolerance` of a curve.
+
+    The count is the smallest that a search (a secant step, then bisection) on the
+    count finds within the tolerance. The deviation is not monotone in the count, so
+    a smaller count may pass too: on a 5-lobed star, 0.1 gives 129 segments where 103
+    (found at 0.05) would pass.
 
     Parameters
     ----------

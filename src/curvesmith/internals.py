@@ -46,6 +46,7 @@ from .elastica._geom import chord_walk, point_polyline_distance, walk_to_end
 from .elastica._varpro import _period as elastica_varpro_period
 from .elastica.exact import _as_params as elastica_params
 from .elastica.exact import _positions_and_jacobian as elastica_positions_and_jacobian
+from .elastica.fit import _glitch_free_noise as glitch_free_noise
 from .elastica.fit import _noise_level as noise_level
 from .elastica.fit import _Problem as ElasticaProblem
 from .elastica.fit import _reverse_params as reverse_params
@@ -97,6 +98,7 @@ __all__ = [
     "elastica_varpro_period",
     "ellipj",
     "ellipj_am",
+    "glitch_free_noise",
     "io_core",
     "lazy_modules",
     "noise_level",

@@ -204,7 +204,7 @@ def _where(row: dict) -> str:
     "curve_kind",
     type=click.Choice(["quadratic", "cubic"]),
     default=None,
-    help="Write G2 Bezier paths (fewest segments within --tolerance) instead of polylines.",
+    help="Write G2 Bezier paths (few segments within --tolerance) instead of polylines.",
 )
 @click.option("--tolerance", type=POSITIVE, default=None, help="--curves: max deviation.")
 @KEEP_ANGLE_OPTION
