@@ -174,8 +174,10 @@ def test_real_counties_keep_corners_and_bounds():
     np.testing.assert_allclose(shapely.area(out), shapely.area(df.geometry.values), rtol=1e-12)
     kept = {tuple(p) for p in shapely.get_coordinates(out)}
     assert all(tuple(p) in kept for p in corners)
-    # measured: 42 % of the counties can be smoothed within 50 m (their corners join
-    # km-long survey lines), all of them within 200 m; unbounded, 3 passes move 507 m
+    # measured: with the standard strengths 42 % of the counties could be smoothed within
+    # 50 m (their corners join km-long survey lines), all of them within 200 m; the shallower
+    # single passes for the others (session 12) smooth every one within 50 m too; unbounded,
+    # 3 passes move 507 m
     smoothed = []
     for max_shift in (50.0, 200.0):
         bounded = geo.smooth(df, iterations=3, max_shift=max_shift).geometry.values
@@ -185,7 +187,7 @@ def test_real_counties_keep_corners_and_bounds():
             shapely.area(bounded), shapely.area(df.geometry.values), rtol=1e-12
         )
         smoothed.append(float((shift > 0).mean()))
-    assert 0.3 < smoothed[0] < smoothed[1] == 1.0
+    assert smoothed == [1.0, 1.0]
 
 
 @settings(max_examples=40, deadline=None)

@@ -579,7 +579,7 @@ def test_geojson_writes_closed_csv_curves_as_polygons_and_open_as_lines():
         ),
         (
             '{"type": "LineString", "coordinates": [[0, 0], [1]]}',
-            r"2 or 3 numbers .*found \[1, 2\]",
+            r"2 or 3 numbers .*found \[1\] \(position 1, 1 number\)",
         ),
         ('{"type": "LineString", "coordinates": [[0, 0], [1, 1, 1]]}', "mix 2 and 3 coordinates"),
         ('{"type": "LineString", "coordinates": [[0, 0], [1, NaN]]}', "NaN is not valid JSON"),
