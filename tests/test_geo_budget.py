@@ -198,3 +198,29 @@ def test_max_shift_below_the_weakest_standard_strength_still_smooths():
         assert (d <= shift * (1 + 1e-9)).all() and (d > 0.05 * shift).all(), d
         np.testing.assert_allclose(shapely.area(out), shapely.area(squares), rtol=1e-12)
         assert shapely.is_valid(out).all()
+
+
+def test_shallow_passes_keep_a_fixed_mask():
+    # the shallower single passes smooth a subset of the features: a fixed mask over the
+    # input's coordinates is cut to their rows (the first feature's corners are fixed)
+    squares = np.array(
+        [
+            shapely.box(0, 0, 1000, 1000),
+            shapely.box(2000, 0, 2010, 10),
+            shapely.box(5e3, 0, 6e3, 1e3),
+        ]
+    )
+    fixed = np.zeros(len(shapely.get_coordinates(squares)), dtype=bool)
+    fixed[:5] = True  # every vertex of the first square
+    fixed[10:12] = True  # two corners of the third
+    res = geo.smooth(squares, iterations=3, max_shift=1.0, fixed=fixed, full_output=True)
+    out = np.asarray(res.geometry)
+    assert res.n_unchanged == 0
+    # nothing free to move: the same square (points added on its edges, at most)
+    assert shapely.hausdorff_distance(out[0], squares[0]) < 1e-12 * 1000
+    kept = {tuple(p) for p in shapely.get_coordinates(out[2])}
+    assert {(6000.0, 0.0), (6000.0, 1000.0)} <= kept
+    for k in (1, 2):
+        assert shapely.get_num_coordinates(out[k]) > 5
+        assert shapely.hausdorff_distance(squares[k], out[k]) <= 1.0
+    np.testing.assert_allclose(shapely.area(out), shapely.area(squares), rtol=1e-12)

@@ -1280,9 +1280,12 @@ def _smooth_within_budget(
                 sub = todo[need[left] == m]
                 scale = 0.125 * 2.0 ** -float(m)
                 alpha = _scaled_alpha(options["alpha"], scale)
-                res = smooth(
-                    geoms[sub], **{**options, "iterations": 1, "alpha": alpha}, full_output=True
-                )
+                sub_options = {**options, "iterations": 1, "alpha": alpha}
+                given = options.get("fixed")
+                if given is not None and not callable(given):
+                    # a mask over the input's coordinates: the rows of these features
+                    sub_options["fixed"] = np.asarray(given, dtype=bool)[_rows_of(geoms, sub)]
+                res = smooth(geoms[sub], **sub_options, full_output=True)
                 out = np.asarray(res.geometry, dtype=object)
                 ok = (
                     shapely.hausdorff_distance(shapely.force_2d(geoms[sub]), shapely.force_2d(out))
@@ -1311,6 +1314,15 @@ def _smooth_within_budget(
         wrap(chosen), tuple(reductions), n_curves, max(changes, default=0.0), n_unchanged
     )
     return result if full_output else result.geometry
+
+
+def _rows_of(geoms: np.ndarray, sub: np.ndarray) -> np.ndarray:
+    """Rows of ``shapely.get_coordinates(geoms)`` that belong to the features `sub`."""
+    shapely = _shapely()
+    counts = shapely.get_num_coordinates(geoms).astype(np.int64)
+    start = np.concatenate([[0], np.cumsum(counts)])[sub]
+    n = counts[sub]
+    return np.repeat(start - np.concatenate([[0], np.cumsum(n)[:-1]]), n) + np.arange(n.sum())
 
 
 #: Halvings of the cut ratio tried after the first shallow single pass of a feature that
