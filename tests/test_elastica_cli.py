@@ -232,3 +232,22 @@ def test_fair_checks_every_destination_before_fitting(tmp_path, monkeypatch, whe
     assert result.exit_code == 1 and "Traceback" not in result.output
     assert ("missing" if where != "suffix" else "unknown file suffix '.xyz'") in result.output
     assert not out.exists() and not (tmp_path / "out.xyz").exists()
+
+
+def test_fair_3d_with_a_repeated_point(tmp_path):
+    """A 3D scan with a point recorded twice: the fit drops the repeat, the distances in space
+    are of every input point (an in-plane array one shorter could not be combined with them)."""
+    flat = sample((0.0, 0.0, 2.0, 0.3, 0.06, 0.4, 0.7), 100)
+    pts = np.column_stack([flat, 0.001 * np.sin(np.arange(100))])
+    pts = np.insert(pts, 40, pts[40], axis=0)
+    src, out, rep = tmp_path / "dup.xyz", tmp_path / "o.csv", tmp_path / "r.json"
+    np.savetxt(src, pts)
+    result = CliRunner().invoke(
+        cli(), ["fair", str(src), "-o", str(out), "--tolerance", "1", "--report", str(rep)]
+    )
+    assert result.exit_code == 0, result.output
+    row = json.loads(rep.read_text())["curves"][0]
+    written = np.loadtxt(out, delimiter=",", skiprows=1)
+    truth = _point_polyline_distance(pts, written)
+    assert row["max_deviation_in_space"] == pytest.approx(truth.max(), rel=1e-9)
+    assert row["within_tolerance_in_space"] is True

@@ -56,16 +56,17 @@ def _plane_2d(points: np.ndarray, index: int):
     return np.ascontiguousarray(coords[:, :2]), (centroid, axes), plane, warning
 
 
-def _in_space(row: dict, in_plane: np.ndarray, off_plane: np.ndarray) -> None:
-    """A 3D curve's row: its deviations from the written (3D) fit, beside the in-plane ones.
+def _in_space(row: dict, points: np.ndarray, written: np.ndarray) -> None:
+    """A 3D curve's row: the distances of its input `points` from the `written` (3D) fit.
 
-    The fit lies in the plane, so the distance of an input point from it is the
-    in-plane distance of the point's projection and its distance from the plane in
-    quadrature (``*_in_space``). The tolerance is judged in the plane (the section is
-    faired there; what lies off the plane is the scan's, reported in ``plane``);
-    ``within_tolerance_in_space`` tells whether the points are within it in space too.
+    Beside the in-plane deviations (``*_in_space``; every input point, repeated ones
+    too). The tolerance is judged in the plane (the section is faired there; what lies
+    off the plane is the scan's, reported in ``plane``); ``within_tolerance_in_space``
+    tells whether the points are within it in space too.
     """
-    dev = np.hypot(np.asarray(in_plane, dtype=float), off_plane)
+    from ..elastica._geom import point_polyline_distance
+
+    dev = point_polyline_distance(np.asarray(points, dtype=float), written)
     row["max_deviation_in_space"] = float(dev.max()) if dev.size else 0.0
     row["rms_deviation_in_space"] = float(np.sqrt(np.mean(dev**2))) if dev.size else 0.0
     if row["tolerance"] is not None:
@@ -307,7 +308,7 @@ def fair_command(
         else:
             row = _report_row(index, res, do_resample, plane)
         if frame is not None:
-            _in_space(row, res.deviation, np.abs((curve.points - frame[0]) @ frame[1][2]))
+            _in_space(row, curve.points, faired)
         rows.append(row)
         fits.append((index, res, pts))
     failed = [r for r in rows if not r["success"]]
