@@ -307,8 +307,8 @@ def _glitch_free_noise(p: np.ndarray) -> float:
     z = np.ascontiguousarray(p).view(complex).ravel()  # x + iy: both columns in one convolution
     r = z[window // 2 : n - window // 2] - np.convolve(z, coeffs, mode="valid")
     sq = r.real * r.real + r.imag * r.imag
-    # the squares beyond GLITCH_CUT medians are glitches (white noise puts 1 residual in
-    # 10,000 there); the mean of the others is the level, as for data without glitches
+    # the squares beyond GLITCH_CUT medians are glitches (white noise puts none there); the
+    # mean of the others is the level, as for data without glitches
     keep = sq <= GLITCH_CUT * float(np.median(sq))
     # a glitch is rare: a few points, each spoiling the residuals of one window; many
     # residuals out there mean data that are not white noise (a scan's texture): all count
