@@ -423,3 +423,21 @@ def test_equal_area_on_data_in_an_equal_area_crs_smooths_them_in_it(tmp_path):
     np.testing.assert_allclose(
         shapely.area(outs[True]), shapely.area(df.geometry.values), rtol=1e-13
     )
+
+
+@pytest.mark.parametrize("chunk", [None, 50])
+def test_geopackage_keeps_its_geometry_column_name(tmp_path, monkeypatch, chunk):
+    # QGIS-made GeoPackages name the column "WKT" or "shape"; the output said "geom"
+    from curvesmith.internals import geo_io
+
+    if chunk is not None:  # written in several slices: the name is the first slice's
+        monkeypatch.setattr(geo_io, "WRITE_CHUNK_VERTICES", chunk)
+    df = geo.us_counties(states=["10", "44"])
+    src, out = tmp_path / "in.gpkg", tmp_path / "out.gpkg"
+    pyogrio.write_dataframe(df, src, layer_options={"GEOMETRY_NAME": "shape"})
+    assert pyogrio.read_info(src)["geometry_name"] == "shape"
+    back = geo.read_file(src)
+    geo.write_file(back, out)
+    info = pyogrio.read_info(out)
+    assert info["geometry_name"] == "shape" and info["features"] == len(df)
+    assert shapely.equals(geo.read_file(out).geometry.values, back.geometry.values).all()

@@ -217,6 +217,8 @@ def read_file(
 #: Where the file keeps its field types (``df.attrs``): the Date fields, which pandas reads
 #: as datetimes and :func:`write_file` writes back as dates.
 DATE_FIELDS = "curvesmith_date_fields"
+#: ... and the name of its geometry column (a GeoPackage's ``geom``, ``WKT``, ``shape``).
+GEOMETRY_NAME = "curvesmith_geometry_name"
 
 
 def _restore_field_types(df: Any, info: dict) -> None:
@@ -241,6 +243,8 @@ def _restore_field_types(df: Any, info: dict) -> None:
             dates.append(str(name))
     if dates:
         df.attrs[DATE_FIELDS] = dates
+    if info.get("geometry_name"):  # a GeoPackage's geometry column: written with its name
+        df.attrs[GEOMETRY_NAME] = str(info["geometry_name"])
 
 
 def _with_dates(df: Any) -> tuple[Any, bool]:
@@ -639,11 +643,14 @@ def write_file(df: Any, path: str | Path, *, layer: str | None = None) -> None:
         if driver == "GPKG" and layer is not None and path.is_file():
             shutil.copy2(path, tmp)  # a named layer replaces that layer only: keep the others
         try:
+            # a GeoPackage keeps the geometry column's name it was read with (GDAL: "geom")
+            name = df.attrs.get(GEOMETRY_NAME) if driver == "GPKG" else None
             with _fast_sqlite(pyogrio, driver == "GPKG"):
                 for k, part in enumerate(slices):
                     piece = df if len(slices) == 1 else df.iloc[part]
+                    named = {"layer_options": {"GEOMETRY_NAME": name}} if name and k == 0 else {}
                     pyogrio.write_dataframe(
-                        piece, tmp, layer=layer, driver=driver, append=k > 0, **kwargs
+                        piece, tmp, layer=layer, driver=driver, append=k > 0, **kwargs, **named
                     )
                     del piece
         except Exception as exc:
