@@ -262,6 +262,25 @@ def _savgol(window: int, order: int) -> np.ndarray:
     return np.linalg.pinv(np.vander(t, order + 1, increasing=True))[0]
 
 
+def _sliding_residuals(p: np.ndarray) -> tuple[np.ndarray, int, float]:
+    """``p - S p`` at the interior vertices (complex ``x + iy``), the window, ``1 - c_0``.
+
+    ``S`` is the Savitzky-Golay smoother of a sliding cubic (window 7; 5 and a quadratic
+    for fewer points), ``c_0`` its centre weight.
+    """
+    n = p.shape[0]
+    window, order = (7, 3) if n >= 7 else (5, 2)
+    coeffs = _savgol(window, order)
+    z = np.ascontiguousarray(p).view(complex).ravel()  # x + iy: both columns in one convolution
+    r = z[window // 2 : n - window // 2] - np.convolve(z, coeffs, mode="valid")
+    return r, window, 1.0 - float(coeffs[window // 2])
+
+
+def _level(r: np.ndarray, gain: float) -> float:
+    resid = r.view(float)
+    return float(np.sqrt((resid @ resid) / (resid.size // 2) / gain))
+
+
 def _noise_level(p: np.ndarray) -> float:
     """Rms distance of the data from a sliding cubic fit (window 7), de-biased.
 
@@ -269,12 +288,8 @@ def _noise_level(p: np.ndarray) -> float:
     residual variance of white noise is ``(1 - c_0) sigma^2`` (``c_0 = 1/3``, the
     centre weight), so dividing by ``1 - c_0`` gives back the per-vertex noise.
     """
-    n = p.shape[0]
-    window, order = (7, 3) if n >= 7 else (5, 2)
-    coeffs = _savgol(window, order)
-    z = np.ascontiguousarray(p).view(complex).ravel()  # x + iy: both columns in one convolution
-    resid = (z[window // 2 : n - window // 2] - np.convolve(z, coeffs, mode="valid")).view(float)
-    return float(np.sqrt((resid @ resid) / (n - window + 1) / (1.0 - coeffs[window // 2])))
+    r, _, gain = _sliding_residuals(p)
+    return _level(r, gain)
 
 
 #: Residual squares of the noise level's sliding fit beyond this many times their median
@@ -301,11 +316,7 @@ def _glitch_free_noise(p: np.ndarray) -> float:
     that the fit through the glitch read as "at the noise level"; left out, it does not
     count.
     """
-    n = p.shape[0]
-    window, order = (7, 3) if n >= 7 else (5, 2)
-    coeffs = _savgol(window, order)
-    z = np.ascontiguousarray(p).view(complex).ravel()  # x + iy: both columns in one convolution
-    r = z[window // 2 : n - window // 2] - np.convolve(z, coeffs, mode="valid")
+    r, window, gain = _sliding_residuals(p)
     sq = r.real * r.real + r.imag * r.imag
     # the squares beyond GLITCH_CUT medians are glitches (white noise puts none there); the
     # mean of the others is the level, as for data without glitches
@@ -313,9 +324,8 @@ def _glitch_free_noise(p: np.ndarray) -> float:
     # a glitch is rare: a few points, each spoiling the residuals of one window; many
     # residuals out there mean data that are not white noise (a scan's texture): all count
     if keep.size - np.count_nonzero(keep) > max(GLITCH_MAX * window, 0.02 * keep.size):
-        keep[:] = True
-    resid = (r if keep.all() else r[keep]).view(float)
-    return float(np.sqrt((resid @ resid) / (resid.size // 2) / (1.0 - coeffs[window // 2])))
+        return _level(r, gain)
+    return _level(r[keep], gain)
 
 
 class _Problem:

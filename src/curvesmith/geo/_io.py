@@ -259,11 +259,17 @@ def _with_dates(df: Any) -> tuple[Any, bool]:
         import pyarrow as pa
     except ImportError:  # without pyarrow the dates are written as date-times, as before
         return df, False
+    # times of day or a time zone: no longer plain dates, written as date-times
+    plain = [
+        n
+        for n in names
+        if df[n].dt.tz is None and (df[n].dropna() == df[n].dropna().dt.normalize()).all()
+    ]
+    if not plain:
+        return df, False
     out = df.copy()
-    for n in names:
+    for n in plain:
         col = out[n]
-        if col.dt.tz is not None or (col.dropna() != col.dropna().dt.normalize()).any():
-            continue  # times of day or a time zone: no longer plain dates
         out[n] = pd.array(col.dt.date.where(col.notna(), None), dtype=pd.ArrowDtype(pa.date32()))
     return out, True
 

@@ -1284,7 +1284,9 @@ def _smooth_within_budget(
                 given = options.get("fixed")
                 if given is not None and not callable(given):
                     # a mask over the input's coordinates: the rows of these features
-                    sub_options["fixed"] = np.asarray(given, dtype=bool)[_rows_of(geoms, sub)]
+                    off = np.zeros(len(geoms) + 1, dtype=np.int64)
+                    np.cumsum(shapely.get_num_coordinates(geoms), out=off[1:])
+                    sub_options["fixed"] = np.asarray(given, dtype=bool)[_expand(off, sub)[0]]
                 res = smooth(geoms[sub], **sub_options, full_output=True)
                 out = np.asarray(res.geometry, dtype=object)
                 ok = (
@@ -1314,15 +1316,6 @@ def _smooth_within_budget(
         wrap(chosen), tuple(reductions), n_curves, max(changes, default=0.0), n_unchanged
     )
     return result if full_output else result.geometry
-
-
-def _rows_of(geoms: np.ndarray, sub: np.ndarray) -> np.ndarray:
-    """Rows of ``shapely.get_coordinates(geoms)`` that belong to the features `sub`."""
-    shapely = _shapely()
-    counts = shapely.get_num_coordinates(geoms).astype(np.int64)
-    start = np.concatenate([[0], np.cumsum(counts)])[sub]
-    n = counts[sub]
-    return np.repeat(start - np.concatenate([[0], np.cumsum(n)[:-1]]), n) + np.arange(n.sum())
 
 
 #: Halvings of the cut ratio tried after the first shallow single pass of a feature that
