@@ -104,3 +104,29 @@ def test_readme_recipe_keeps_a_geodataframe_on_the_map(countries):
     out = geo.clamp_to_domain(out, "countries", countries)
     assert list(out.columns) == list(countries.columns)
     assert _outside(shapely.get_coordinates(out.geometry.values)).max() <= 0.0
+
+
+@pytest.mark.parametrize(
+    "options",
+    [{"iterations": 2}, {"iterations": 2, "equal_area": True}, {"iterations": 1, "coverage": True}],
+    ids=["degrees", "equal-area", "coverage"],
+)
+def test_chaikin_on_lonlat_files(countries, tmp_path, options):
+    # smooth_file gave Chaikin the domain-edge anchors it cannot keep and failed ("fixed needs
+    # method='cca'"); its points average neighbours, so it stays on the map without them
+    src = (
+        countries[countries["continent"] == "Antarctica"] if options.get("coverage") else countries
+    )
+    path = tmp_path / "in.gpkg"
+    src.to_file(path)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        geo_io.smooth_file(path, tmp_path / "out.gpkg", method="chaikin", **options)
+    out = gpd.read_file(tmp_path / "out.gpkg")
+    xy = shapely.get_coordinates(out.geometry.values)
+    assert _outside(xy).max() <= 0.0 and len(out) == len(src)
+    assert len(xy) > len(shapely.get_coordinates(src.geometry.values))
+    assert shapely.is_valid(out.geometry.values).all()
+    # a mask the user gives still needs a method that keeps vertices
+    with pytest.raises(CurveError, match="fixed needs method='cca'"):
+        geo.smooth(src.geometry.values[:2], method="chaikin", fixed=lambda xy: xy[:, 0] > 0)

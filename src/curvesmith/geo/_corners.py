@@ -100,6 +100,21 @@ def corner_vertices(geometry: Any, angle: float) -> np.ndarray:
     return mask
 
 
+def for_method(fixed: Any, method: str) -> Any:
+    """`fixed`, or None when it keeps only the lon/lat domain's edges and `method` cannot.
+
+    :func:`curvesmith.geo.domain_fixed` keeps vertices on ±180° / ±90° where CCA would push
+    them off the map; Chaikin's points are averages of neighbouring vertices, inside the
+    domain with them, so it needs no such anchors (and has none: ``curvesmith smooth
+    --method chaikin`` on a lon/lat file failed with "fixed needs method='cca'").
+    """
+    from .. import methods
+
+    if getattr(fixed, "domain_edges", False) and not methods.get(method).keeps_vertices:
+        return None
+    return fixed
+
+
 def with_corners(geometry: Any, fixed: Any, keep_angle: float | None) -> Any:
     """`fixed` (mask, callable or None) plus the corners sharper than `keep_angle`."""
     if keep_angle is None:

@@ -14,7 +14,7 @@ from .._rich import RichRepr
 from ..errors import CurveError
 from ..methods import GisMethod
 from . import _zm
-from ._corners import with_corners
+from ._corners import for_method, with_corners
 from ._engine import in_background, levels_for, resolve_arcs
 from ._smooth import (
     FixedVertices,
@@ -460,7 +460,7 @@ def smooth_coverage(
         wrap = _zm.restoring(wrap, zm)
     if keep_angle is not None:
         methods.needs("keep_angle", method)
-    fixed = with_corners(geoms, fixed, keep_angle)
+    fixed = with_corners(geoms, for_method(fixed, method), keep_angle)
     fixed_spec = None
     if fixed is not None:
         methods.needs("fixed", method)

@@ -481,6 +481,7 @@ def domain_fixed(geo_crs: Any, work_crs: Any = None):
         def fixed(xy: np.ndarray) -> np.ndarray:
             return _on_domain_edge(xy[:, 0], xy[:, 1], 1e-9)
 
+        fixed.domain_edges = True  # type: ignore[attr-defined]  # (geo._corners.for_method)
         return fixed
     to_geo = pyproj.Transformer.from_crs(work_crs, geo_crs, always_xy=True)
 
@@ -488,6 +489,7 @@ def domain_fixed(geo_crs: Any, work_crs: Any = None):
         lon, lat = to_geo.transform(xy[:, 0], xy[:, 1])
         return _on_domain_edge(np.asarray(lon), np.asarray(lat), _DOMAIN_ATOL)
 
+    fixed_projected.domain_edges = True  # type: ignore[attr-defined]
     return fixed_projected
 
 

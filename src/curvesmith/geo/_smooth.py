@@ -15,7 +15,7 @@ from .._rich import RichRepr
 from ..errors import CurveError, require
 from ..geometry import _signed_area
 from ..methods import GisMethod
-from ._corners import with_corners
+from ._corners import for_method, with_corners
 from ._engine import Level, in_background, levels_for, resolve_arcs
 from ._zm import split_zm
 
@@ -1157,7 +1157,7 @@ def smooth(
     geoms, zm = split_zm(geoms)  # smoothed in XY; Z/M interpolated back (geo._zm)
     if keep_angle is not None:
         methods.needs("keep_angle", method)
-    fixed = with_corners(geoms, fixed, keep_angle)
+    fixed = with_corners(geoms, for_method(fixed, method), keep_angle)
     fixed_spec = None
     if fixed is not None:
         methods.needs("fixed", method)
