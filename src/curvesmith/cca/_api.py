@@ -562,7 +562,7 @@ def smooth_ragged_with_info(
     close_rings = as_bool(close_rings, name="close_rings")
     threads = default_threads() if threads is None else as_int(threads, name="threads", minimum=1)
     alpha_fn = alpha_function(alpha)
-    rag = as_ragged(coords, offsets, closed=closed, dim=2)
+    rag = as_ragged(coords, offsets, closed=closed, dim=2, compiled=True)
     p, off, cl = rag.points, rag.offsets, rag.closed
     m = cl.size
     lengths = np.diff(off)
@@ -626,7 +626,9 @@ def smooth_ragged_with_info(
         _restore_fixed(out, fixed, cid_out, p, fixed_in, curve_ids(off), off_out, off)
     if exp2.any():
         out = np.ldexp(out, exp2[curve_ids(off_out)][:, None])
-    if close_rings:  # the closing vertex is the first one, bit for bit
+    if close_rings and (fixed_in.any() or exp2.any()):
+        # the closing vertex is the first one, bit for bit (the kernel wrote it as a copy
+        # of the first; restoring fixed vertices or the scale may have changed that one)
         out[off_out[1:][cl] - 1] = out[off_out[:-1][cl]]
     red = np.sum([s[0] for s in steps], axis=0)
     fig = np.sum([s[1] for s in steps], axis=0)

@@ -16,6 +16,7 @@ from typing import Any
 import numpy as np
 
 from .. import methods
+from .._gc import paused_gc
 from ..errors import CurveError, CurveFormatError, require
 from ..io._core import atomic_path
 from ..methods import GisMethod
@@ -200,7 +201,8 @@ def read_file(
     try:
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
-            df = pyogrio.read_dataframe(path, layer=layer, columns=columns)
+            with paused_gc():  # a layer's geometries made at once (see curvesmith._gc)
+                df = pyogrio.read_dataframe(path, layer=layer, columns=columns)
     except Exception as exc:
         raise CurveFormatError(f"cannot read {str(path)!r}: {exc}") from exc
     measured = any("Measured (M)" in str(w.message) for w in caught)
@@ -288,7 +290,8 @@ def _read_measured(path: Path, layer: Any, columns: Any) -> Any:
     try:
         with warnings.catch_warnings():
             warnings.filterwarnings("ignore", message="Measured \\(M\\) geometry types")
-            return pyogrio.read_dataframe(path, layer=layer, columns=columns, use_arrow=True)
+            with paused_gc():
+                return pyogrio.read_dataframe(path, layer=layer, columns=columns, use_arrow=True)
     except Exception as exc:
         raise CurveFormatError(f"cannot read {str(path)!r}: {exc}") from exc
 

@@ -20,6 +20,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .._gc import paused_gc
+
 #: Packet kinds: ragged (Multi)Polygons, ragged (Multi)LineStrings, WKB, shapely objects.
 POLYGONS, LINES, WKB, OBJECTS = "polygons", "lines", "wkb", "objects"
 
@@ -107,7 +109,8 @@ def unpack(packet: GeometryPacket) -> np.ndarray:
     if packet.kind == OBJECTS:
         return np.asarray(packet.data, dtype=object)
     if packet.kind == WKB:
-        return shapely.from_wkb(packet.data)
+        with paused_gc():  # many geometries made at once (see curvesmith._gc)
+            return shapely.from_wkb(packet.data)
     T = shapely.GeometryType
     types = packet.types
     out = np.full(len(types), None, dtype=object)
@@ -125,7 +128,8 @@ def unpack(packet: GeometryPacket) -> np.ndarray:
     if len(full) == 0:
         return out
     *inner, feats = packet.offsets
-    parts = shapely.from_ragged_array(single, packet.coords, tuple(inner))
+    with paused_gc():
+        parts = shapely.from_ragged_array(single, packet.coords, tuple(inner))
     n_parts = np.diff(feats)
     one = types[full] == single  # a Polygon (LineString) is its one part
     out[full[one]] = parts[feats[:-1][one]]
