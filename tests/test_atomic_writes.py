@@ -523,3 +523,39 @@ def test_sigterm_during_a_write_leaves_no_temporary_files(tmp_path):
     assert proc.returncode == 128 + signal.SIGTERM
     assert not list(tmp_path.glob(".out.csv.*")), "temporary output left behind"
     assert out.read_bytes() == before
+
+
+def test_geojson_points_inside_geometry_collections_pass_through(tmp_path):
+    # a GeometryCollection of a Point and a Polygon (and one of Points only): the points
+    # are written back where they were, the polygon is smoothed; before, the file failed
+    # with "feature 0, member 0: a Point is not a curve"
+    closed = [*_ring(40).tolist(), _ring(40)[0].tolist()]
+    point = {"type": "Point", "coordinates": [5.0, 5.0]}
+    many = {"type": "MultiPoint", "coordinates": [[1.0, 2.0], [3.0, 4.0]]}
+    poly = {"type": "Polygon", "coordinates": [closed]}
+    feats = [
+        {"type": "Feature", "properties": {"n": 0},
+         "geometry": {"type": "GeometryCollection", "geometries": [point, poly, many]}},
+        {"type": "Feature", "properties": {"n": 1},
+         "geometry": {"type": "GeometryCollection", "geometries": [point, many]}},
+        {"type": "Feature", "properties": {"n": 2}, "geometry": poly},
+    ]  # fmt: skip
+    src = tmp_path / "collections.geojson"
+    src.write_text(json.dumps({"type": "FeatureCollection", "features": feats}))
+    with pytest.raises(CurveFormatError, match="feature 0, member 0: a Point is not a curve"):
+        cio.read_geojson(src)  # the API's default stays strict
+    out = tmp_path / "o.geojson"
+    res = CliRunner().invoke(main, ["smooth", str(src), "-o", str(out)])
+    assert res.exit_code == 0, res.output
+    assert "1 feature(s) without a curve geometry" in res.output
+    assert "2 Point/MultiPoint member(s) of GeometryCollections passed through" in res.output
+    doc = json.loads(out.read_text())
+    assert [f["properties"]["n"] for f in doc["features"]] == [0, 1, 2]
+    members = doc["features"][0]["geometry"]["geometries"]
+    assert [g["type"] for g in members] == ["Point", "Polygon", "MultiPoint"]
+    assert members[0] == point and members[2] == many
+    assert len(members[1]["coordinates"][0]) == 3 * 40 + 1  # smoothed once
+    assert doc["features"][1] == feats[1]
+    kept = cio.read_geojson(src, others="keep")
+    assert sorted(kept.members) == [(0, 0), (0, 2)] and sorted(kept.others) == [1]
+    assert kept.with_curves(list(kept)).members == kept.members

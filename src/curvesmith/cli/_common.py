@@ -136,6 +136,13 @@ def _read(source, format: str, keep_others: bool = False):
                 "MultiPoint) passed through unchanged",
                 err=True,
             )
+        members = getattr(curves, "members", {})
+        if members:
+            click.echo(
+                f"{len(members)} Point/MultiPoint member(s) of GeometryCollections passed "
+                "through unchanged",
+                err=True,
+            )
         return curves
     return _read_registry(source, format=format)
 

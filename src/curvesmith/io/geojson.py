@@ -59,20 +59,24 @@ class GeoJSONCurves(list):
     Attributes
     ----------
     others : dict of int to dict
-        Features without a curve geometry (NULL, Point, MultiPoint), by feature index,
-        as read.
+        Features without a curve geometry (NULL, Point, MultiPoint, a GeometryCollection
+        of points only), by feature index, as read.
+    members : dict of (int, int) to dict
+        Point and MultiPoint members of GeometryCollections that also hold curves, by
+        (feature index, member index), as read: written back at their places.
     crs : dict or None
         The (pre-RFC 7946) ``crs`` member of the file.
     """
 
-    def __init__(self, curves=(), others=None, crs=None):
+    def __init__(self, curves=(), others=None, crs=None, members=None):
         super().__init__(curves)
         self.others: dict[int, dict] = dict(others or {})
+        self.members: dict[tuple[int, int], dict] = dict(members or {})
         self.crs = crs
 
     def with_curves(self, curves) -> GeoJSONCurves:
-        """The same others and crs with other curves (e.g. the smoothed ones)."""
-        return GeoJSONCurves(curves, self.others, self.crs)
+        """The same others, members and crs with other curves (e.g. the smoothed ones)."""
+        return GeoJSONCurves(curves, self.others, self.crs, self.members)
 
 
 class _GeoJSONReader:
@@ -80,6 +84,7 @@ class _GeoJSONReader:
         self.name = name
         self.keep = keep
         self.others: dict[int, dict] = {}
+        self.members: dict[tuple[int, int], dict] = {}
         self.crs = None
         self.curves: list[Curve] = []
 
@@ -146,7 +151,7 @@ class _GeoJSONReader:
             )
         geom = feat.get("geometry")
         kind = geom.get("type") if isinstance(geom, dict) else None
-        if self.keep and (geom is None or kind in ("Point", "MultiPoint")):
+        if self.keep and (geom is None or kind in ("Point", "MultiPoint") or _points_only(geom)):
             self.others[i] = feat
             return
         if geom is None:
@@ -202,6 +207,9 @@ class _GeoJSONReader:
         kind = geom["type"]
         common = {"properties": props, "feature": feature, "feature_id": fid, "member": member}
         coords = geom.get("coordinates")
+        if kind in ("Point", "MultiPoint") and self.keep and member is not None:
+            self.members[(feature, member)] = geom  # written back in its collection
+            return
         if kind in ("Point", "MultiPoint"):
             raise self.fail(
                 where,
@@ -244,6 +252,18 @@ class _GeoJSONReader:
             w = f"{where} ring {r}" + (" (exterior)" if r == 0 else " (hole)")
             pts = self.positions(self.array(ring, w, "positions"), w)
             self.add(w, pts, True, kind=kind, part=part, ring=r, **common)
+
+
+def _points_only(geom) -> bool:
+    """Whether `geom` is a GeometryCollection of Points and MultiPoints only (none: no)."""
+    if not isinstance(geom, dict) or geom.get("type") != "GeometryCollection":
+        return False
+    members = geom.get("geometries")
+    return (
+        isinstance(members, list)
+        and bool(members)
+        and all(isinstance(g, dict) and g.get("type") in ("Point", "MultiPoint") for g in members)
+    )
 
 
 def read_geojson(source: Source, *, others: Literal["error", "keep"] = "error") -> list[Curve]:
@@ -299,7 +319,7 @@ def read_geojson(source: Source, *, others: Literal["error", "keep"] = "error") 
                 f"{name}: none of the {len(reader.others)} features has a curve geometry "
                 "(LineString, Polygon, MultiLineString, MultiPolygon)"
             )
-        return GeoJSONCurves(reader.curves, reader.others, reader.crs)
+        return GeoJSONCurves(reader.curves, reader.others, reader.crs, reader.members)
     return reader.curves
 
 
@@ -417,7 +437,9 @@ def _geometry(coords: _Coords, curves: list[Curve], where: str, orient: bool) ->
     }
 
 
-def _features(coords: _Coords, curves: list[Curve], orient: bool) -> list[dict]:
+def _features(
+    coords: _Coords, curves: list[Curve], orient: bool, kept: dict[tuple[int, int], dict]
+) -> list[dict]:
     groups: dict[int, list[Curve]] = {}
     for c in curves:
         groups.setdefault(c.feature, []).append(c)
@@ -443,12 +465,14 @@ def _features(coords: _Coords, curves: list[Curve], orient: bool) -> list[dict]:
             by_member: dict[int, list[Curve]] = {}
             for c in group:
                 by_member.setdefault(int(c.member or 0), []).append(c)  # every member an int
+            built = {
+                m: _geometry(coords, by_member[m], f"{where} member {m}", orient) for m in by_member
+            }
+            # the collection's points, kept aside as read, at their places
+            built.update({m: g for (f, m), g in kept.items() if f == feature and m not in built})
             geometry = {
                 "type": "GeometryCollection",
-                "geometries": [
-                    _geometry(coords, by_member[m], f"{where} member {m}", orient)
-                    for m in sorted(by_member)
-                ],
+                "geometries": [built[m] for m in sorted(built)],
             }
         feat: dict[str, Any] = {"type": "Feature"}
         if first.feature_id is not None:
@@ -491,10 +515,11 @@ def write_geojson(curves: Iterable[Curve], dest: Source, *, orient: bool = True)
     [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0], [0.0, 0.0]]
     """
     others = getattr(curves, "others", {}) or {}
+    kept = getattr(curves, "members", {}) or {}
     crs = getattr(curves, "crs", None)
     curves = _check_curves(curves)
     coords = _Coords()
-    features = _features(coords, curves, bool(orient))
+    features = _features(coords, curves, bool(orient), kept)
     if others:  # features without curves go back to their places among the others
         keyed = list(zip(dict.fromkeys(c.feature for c in curves), features, strict=True))
         keyed += list(others.items())
