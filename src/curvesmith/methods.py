@@ -183,7 +183,7 @@ METHODS: Mapping[str, SmoothingMethod] = MappingProxyType(
                 scalable=False,
                 gis=True,
                 growth=2,
-                parameters=("preserve_endpoints",),
+                parameters=("preserve_endpoints", "close_rings"),  # close_rings: ragged
                 single=_lazy("subdivision", "chaikin"),
                 ragged=_lazy("subdivision", "chaikin_ragged"),
             ),
@@ -195,7 +195,7 @@ METHODS: Mapping[str, SmoothingMethod] = MappingProxyType(
                 scalable=False,
                 gis=False,
                 growth=2,
-                parameters=("gamma", "preserve_endpoints"),
+                parameters=("gamma", "preserve_endpoints", "close_rings"),
                 single=_lazy("subdivision", "de_rham"),
                 ragged=_lazy("subdivision", "de_rham_ragged"),
             ),
