@@ -356,8 +356,9 @@ def test_piece_table_renewal_keeps_old_rows_and_takes_new_ones():
 
 @pytest.mark.parametrize("courtyards", [False, True])
 def test_output_proof_beside_geos_changes_nothing(monkeypatch, courtyards):
-    # the output's proof and areas in a thread beside GEOS building the polygons: the
-    # same geometries, reductions and area check as proving after the build
+    # the output's proof and areas in a thread beside GEOS building the polygons, and the
+    # input's proof beside the type checks: the same geometries, reductions and area
+    # check as proving after the build and before the checks
     polys = _footprints(2500, 5)
     if not courtyards:
         polys = [shapely.Polygon(p.exterior) for p in polys]
@@ -375,7 +376,8 @@ def test_output_proof_beside_geos_changes_nothing(monkeypatch, courtyards):
         monkeypatch.setattr(geo_smooth, "beside_worthwhile", lambda n, b=beside: b)
         res = geo.smooth(polys, iterations=2, full_output=True)
         runs[beside] = (shapely.to_wkb(res.geometry).tolist(), res.reductions, res.max_area_change)
-    assert len(started) == 1
+    # one run in threads: the input's proof, then the output's proof and areas
+    assert [fn.__name__ for fn in started] == ["rings_certainly_simple", "proof_and_areas"]
     assert runs[True] == runs[False]
     assert runs[True][1]  # some features were re-smoothed less (the check found them)
     assert runs[True][2] < 1e-9

@@ -447,35 +447,28 @@ def _prepare(
     geoms = np.asarray(geoms, dtype=object).copy()
     present = ~shapely.is_missing(geoms)
     g = geoms[present]
-    types = shapely.get_type_id(g)
-    empty = shapely.is_empty(g)
-    holes = shapely.get_num_interior_rings(g)
     if not present.any():
-        return geoms, _Facts(present, types, empty, holes)
-    pos = np.nonzero(present)[0]
-    is_point = (types == shapely.GeometryType.POINT) | (types == shapely.GeometryType.MULTIPOINT)
-    nonempty = ~empty
-    if np.any(is_point & nonempty):
-        k = int(pos[np.nonzero(is_point & nonempty)[0][0]])
-        raise CurveError(
-            f"{what}[{k}] is a {geoms[k].geom_type}: only lines and polygons can be smoothed"
-        )
-    has_z = shapely.has_z(g)
-    if np.any(has_z & nonempty):
-        k = int(pos[np.nonzero(has_z & nonempty)[0][0]])
-        raise CurveError(
-            f"{what}[{k}] has Z coordinates; curvesmith.geo smooths planar geometries "
-            f"(drop Z with shapely.force_2d)"
-        )
-    # single-ring polygons proven simple by the compiled test are valid; GEOS checks the rest
+        types, empty = shapely.get_type_id(g), shapely.is_empty(g)
+        return geoms, _Facts(present, types, empty, shapely.get_num_interior_rings(g))
     xy, owner = shapely.get_coordinates(g, return_index=True)
     off = np.zeros(len(g) + 1, dtype=np.int64)
     np.cumsum(np.bincount(owner, minlength=len(g)), out=off[1:])
     centres = np.full((len(g), 2), np.nan)
+    # single-ring polygons proven simple by the compiled test are valid; GEOS checks the
+    # rest. The proof (compiled, without the GIL) runs beside the type checks of a layer
+    simple = None
+    if not defer_validity and beside_worthwhile(xy.shape[0]):
+        from ._simple import rings_certainly_simple
+
+        simple = in_background(rings_certainly_simple, xy, off, True, centres)
+    try:
+        types, empty, holes = _check_types(shapely, geoms, g, present, what)
+    finally:
+        proof = simple.result() if simple is not None else None  # also when a check failed
     if defer_validity:
         proven = valid = np.zeros(len(g), dtype=bool)
     else:
-        proven = _certainly_valid_polygons(types, holes, xy, off, centres)
+        proven = _certainly_valid_polygons(types, holes, xy, off, centres, proof)
         valid = proven.copy()
         doubt = np.flatnonzero(~valid)
         if doubt.size:
@@ -486,8 +479,8 @@ def _prepare(
             k = int(np.nonzero(~valid)[0][0])
             reason = shapely.is_valid_reason(g[k])
             raise CurveError(
-                f"{what}[{int(pos[k])}] is not valid ({reason}); repair it first or pass "
-                f"make_valid=True to repair it with shapely.make_valid"
+                f"{what}[{int(np.flatnonzero(present)[k])}] is not valid ({reason}); repair "
+                "it first or pass make_valid=True to repair it with shapely.make_valid"
             )
         fixed = shapely.make_valid(g[~valid], method="structure", keep_collapsed=False)
         g = g.copy()
@@ -522,31 +515,59 @@ def _prepare(
     return geoms, _Facts(present, types, empty, holes, xy, off, centres)
 
 
+def _check_types(shapely, geoms, g, present, what):
+    """Types, emptiness and holes of the present geometries `g`; refuses points and Z."""
+    types = shapely.get_type_id(g)
+    empty = shapely.is_empty(g)
+    holes = shapely.get_num_interior_rings(g)
+    pos = np.nonzero(present)[0]
+    is_point = (types == shapely.GeometryType.POINT) | (types == shapely.GeometryType.MULTIPOINT)
+    nonempty = ~empty
+    if np.any(is_point & nonempty):
+        k = int(pos[np.nonzero(is_point & nonempty)[0][0]])
+        raise CurveError(
+            f"{what}[{k}] is a {geoms[k].geom_type}: only lines and polygons can be smoothed"
+        )
+    has_z = shapely.has_z(g)
+    if np.any(has_z & nonempty):
+        k = int(pos[np.nonzero(has_z & nonempty)[0][0]])
+        raise CurveError(
+            f"{what}[{k}] has Z coordinates; curvesmith.geo smooths planar geometries "
+            f"(drop Z with shapely.force_2d)"
+        )
+    return types, empty, holes
+
+
 def _repeating(xy: np.ndarray, owner: np.ndarray) -> np.ndarray:
     """The ``owner`` values (geometries) with a vertex repeating the previous one."""
     rep = np.all(xy[1:] == xy[:-1], axis=1) & (owner[1:] == owner[:-1])
     return np.unique(owner[1:][rep])
 
 
-def _certainly_valid_polygons(types, holes, xy, off, centres=None) -> np.ndarray:
+def _certainly_valid_polygons(types, holes, xy, off, centres=None, simple=None) -> np.ndarray:
     """Per geometry: True for a Polygon without holes whose ring is proven simple.
 
     ``types, holes``: ``get_type_id`` and ``get_num_interior_rings`` of the geometries;
     ``xy``: their ``get_coordinates``, geometry ``i`` in rows ``off[i]:off[i + 1]``.
     False means "ask GEOS" (other types, holes, doubtful rings; see
     :mod:`curvesmith.geo._simple`). ``centres`` (``(len(types), 2)``, NaN): filled with
-    the centres of the star proofs.
+    the centres of the star proofs. ``simple``: the proof of every geometry's
+    coordinates as one ring, if already run (``rings_certainly_simple(xy, off, True,
+    centres)``).
     """
     shapely = _shapely()
     from ._simple import rings_certainly_simple
 
     out = np.zeros(len(types), dtype=bool)
     cand = (types == shapely.GeometryType.POLYGON) & (holes == 0)
-    if not cand.any():
-        return out
     if centres is None:
         centres = np.full((len(types), 2), np.nan)
-    out[cand] = rings_certainly_simple(xy, off, True, centres)[cand]
+    if not cand.any():
+        centres[:] = np.nan
+        return out
+    if simple is None:
+        simple = rings_certainly_simple(xy, off, True, centres)
+    out[cand] = simple[cand]
     centres[~cand] = np.nan
     return out
 
@@ -843,21 +864,22 @@ def _smooth_polygonal(g, feat_index, smoother, levels, batch, single_rings=None)
         method, alpha, coords, ring_off, True, full, fmask, close_rings=True
     )
     # a feature of one ring proven simple by the compiled test is valid; GEOS checks the
-    # rest. The proof and the output's areas (compiled, without the GIL) run beside GEOS
-    # building the polygons (which holds it)
+    # rest. The proof and the areas of output and input (compiled, without the GIL) run
+    # beside GEOS building the polygons (which holds it)
     from ._simple import rings_certainly_simple
 
     def proof_and_areas(xy, off, centres):
-        return rings_certainly_simple(xy, off, True, centres), _ring_areas(xy, off)
+        proof = rings_certainly_simple(xy, off, True, centres)
+        return proof, _ring_areas(xy, off), _ring_areas(coords, ring_off)
 
     build = assemble_polygons
     if beside_worthwhile(new_xy.shape[0]):
         future = in_background(proof_and_areas, new_xy, new_off, centres)
         res = build(new_xy, new_off, poly_off, geom_off, was_polygon)
-        proven, a1 = future.result()
+        proven, a1, a0 = future.result()
     else:
         res = build(new_xy, new_off, poly_off, geom_off, was_polygon)
-        proven, a1 = proof_and_areas(new_xy, new_off, centres)
+        proven, a1, a0 = proof_and_areas(new_xy, new_off, centres)
     rings_per_geom = np.bincount(ring_geom, minlength=len(g))
     hard = rings_per_geom > 1  # holes or parts: checked for conflicts anyway
     one = np.flatnonzero(~hard)
@@ -897,7 +919,6 @@ def _smooth_polygonal(g, feat_index, smoother, levels, batch, single_rings=None)
         g_off = np.append(np.searchsorted(poly_geom, hard_idx), len(polys))
         res[hard_idx] = build(sub_xy, sub_off, p_off, g_off, was_polygon[hard_idx])
     del new_xy
-    a0 = _ring_areas(coords, ring_off)
     scale = np.where(a0 != 0, np.abs(a0), 1.0)
     change = float(np.max(np.abs(a1 - a0) / scale)) if len(a0) else 0.0
     return res, reductions, n_rings, change
