@@ -86,11 +86,16 @@ def split_zm(geoms: np.ndarray) -> tuple[np.ndarray, ZMSource | None]:
     """Planar copies of `geoms` and their Z/M source (``None`` when no feature has Z or M)."""
     shapely = _shapely()
     geoms = np.asarray(geoms, dtype=object)
-    has_z = shapely.has_z(geoms)  # False for None
-    has_m = shapely.has_m(geoms)
-    dims = has_z | has_m
+    # one pass over the geometries (2: XY, 3: XYZ or XYM, 4: XYZM, -1: None), then Z and M
+    # of the few with more than XY (each pass over a layer costs more than its work)
+    dims = shapely.get_coordinate_dimension(geoms) > 2
     if not dims.any():
         return geoms, None
+    has_z = np.zeros(len(geoms), dtype=bool)
+    has_m = np.zeros(len(geoms), dtype=bool)
+    has_z[dims] = shapely.has_z(geoms[dims])
+    has_m[dims] = shapely.has_m(geoms[dims])
+    dims = has_z | has_m
     flat = geoms.copy()
     flat[dims] = shapely.force_2d(geoms[dims])
     return flat, ZMSource(geoms, has_z, has_m)
