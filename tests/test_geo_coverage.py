@@ -11,6 +11,8 @@ from curvesmith import cca, geo
 from curvesmith.errors import CurveError
 from curvesmith.internals import (
     coverage_flat_uses,
+    coverage_patched,
+    coverage_ragged,
     coverage_shells,
     coverage_valid_by_proof,
     geo_coverage,
@@ -389,3 +391,25 @@ def test_real_imperfect_coverage_makes_no_gap_or_overlap_larger():
     assert gaps1.sum() <= gaps0.sum() * (1 + 1e-9) and gaps1.max() <= gaps0.max() * (1 + 1e-9)
     scale = 1e-12 * float(shapely.area(polys).sum())  # rounding of the area sums
     assert over1 <= max(over0, 0.0) + scale
+
+
+@pytest.mark.parametrize("reduced", [[], [0], [3, 4], [0, 9], list(range(10))])
+def test_patched_ragged_is_the_ragged_of_the_arcs(reduced):
+    # the smoothed arcs' ragged copy from the full-strength one with the reduced arcs put
+    # in (runs of unchanged arcs copied as blocks): the same arrays as concatenating all
+    rng = np.random.default_rng(len(reduced))
+    loops = np.array([k % 3 == 0 for k in range(10)])
+    full = [rng.normal(size=(int(rng.integers(3, 9)), 2)) for _ in range(10)]
+    xy, off = coverage_ragged(full, loops)
+    rag = {"xy": xy, "off": off}
+    # the full-strength arcs as smooth_arc_blocks hands them over: views of their rows
+    ends = zip(off[:-1], off[1:], loops, strict=True)
+    initial = [xy[a : b - 1] if lp else xy[a:b] for a, b, lp in ends]
+    arcs = list(initial)
+    for k in reduced:
+        arcs[k] = rng.normal(size=(int(rng.integers(3, 12)), 2))
+    arcs[5] = initial[5].copy()  # not the initial array: put in too (the same rows)
+    got = coverage_patched(rag, arcs, initial, loops, set(reduced))
+    want_xy, want_off = coverage_ragged(arcs, loops)
+    np.testing.assert_array_equal(got["off"], want_off)
+    np.testing.assert_array_equal(got["xy"], want_xy)

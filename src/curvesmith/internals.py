@@ -150,6 +150,7 @@ _ON_DEMAND: dict[str, tuple[str, str | None]] = {
     "lon_arc": (".geo._io", "_lon_arc"),
     "slices": (".geo._io", "_slices"),
     "coverage_ragged": (".geo._coverage", "_ragged"),
+    "coverage_patched": (".geo._coverage", "_patched"),
     "geo_chunks": (".geo._smooth", "_chunks"),
     "arrangement_kernel": (".geo._arrangement_kernel", None),
     "coverage_flat_uses": (".geo._coverage", "_flat_uses"),

@@ -774,9 +774,44 @@ def smooth_arcs(
         initial=initial,
         initial_ragged=rag or None,
     )
-    if ragged_out is not None and rag and not reductions:
+    if ragged_out is not None and rag:
+        if reductions:  # the full-strength arcs with the reduced ones put in
+            rag = _patched(rag, out, initial, topo.loops, {r.arc for r in reductions})
         ragged_out.update(rag)
     return out, reductions
+
+
+def _patched(rag: dict, arcs, initial, loops, reduced: set[int]) -> dict:
+    """:func:`_ragged` of `arcs` from `rag`, that of the full-strength arcs `initial`.
+
+    An arc that was not reduced is its full-strength smoothing, the very array of
+    `initial` (a view of its rows of ``rag["xy"]``, as :func:`smooth_arc_blocks` made
+    it), so the runs of such arcs between the few reduced ones are copied as blocks
+    (the US counties: 11 of 11,159 arcs reduced, 12 ms against 54 ms for concatenating
+    every arc again).
+    """
+    n = len(arcs)
+    changed = np.fromiter(
+        (k in reduced or a is not b for k, (a, b) in enumerate(zip(arcs, initial, strict=True))),
+        dtype=bool,
+        count=n,
+    )
+    idx = np.flatnonzero(changed)
+    sub_xy, sub_off = _ragged([arcs[k] for k in idx], np.asarray(loops, dtype=bool)[idx])
+    xy, off = rag["xy"], rag["off"]
+    lens = np.diff(off)
+    lens[idx] = np.diff(sub_off)
+    new_off = np.zeros(off.size, dtype=np.int64)
+    np.cumsum(lens, out=new_off[1:])
+    out = np.empty((int(new_off[-1]), xy.shape[1]))
+    prev = 0  # first arc of the current run of unchanged arcs
+    for j, k in enumerate([*idx.tolist(), n]):
+        if k > prev:  # arcs prev .. k - 1 in one block
+            out[new_off[prev] : new_off[k]] = xy[off[prev] : off[k]]
+        if k < n:
+            out[new_off[k] : new_off[k + 1]] = sub_xy[sub_off[j] : sub_off[j + 1]]
+        prev = k + 1
+    return {"xy": out, "off": new_off}
 
 
 def _arc_lines(arcs, ring: np.ndarray):
