@@ -556,6 +556,14 @@ def test_geojson_points_inside_geometry_collections_pass_through(tmp_path):
     assert members[0] == point and members[2] == many
     assert len(members[1]["coordinates"][0]) == 3 * 40 + 1  # smoothed once
     assert doc["features"][1] == feats[1]
+    res = CliRunner().invoke(main, ["smooth", str(src), "-o", str(tmp_path / "o.csv")])
+    assert res.exit_code == 0, res.output  # a curve format: said to be left out, not kept
+    assert "2 Point/MultiPoint member(s) of GeometryCollections not written: CSV holds" in (
+        res.output
+    )
+    assert "1 feature(s) without a curve geometry (NULL, Point, MultiPoint) not written" in (
+        res.output
+    )
     kept = cio.read_geojson(src, others="keep")
     assert sorted(kept.members) == [(0, 0), (0, 2)] and sorted(kept.others) == [1]
     assert kept.with_curves(list(kept)).members == kept.members

@@ -108,6 +108,19 @@ def test_a_keyword_of_another_method_is_refused_naming_both():
         methods.get("chaikin").smooth_ragged(blob(6), [0, 6], closed=True, spin=1)
 
 
+@pytest.mark.parametrize("name", ["cca", "chaikin", "derham"])
+def test_close_rings_is_a_layout_of_the_ragged_call_only(name):
+    # one curve has no ring layout: a CurveError (was a TypeError of the function)
+    extra = {"gamma": 3.0} if name == "derham" else {}
+    with pytest.raises(CurveError, match="close_rings applies to smooth_ragged"):
+        methods.get(name).smooth(blob(6), closed=True, close_rings=True, **extra)
+    xy, off = methods.get(name).smooth_ragged(
+        blob(6), [0, 6], closed=True, close_rings=True, **extra
+    )
+    np.testing.assert_array_equal(xy[-1], xy[0])
+    assert off.tolist() == [0, len(xy)]
+
+
 def test_get_and_needs_messages():
     with pytest.raises(CurveError, match="method must be one of 'cca', 'chaikin', 'derham'"):
         methods.get("bezier")

@@ -115,6 +115,11 @@ class SmoothingMethod:
     ) -> np.ndarray:
         """Smooth one curve; `parameters` must be among :attr:`parameters`."""
         self._check(parameters)
+        if "close_rings" in parameters:  # a layout of the ragged output
+            raise CurveError(
+                "close_rings applies to smooth_ragged (many curves in one array), not to "
+                "smooth (one curve)"
+            )
         return self.single(points, closed=closed, iterations=iterations, **parameters)
 
     def smooth_ragged(

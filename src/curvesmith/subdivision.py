@@ -20,8 +20,10 @@ batches of de Rham / Chaikin run compiled, bit for bit the same).
   sequence has ``2N + 2`` entries and ``mu^n`` removes ``n`` of them, so an open
   step yields ``2N + 2 - n`` vertices — checked numerically in the tests.)
 
-Open polylines may keep their end points (``preserve_endpoints=True``), the
-behaviour of PostGIS ``ST_ChaikinSmoothing(..., preserveEndPoints => true)``.
+Open polylines may keep their end points (``preserve_endpoints=True``): they are
+kept beside the cut points, ``2 (N - 1) + 2`` vertices per step. PostGIS
+``ST_ChaikinSmoothing`` keeps the ends of a line always, in place of its first and last
+cut point (``2 (N - 1)`` vertices), and applies ``preserveEndPoints`` to rings only.
 Points are rows in any dimension, except that an array of 2 or 3 rows with more
 than 3 columns is refused as transposed (``(2, N)`` coordinates instead of
 ``(N, 2)`` points, the usual mix-up); ``closed`` and ``preserve_endpoints`` must
@@ -83,8 +85,8 @@ def chaikin(
     iterations : int, optional
         Number of refinement steps, >= 0.
     preserve_endpoints : bool, optional
-        For open input, keep the first and last vertex (PostGIS
-        ``preserveEndPoints``). Ignored for closed input.
+        For open input, keep the first and last vertex beside the cut points (see the
+        module's notes on PostGIS). Ignored for closed input.
 
     Returns
     -------

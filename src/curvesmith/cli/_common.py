@@ -128,22 +128,7 @@ def _read(source, format: str, keep_others: bool = False):
     if keep_others and format in ("geojson", "json"):
         from ..io.geojson import read_geojson
 
-        curves = read_geojson(source, others="keep")
-        others = getattr(curves, "others", {})  # a GeoJSONCurves with others="keep"
-        if others:
-            click.echo(
-                f"{len(others)} feature(s) without a curve geometry (NULL, Point, "
-                "MultiPoint) passed through unchanged",
-                err=True,
-            )
-        members = getattr(curves, "members", {})
-        if members:
-            click.echo(
-                f"{len(members)} Point/MultiPoint member(s) of GeometryCollections passed "
-                "through unchanged",
-                err=True,
-            )
-        return curves
+        return read_geojson(source, others="keep")  # what is not a curve: write_curves
     return _read_registry(source, format=format)
 
 
@@ -197,9 +182,31 @@ def _warn_lost_crs(curves, dest: str, fmt: str) -> None:
     )
 
 
+def _say_others(curves, fmt: str) -> None:
+    """One line each on the GeoJSON input's features and members that are not curves."""
+    others = getattr(curves, "others", {}) or {}  # a GeoJSONCurves read with others="keep"
+    members = getattr(curves, "members", {}) or {}
+    fate = (
+        "passed through unchanged"
+        if fmt in ("geojson", "json")
+        else f"not written: {fmt.upper() or 'the output'} holds curves only (write GeoJSON)"
+    )
+    if others:
+        click.echo(
+            f"{len(others)} feature(s) without a curve geometry (NULL, Point, MultiPoint) {fate}",
+            err=True,
+        )
+    if members:
+        click.echo(
+            f"{len(members)} Point/MultiPoint member(s) of GeometryCollections {fate}", err=True
+        )
+
+
 def write_curves(curves: list[Curve], dest: str, fmt: str | None = None) -> None:
     """Write curves to a path, or to standard output when `dest` is ``-``."""
-    _warn_lost_crs(curves, dest, fmt or (_format_of(dest, None) if dest != "-" else ""))
+    out_fmt = fmt or (_format_of(dest, None) if dest != "-" else "")
+    _warn_lost_crs(curves, dest, out_fmt)
+    _say_others(curves, out_fmt)
     if dest == "-":
         if fmt is None:
             raise CurveError("--format is required when writing to standard output (-)")

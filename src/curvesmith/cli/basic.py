@@ -172,8 +172,8 @@ def _where(row: dict) -> str:
     "--preserve-endpoints/--free-endpoints",
     default=True,
     show_default=True,
-    help="chaikin/derham/lane_riesenfeld: keep the end points of open polylines "
-    "(PostGIS preserveEndPoints).",
+    help="chaikin/derham/lane_riesenfeld: keep the end points of open polylines, beside "
+    "the cut points (PostGIS keeps a line's ends in place of its outer cut points).",
 )
 @click.option(
     "--coverage",

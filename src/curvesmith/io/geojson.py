@@ -443,6 +443,9 @@ def _features(
     groups: dict[int, list[Curve]] = {}
     for c in curves:
         groups.setdefault(c.feature, []).append(c)
+    kept_of: dict[int, dict[int, dict]] = {}  # feature -> member -> the kept geometry
+    for (f, m), g in kept.items():
+        kept_of.setdefault(f, {})[m] = g
     features = []
     for feature, group in groups.items():
         where = f"feature {feature}"
@@ -469,7 +472,7 @@ def _features(
                 m: _geometry(coords, by_member[m], f"{where} member {m}", orient) for m in by_member
             }
             # the collection's points, kept aside as read, at their places
-            built.update({m: g for (f, m), g in kept.items() if f == feature and m not in built})
+            built.update({m: g for m, g in kept_of.get(feature, {}).items() if m not in built})
             geometry = {
                 "type": "GeometryCollection",
                 "geometries": [built[m] for m in sorted(built)],
