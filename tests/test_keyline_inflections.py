@@ -140,3 +140,21 @@ def test_cli_writes_every_piece(tmp_path):
     assert pinned[0] == pinned[1] and pinned[1] < pinned[2] < pinned[3]
     err = [np.linalg.norm(true - poly[j], axis=1).min() for j in pinned[1:]]
     assert max(err) < 3.0
+
+
+@pytest.mark.parametrize("flip", [False, True])
+def test_a_keyline_of_five_scanned_points_splits_in_the_middle_of_its_straight_run(flip):
+    # five points of an S: two corners joined by a straight run, on which the curvature
+    # vanishes; the RDP method stopped at one end of the run (vertex 159 of 217, sides of
+    # 160 and 58 vertices, rms 1.51 and 0.26); the middle of the run is the inflection,
+    # and the two sides of this symmetric S are fitted alike
+    t = np.linspace(-1.0, 1.0, 5)
+    pts = np.c_[100.0 * t, 20.0 * np.sin(np.pi * t), 0.01 * t]
+    if flip:
+        pts = pts[::-1].copy()
+    fit = keyline.fit(pts)
+    n = fit.points.shape[0]
+    assert abs(fit.inflection.index - (n - 1) / 2) <= 1
+    assert fit.inflection.labels[-1] == fit.inflection.index  # the RDP labels, then the move
+    left, right = fit.left.rms, fit.right.rms
+    assert abs(left - right) <= 0.02 * max(left, right)

@@ -585,16 +585,49 @@ def estimate_inflections(
         # the S between the apexes of the two lobes around this inflection
         a = _farthest(p, bounds[j], idx)[0] if idx - bounds[j] >= 2 else bounds[j]
         b = _farthest(p, idx, bounds[j + 2])[0] if bounds[j + 2] - idx >= 2 else bounds[j + 2]
-        best = _refine_inflection(p, a, b, idx)
+        best = _refine_inflection(p, a, b, idx, floor)
         out.append(InflectionEstimate(index=best, point=p[best].copy(), labels=(idx,)))
     return tuple(out)
+
+
+def _centred_on_straight_run(
+    p: np.ndarray, est: InflectionEstimate, floor: float
+) -> InflectionEstimate:
+    """The RDP estimate, moved to the middle of the straight run it lies on, if any.
+
+    Where the two lobes are joined by a straight run (every vertex between the lobes'
+    apexes within `floor` of their chord), the curvature vanishes on an interval and the
+    RDP method stops at one end of it (a keyline of five scanned points: vertex 159 of
+    217 instead of 108); the middle of the run is the inflection. Curved S shapes, the
+    paper's, are left as they are.
+    """
+    i, n = est.index, p.shape[0]
+    a = _farthest(p, 0, i)[0] if i >= 2 else 0
+    b = _farthest(p, i, n - 1)[0] if n - 1 - i >= 2 else n - 1
+    j = _straight_middle(p, a, b, floor)
+    if j is None or j == i:
+        return est
+    return InflectionEstimate(index=j, point=p[j].copy(), labels=(*est.labels, j))
+
+
+def _straight_middle(p: np.ndarray, a: int, b: int, floor: float) -> int | None:
+    """The middle vertex of ``p[a..b]`` if all of it lies within `floor` of its chord."""
+    if b - a < 2:
+        return None
+    u = p[b] - p[a]
+    length = math.hypot(u[0], u[1])
+    if length == 0.0:
+        return None
+    d = p[a : b + 1] - p[a]
+    y = (d[:, 1] * u[0] - d[:, 0] * u[1]) / length
+    return (a + b) // 2 if float(np.max(np.abs(y))) <= floor else None
 
 
 #: Degree of the polynomial graph that locates an inflection between two lobe apexes.
 _REFINE_DEGREE = 5
 
 
-def _refine_inflection(p: np.ndarray, a: int, b: int, idx: int) -> int:
+def _refine_inflection(p: np.ndarray, a: int, b: int, idx: int, floor: float = 0.0) -> int:
     """The vertex of ``p[a..b]`` nearest the zero of curvature of a least-squares quintic.
 
     ``p[a..b]`` runs from the apex of one lobe to the apex of the next (an S with the one
@@ -604,7 +637,15 @@ def _refine_inflection(p: np.ndarray, a: int, b: int, idx: int) -> int:
     recurses down to adjacent vertices where the curve leaves its chords only cubically,
     moves by tens of vertices on gentle keylines; the fit averages the noise over the whole
     S. Returns `idx` where the piece is not a graph over its chord or has no such zero.
+
+    Where the lobes are joined by a straight run (every vertex between the apexes within
+    `floor` of their chord: the curvature vanishes on an interval, as on a polygon of few
+    scanned points or a profile with a straight middle), the inflection is the middle
+    vertex of the run; the quintic's zero would fall anywhere on it.
     """
+    middle = _straight_middle(p, a, b, floor)
+    if middle is not None:
+        return middle
     seg = p[a : b + 1]
     if seg.shape[0] < 3 * _REFINE_DEGREE:
         return idx
@@ -932,10 +973,13 @@ def fit(
     frame = _principal_frame(poly)
     xy = frame.coords
     several = None
+    floor = 0.0
     if inflection is None:
         from .elastica.fit import _scan_noise
 
-        found = estimate_inflections(xy, noise=max(_scan_noise(q), _scan_noise(xy)))
+        sigma = max(_scan_noise(q), _scan_noise(xy))
+        floor = max(_DEPTH_NOISE * sigma, 1e-9 * float(np.ptp(xy, axis=0).max()))
+        found = estimate_inflections(xy, noise=sigma)
         if len(found) >= 2:
             several = found
     elif np.ndim(inflection) == 1:
@@ -963,7 +1007,7 @@ def fit(
         )
     if inflection is None:
         try:
-            est = _estimate_inflection(xy)
+            est = _centred_on_straight_run(xy, _estimate_inflection(xy), floor)
         except CurveError as exc:
             if not (single_if_convex and "convex arc" in str(exc)):
                 raise
