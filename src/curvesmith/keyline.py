@@ -870,7 +870,9 @@ def fit(
     3. The equilateral polygon is put in its principal-axes frame x''y''
        (:func:`principal_frame`).
     4. The global inflection is estimated by the RDP method
-       (:func:`estimate_inflection`).
+       (:func:`estimate_inflection`); where the lobes are joined by a straight run
+       (the curvature vanishes on an interval: a keyline of a few scanned points), the
+       estimate moves to the run's middle vertex (the method stops at one end of it).
     5. Each side, traversed from the inflection outwards, is fitted by
        ``curvesmith.elastica.fit`` with ``(x0, y0)`` pinned at the inflection
        point; the other five parameters ``(h, phi, z, q, k)`` are optimised.
