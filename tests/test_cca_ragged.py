@@ -293,3 +293,30 @@ def test_paused_gc_resumes_the_collector_and_keeps_it_off_when_it_was():
         assert not gc.isenabled()  # a collector that was off stays off
     finally:
         gc.enable()
+
+
+def test_layer_calls_pause_the_collector_and_resume_it_also_on_errors():
+    import gc
+
+    import shapely
+
+    from curvesmith import geo
+
+    boxes = [shapely.box(0, 0, 1, 1), shapely.box(1, 0, 2, 1)]
+    seen = []
+
+    def spy(theta):
+        seen.append(gc.isenabled())
+        return np.full_like(theta, 0.25)
+
+    for call in (
+        lambda: geo.smooth(boxes, iterations=1, alpha=spy),
+        lambda: geo.smooth_coverage(boxes, iterations=1),
+        lambda: geo.smooth_network([shapely.LineString([(0, 0), (1, 1), (2, 0)])]),
+    ):
+        call()
+        assert gc.isenabled()
+    assert seen and not any(seen)  # the user's alpha ran with the collector paused
+    with pytest.raises(CurveError):
+        geo.smooth([shapely.Point(0, 0)])
+    assert gc.isenabled()

@@ -10,6 +10,7 @@ from typing import Any
 import numpy as np
 
 from .. import methods
+from .._gc import gc_paused
 from .._rich import RichRepr
 from ..errors import CurveError
 from ..methods import GisMethod
@@ -355,6 +356,7 @@ def ring_coordinates(
     )  # fmt: skip
 
 
+@gc_paused  # a layer's many Python objects: see curvesmith._gc
 def smooth_coverage(
     polygons: Any,
     *,

@@ -38,6 +38,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from .. import methods
+from .._gc import gc_paused
 from .._rich import RichRepr
 from ..errors import CurveError
 from ..geometry import _signed_area  # trapezoid shoelace about the first vertex
@@ -495,6 +496,7 @@ def _line_parts(geoms: np.ndarray):
     return idx, types, idx[pfeat], lines, np.array(closed, dtype=bool)
 
 
+@gc_paused  # a layer's many Python objects: see curvesmith._gc
 def smooth_network(
     geometry: Any,
     *,

@@ -11,7 +11,7 @@ from typing import Any
 import numpy as np
 
 from .. import methods
-from .._gc import paused_gc
+from .._gc import gc_paused, paused_gc
 from .._rich import RichRepr
 from ..errors import CurveError, require
 from ..geometry import _signed_area
@@ -1072,6 +1072,7 @@ def _smooth_linearring(geom, k, smoother, levels):
     return out, reductions, 1, change
 
 
+@gc_paused  # a layer's many Python objects: see curvesmith._gc
 def smooth(
     geometry: Any,
     *,
