@@ -15,7 +15,7 @@ import numpy as np
 from ._validate import as_points
 from .errors import CurveError
 
-__all__ = ["RaggedInput", "as_anchor_mask", "as_ragged", "curve_ids"]
+__all__ = ["RaggedInput", "as_anchor_mask", "as_ragged", "close_curves", "curve_ids"]
 
 #: Rows from which :func:`as_ragged`, asked for ``compiled``, drops the closing vertices
 #: in a compiled pass: 20,000 footprints (190,000 rows) 0.4 ms against numpy's 4-5 ms.
@@ -113,6 +113,18 @@ def as_ragged(
         off = off.copy()
         off[1:] -= np.cumsum(rep)
     return RaggedInput(p, off, cl.copy(), kept, dropped, _as_offsets(offsets, kept.size))
+
+
+def close_curves(xy: np.ndarray, off: np.ndarray, closed: np.ndarray):
+    """Every closed non-empty curve with its first row repeated at its end (ring layout)."""
+    add = closed & (np.diff(off) > 0)
+    new_off = np.zeros(off.size, dtype=np.int64)
+    np.cumsum(np.diff(off) + add, out=new_off[1:])
+    out = np.empty((int(new_off[-1]), xy.shape[1]))
+    rows = np.arange(xy.shape[0]) + np.repeat(np.cumsum(add) - add, np.diff(off))
+    out[rows] = xy
+    out[new_off[1:][add] - 1] = xy[off[:-1][add]]
+    return out, new_off
 
 
 def as_anchor_mask(anchors, rag: RaggedInput) -> np.ndarray:

@@ -379,7 +379,9 @@ def de_rham_ragged(
     for _ in range(iterations):
         p, off = _de_rham_ragged_step(p, off, cl, beta, keep)
     if close_rings:
-        p, off = _close(p, off, cl)
+        from ._ragged import close_curves
+
+        p, off = close_curves(p, off, cl)
     return p, off
 
 
@@ -404,18 +406,6 @@ def _de_rham_compiled(p, off, closed, beta, keep, iterations, close_rings):
         out_off, close_rings,
     )  # fmt: skip
     return out, out_off
-
-
-def _close(p: np.ndarray, off: np.ndarray, closed: np.ndarray):
-    """Every closed non-empty curve with its first row repeated at its end."""
-    add = closed & (np.diff(off) > 0)
-    new_off = np.zeros(off.size, dtype=np.int64)
-    np.cumsum(np.diff(off) + add, out=new_off[1:])
-    out = np.empty((int(new_off[-1]), p.shape[1]))
-    rows = np.arange(p.shape[0]) + np.repeat(np.cumsum(add) - add, np.diff(off))
-    out[rows] = p
-    out[new_off[1:][add] - 1] = p[off[:-1][add]]
-    return out, new_off
 
 
 def chaikin_ragged(

@@ -18,7 +18,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from .. import _validate
-from .._ragged import as_anchor_mask, as_ragged, curve_ids
+from .._ragged import as_anchor_mask, as_ragged, close_curves, curve_ids
 from .._rich import RichRepr
 from .._validate import as_bool, as_float, as_int, as_points, check_growth
 from ..errors import CurveError
@@ -610,7 +610,7 @@ def smooth_ragged_with_info(
         if exp2.any():
             out = np.ldexp(out, exp2[curve_ids(off)][:, None])
         if close_rings:
-            out, off = _close(out, off, cl)
+            out, off = close_curves(out, off, cl)
         return RaggedCCAResult(out, off, 0, zeros, zeros.copy(), zeros.copy(), True, "0 CCA1 steps")
     check_growth(p.shape[0], iterations, lambda n: 3 * n, limit=_validate.MAX_VERTICES)
     fixed_in = fixed
@@ -640,19 +640,6 @@ def smooth_ragged_with_info(
         + ("" if ok else f"; restrictions not met on {int(uns.sum())} edge(s)")
     )
     return RaggedCCAResult(out, off_out, iterations, red, fig, uns, ok, msg)
-
-
-def _close(xy, off, closed):
-    """Repeat the first vertex of every closed curve at its end."""
-    add = closed.astype(np.int64)
-    lens = np.diff(off) + add
-    new_off = np.zeros(off.size, dtype=np.int64)
-    np.cumsum(lens, out=new_off[1:])
-    out = np.empty((int(new_off[-1]), xy.shape[1]))
-    shift = np.repeat(np.cumsum(add) - add, np.diff(off))
-    out[np.arange(xy.shape[0]) + shift] = xy
-    out[new_off[1:][closed] - 1] = xy[off[:-1][closed]]
-    return out, new_off
 
 
 def _restore_fixed(out, fixed, cid_out, p, fixed_in, cid, off_out, off):

@@ -1008,13 +1008,12 @@ def _smooth_lineal(g, feat_index, smoother, levels, batch):
         fmask = fixed.mask(sub_xy) if fixed is not None else None
         s_xy, s_off = smooth_batch(method, alpha, sub_xy, sub_off, False, full, fmask)
         new_xy, new_off = _put(coords, line_off, todo, s_xy, s_off)
-    with paused_gc():  # many geometries made at once (see curvesmith._gc)
-        simple_in = shapely.is_simple(
-            shapely.linestrings(coords, indices=np.repeat(np.arange(n_lines), lens))
-        )
-        simple_out = shapely.is_simple(
-            shapely.linestrings(new_xy, indices=np.repeat(np.arange(n_lines), np.diff(new_off)))
-        )
+    simple_in = shapely.is_simple(
+        shapely.linestrings(coords, indices=np.repeat(np.arange(n_lines), lens))
+    )
+    simple_out = shapely.is_simple(
+        shapely.linestrings(new_xy, indices=np.repeat(np.arange(n_lines), np.diff(new_off)))
+    )
     hard = simple_in & ~simple_out
     reductions: list[GeometryReduction] = []
     if hard.any():
@@ -1036,8 +1035,7 @@ def _smooth_lineal(g, feat_index, smoother, levels, batch):
         sub = [repl[int(r)] for r in sel]
         sub_off = np.concatenate([[0], np.cumsum([len(x) for x in sub])]).astype(np.int64)
         new_xy, new_off = _put(new_xy, new_off, sel, np.concatenate(sub), sub_off)
-    with paused_gc():
-        ml = shapely.from_ragged_array(T.MULTILINESTRING, new_xy, (new_off, geom_off))
+    ml = shapely.from_ragged_array(T.MULTILINESTRING, new_xy, (new_off, geom_off))
     res = ml.copy()
     res[was_line] = shapely.get_geometry(ml[was_line], 0)
     # the area between every line and its chord, before and after
