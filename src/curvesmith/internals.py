@@ -24,8 +24,10 @@ from .affine import _kernel as affine_kernel
 from .affine.approximation import _construct as affine_construct
 from .affine.approximation import _Curve as AffineConstructionCurve
 
-# cca: the compiled 2D kernel, the numpy reference (restriction rules, N-d step), the
-# block and thread split of long curves and batches (BLOCK, THREAD_MIN are shrunk in tests)
+# cca: the compiled 2D kernel, the numpy reference (restriction rules, N-d step, the
+# profile's interior angle), the block and thread split of long curves and batches
+# (BLOCK, THREAD_MIN are shrunk in tests)
+from .cca import _angle as cca_angle
 from .cca import _api as cca_api
 from .cca import _input as cca_input
 from .cca import _kernel as cca_kernel
@@ -83,6 +85,7 @@ __all__ = [
     "as_float",
     "as_int",
     "as_points",
+    "cca_angle",
     "cca_api",
     "cca_blocks",
     "cca_chunks",

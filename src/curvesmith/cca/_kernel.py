@@ -13,12 +13,14 @@ per-call overhead, and a block of a long curve stays in the cache.
 The arithmetic is the N-d numpy step's (:func:`curvesmith.cca._stepnd.step`
 with :func:`curvesmith.cca._restrict.restrict_passes`) operation by operation,
 in the same order: numba compiles without ``fastmath`` (no reassociation, no
-fused multiply-add), so the results agree with numpy to the last bit, up to
-``atan2``/``tan`` of the C library against numpy's own (a last-ulp difference
-at most, which the tests bound). The restriction passes follow the same
-schedule: the first pass checks every edge, later passes only the edges next
-to the vertices just decreased, and all decreases of a pass are computed from
-the state before it.
+fused multiply-add), so the results agree with numpy to the last bit. The
+profile's interior angle is :mod:`curvesmith.cca._angle`'s (fdlibm's ``atan``,
+the same bits in both); the ``atan2``/``tan`` of the inflection bound and of
+Fig. 11 are the C library's, which may differ from numpy's own in the last ulp
+(the tests give the numpy reference the C library's there). The restriction
+passes follow the same schedule: the first pass checks every edge, later passes
+only the edges next to the vertices just decreased, and all decreases of a pass
+are computed from the state before it.
 
 Compilation happens on the first call (``cache=True``: later processes load the
 machine code from numba's cache, next to this file or, when that folder is not
@@ -33,7 +35,10 @@ import math
 import numpy as np
 from numba import njit
 
+from . import _angle as _A
 from ._restrict import SHRINK
+
+_AT0, _AT1, _AT2, _AT3, _AT4, _AT5, _AT6, _AT7, _AT8, _AT9, _AT10 = _A.AT
 
 #: Alpha modes of :func:`step_units`.
 MODE_REGULAR, MODE_CONSTANT, MODE_GIVEN = 0, 1, 2
@@ -74,6 +79,58 @@ def _profile(theta, brk, coef):
         out = out * dt
         out = out + coef[k, idx]
     return out
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _atan_nonneg(t):
+    # :func:`curvesmith.cca._angle.atan_nonneg`, one value: the same operations
+    if t >= _A.HUGE:
+        return _A.ATAN_HI[3] + _A.ATAN_LO[3]
+    if t < _A.TINY:
+        return t
+    if t < _A.B0:
+        x = t
+    elif t < _A.B1:
+        x = (2.0 * t - 1.0) / (2.0 + t)
+    elif t < _A.B2:
+        x = (t - 1.0) / (t + 1.0)
+    elif t < _A.B3:
+        x = (t - 1.5) / (1.0 + 1.5 * t)
+    else:
+        x = -1.0 / t
+    z = x * x
+    w = z * z
+    s1 = z * (_AT0 + w * (_AT2 + w * (_AT4 + w * (_AT6 + w * (_AT8 + w * _AT10)))))
+    s2 = w * (_AT1 + w * (_AT3 + w * (_AT5 + w * (_AT7 + w * _AT9))))
+    if t < _A.B0:
+        return x - x * (s1 + s2)
+    if t < _A.B1:
+        hi, lo = _A.ATAN_HI[0], _A.ATAN_LO[0]
+    elif t < _A.B2:
+        hi, lo = _A.ATAN_HI[1], _A.ATAN_LO[1]
+    elif t < _A.B3:
+        hi, lo = _A.ATAN_HI[2], _A.ATAN_LO[2]
+    else:
+        hi, lo = _A.ATAN_HI[3], _A.ATAN_LO[3]
+    return hi - ((x * (s1 + s2) - lo) - x)
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _interior(scross, dot):
+    # :func:`curvesmith.cca._angle.interior_angle`, one value: atan2(scross, -dot)
+    if dot < 0.0:
+        return _atan_nonneg(scross / -dot)
+    if dot > 0.0:
+        return _A.PI - (_atan_nonneg(scross / dot) - _A.PI_LO)
+    if dot == 0.0:
+        return _A.PI if scross == 0.0 else _A.HALF_PI
+    return _atan_nonneg(scross / abs(dot))  # NaN
+
+
+@njit(cache=True, nogil=True)
+def interior_angle(scross, dot):
+    """:func:`_interior` from Python (the tests compare it with the numpy form)."""
+    return _interior(scross, dot)
 
 
 @njit(cache=True, nogil=True)
@@ -184,7 +241,7 @@ def angles_ragged(P, offsets, closed):
             ux, uy = _unit(P[j, 0] - P[s + i, 0], P[j, 1] - P[s + i, 1])
             cr = upx * uy - upy * ux
             dot = 0.0 + upx * ux + upy * uy
-            theta[s + i] = math.atan2(abs(cr), -dot)
+            theta[s + i] = _interior(abs(cr), dot)
     return theta
 
 
@@ -390,7 +447,7 @@ def step_units(
                 al = 0.0
                 anyfix = True
             elif mode == MODE_REGULAR:
-                al = _profile(math.atan2(abs(cri), -doti), brk, coef)
+                al = _profile(_interior(abs(cri), doti), brk, coef)
             elif mode == MODE_CONSTANT:
                 al = const
             else:

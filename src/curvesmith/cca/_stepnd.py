@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ._angle import interior_angle
 from ._input import dedupe
 from ._restrict import restrict as restrict_alphas
 from ._restrict import roll_m1, roll_p1
@@ -55,7 +56,7 @@ def step(cols, fixed, closed, alpha_fn, restrict, c, C, tilt_n, balance_tol, lim
         ]
         scross = np.sqrt(cr[0] ** 2 + cr[1] ** 2 + cr[2] ** 2)
     dot = sum(a * b for a, b in zip(up, u, strict=True))
-    theta = np.arctan2(scross, -dot)  # interior angle in [0, pi]
+    theta = interior_angle(scross, dot)  # in [0, pi], the kernel's bits
     free = ~fixed
     alpha = np.zeros(n)
     alpha[free] = alpha_fn(theta[free])
