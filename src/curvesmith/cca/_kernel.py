@@ -432,7 +432,9 @@ def step_units(
             fx[0] = True
             fx[n - 1] = True
         anyfix = False
-        # the turn at every vertex, from the edge before it
+        # the turn at every vertex, from the edge before it (the interior angle into
+        # alpha, a loop of its own: its long chain of operations overlaps across vertices)
+        regular = mode == MODE_REGULAR
         for i in range(n):
             h = i - 1 if i > 0 else n - 1
             cri = ux[h] * uy[i] - uy[h] * ux[i]
@@ -440,14 +442,28 @@ def step_units(
             cr[i] = cri
             dot[i] = doti
             scross[i] = abs(cri)
+            if regular:
+                alpha[i] = _interior(abs(cri), doti)
+        # the profile's last piece (150-180 degrees: almost every angle of a smoothed
+        # curve) with its coefficients held in registers; _profile's Horner steps
+        blast = brk[brk.shape[0] - 2]
+        lc0, lc1, lc2, lc3 = coef[0, -1], coef[1, -1], coef[2, -1], coef[3, -1]
+        for i in range(n):
+            h = i - 1 if i > 0 else n - 1
+            cri = cr[i]
             sh = min(length[i], length[h])
             short[i] = sh
             half[i] = 0.5 * sh * sh
             if fx[i]:
                 al = 0.0
                 anyfix = True
-            elif mode == MODE_REGULAR:
-                al = _profile(_interior(abs(cri), doti), brk, coef)
+            elif regular:
+                th = alpha[i]
+                if th > blast:
+                    dt = th - blast
+                    al = ((lc0 * dt + lc1) * dt + lc2) * dt + lc3
+                else:
+                    al = _profile(th, brk, coef)
             elif mode == MODE_CONSTANT:
                 al = const
             else:
@@ -457,6 +473,7 @@ def step_units(
             a[i] = al * sh
             K[i] = al * al * half[i] * cri
             if restrict:
+                doti = dot[i]
                 alpha0[i] = al
                 turning[i] = (not fx[i]) and abs(cri) > 0.0
                 tanb[i] = (1.0 + doti) / abs(cri) if turning[i] else 0.0
