@@ -7,7 +7,7 @@ from hypothesis import strategies as st
 
 from curvesmith import cca
 from curvesmith.errors import CurveError
-from curvesmith.internals import cca_api, cca_chunks, ragged
+from curvesmith.internals import cca_api, cca_chunks, cca_kernel, ragged
 from oracles import exact_area
 
 
@@ -252,6 +252,42 @@ def test_blocks_threads_and_closing_vertices_give_the_single_call_bits(monkeypat
                 assert res.fig11_edges[k] == one.fig11_edges
                 assert res.unsatisfied[k] == one.unsatisfied
     assert res.reductions.sum() > 0
+
+
+def test_curve_units_is_the_table_of_whole_curves():
+    rng = np.random.default_rng(8)
+    lengths = rng.integers(0, 9, size=50)
+    off = np.concatenate([[0], np.cumsum(lengths)]).astype(np.int64)
+    closed = rng.uniform(size=50) < 0.6
+    K = cca_kernel
+    flags = K.U_FIRST | K.U_LAST | np.where(closed, K.U_CLOSED | K.U_RING, 0)
+    zero = np.zeros(50, dtype=np.int64)
+    want = np.stack([np.arange(50), off[:-1], lengths, zero, lengths, zero, lengths, flags], 1)
+    got = K.curve_units(off, closed)
+    assert got.dtype == np.int64
+    np.testing.assert_array_equal(got, want)
+
+
+@pytest.mark.parametrize("blocked", [False, True])
+def test_a_step_that_outgrows_its_buffer_gives_the_bits_of_one_that_fits(monkeypatch, blocked):
+    # a zigzag of equal edges: every inner edge a balanced inflection, so Fig. 11 adds one
+    # row per edge, far beyond the spare rows of the one-group buffer (n / 16 + 64): the
+    # step runs again on the general path, whose groups finish in buffers of their own
+    n = 3000
+    zig = np.c_[np.arange(n, dtype=float), np.where(np.arange(n) % 2, 1.0, 0.0)]
+    ring = np.c_[np.cos(np.linspace(0, 6, 40)), np.sin(np.linspace(0, 6, 40))]
+    xy, off, closed = _batch([(ring, True), (zig * 7.5 + 1e5, False), (ring + 3, True)])
+    if blocked:
+        monkeypatch.setattr(cca_api, "BLOCK", 256)
+    got = cca.smooth_ragged_with_info(xy, off, closed=closed, iterations=2, threads=1)
+    assert got.fig11_edges[1] > 2 * (n // 16 + 64)
+    roomy = cca_api.output_buffers
+    monkeypatch.setattr(cca_api, "output_buffers", lambda cap: roomy(4 * cap))
+    want = cca.smooth_ragged_with_info(xy, off, closed=closed, iterations=2, threads=1)
+    np.testing.assert_array_equal(got.coords, want.coords)
+    np.testing.assert_array_equal(got.offsets, want.offsets)
+    np.testing.assert_array_equal(got.fig11_edges, want.fig11_edges)
+    np.testing.assert_array_equal(got.reductions, want.reductions)
 
 
 @pytest.mark.parametrize("iterations", [0, 2])

@@ -747,25 +747,24 @@ def _step_compiled(
         mode, const = kernel.MODE_CONSTANT, float(constant)
     else:
         mode, const = kernel.MODE_GIVEN, 0.0
-    lengths = np.diff(offsets)
     halo = prm.max_passes + 8
-    blocked = lengths.size and lengths.max() >= 2 * BLOCK and 4 * halo <= BLOCK
+    # a curve of 2 * BLOCK vertices needs a batch of as many (one subtraction for most calls)
+    blocked = offsets[-1] >= 2 * BLOCK and 4 * halo <= BLOCK and np.diff(offsets).max() >= 2 * BLOCK
     if org_in is None:
         org_in = np.zeros((m, 2))
     # the angles of a callable need the curves compacted, in their frames; otherwise the
     # step compacts a curve with a zero-length edge itself (a block that meets one makes
     # _run_units give up: the whole curves run then), so no pass looks for them here
-    if org_in.any() and mode == kernel.MODE_GIVEN:
+    if mode == kernel.MODE_GIVEN and org_in.any():
         Q = np.empty_like(P)
         kernel.to_local(P, offsets, Q)
         P, org_in = Q, np.zeros((m, 2))
     if mode == kernel.MODE_GIVEN:  # the angles of the compacted curves, in one call
         if kernel.any_zero_edge(P, offsets, closed, org_in):
             P, fixed, offsets = kernel.compact_ragged(P, fixed, offsets, closed)
-            lengths = np.diff(offsets)
         theta = kernel.angles_ragged(P, offsets, closed)
         free = ~fixed
-        opened = ~closed & (lengths > 0)
+        opened = ~closed & (np.diff(offsets) > 0)
         free[offsets[:-1][opened]] = False
         free[offsets[1:][opened] - 1] = False
         alpha_in = np.zeros(P.shape[0])
@@ -785,24 +784,22 @@ def _step_compiled(
 
 
 def _units(offsets, closed, blocks):
-    """The unit table of :func:`curvesmith.cca._kernel.step_units` and the units' owners."""
-    lengths = np.diff(offsets)
-    m = lengths.size
+    """The unit table of :func:`curvesmith.cca._kernel.step_units` and the units' owners.
+
+    Without ``blocks`` the units are the curves (:func:`~curvesmith.cca._kernel.curve_units`,
+    one compiled call instead of a dozen small numpy ones: a step of one small polygon
+    is mostly such overhead).
+    """
     K = _kernel()
     if blocks is None:
-        owner = np.arange(m, dtype=np.int64)
-        start = np.zeros(m, dtype=np.int64)
-        ulen = lengths
-        core = np.stack([np.zeros(m, dtype=np.int64), lengths], axis=1)
-        ucl = closed
-        first = last = np.ones(m, dtype=bool)
-    else:
-        start, u_off, ucl, core, owner = blocks
-        ulen = np.diff(u_off)
-        first = np.ones(owner.size, dtype=bool)
-        first[1:] = owner[1:] != owner[:-1]
-        last = np.ones(owner.size, dtype=bool)
-        last[:-1] = owner[1:] != owner[:-1]
+        return K.curve_units(offsets, closed), np.arange(offsets.size - 1, dtype=np.int64)
+    lengths = np.diff(offsets)
+    start, u_off, ucl, core, owner = blocks
+    ulen = np.diff(u_off)
+    first = np.ones(owner.size, dtype=bool)
+    first[1:] = owner[1:] != owner[:-1]
+    last = np.ones(owner.size, dtype=bool)
+    last[:-1] = owner[1:] != owner[:-1]
     flags = (
         ucl * K.U_CLOSED + first * K.U_FIRST + last * K.U_LAST + closed[owner] * K.U_RING
     ).astype(np.int64)
@@ -833,9 +830,33 @@ def _run_units(kernel, P, fixed, alpha_in, org_in, org_out, offsets, closed, par
     """
     units, owner = _units(offsets, closed, blocks)
     m = offsets.size - 1
-    u_off = np.zeros(units.shape[0] + 1, dtype=np.int64)
-    np.cumsum(units[:, 4], out=u_off[1:])
+    if blocks is None:
+        u_off = offsets  # the units are the curves
+    else:
+        u_off = np.zeros(units.shape[0] + 1, dtype=np.int64)
+        np.cumsum(units[:, 4], out=u_off[1:])
     chunks = _chunks(u_off, prm.threads)
+    if len(chunks) == 1:
+        # one group (most calls): a buffer of the common case's rows plus room for some
+        # Fig. 11 pairs; only a step that needs more takes the general path below
+        ncore = int(offsets[-1]) if blocks is None else int((units[:, 6] - units[:, 5]).sum())
+        OUT, of = output_buffers(3 * ncore + ncore // 16 + units.shape[0] + 64)
+        res = kernel.step_units(
+            P, fixed, alpha_in, org_in, org_out, units, *params, OUT, of, close_out, add
+        )
+        if res[7] == kernel.ZERO_EDGE:
+            return None
+        if res[7] == kernel.DONE:
+            R, rf, pos, span = res[:4]
+            counts = list(res[4:7])
+            if blocks is not None:
+                counts = [
+                    np.bincount(owner, weights=c, minlength=m).astype(np.int64) for c in counts
+                ]
+                span = span[(units[:, 7] & kernel.U_LAST) != 0]
+            oo = np.zeros(m + 1, dtype=np.int64)
+            oo[1:] = span[:, 1]
+            return R[:pos], rf[:pos], oo, tuple(counts)
     core = units[:, 6] - units[:, 5]
     ncore = [int(core[a:b].sum()) for a, b in chunks]
     # 3 points per core vertex, some Fig. 11 pairs, a closing one per ring
@@ -858,7 +879,7 @@ def _run_units(kernel, P, fixed, alpha_in, org_in, org_out, offsets, closed, par
     base = np.zeros(len(chunks) + 1, dtype=np.int64)
     np.cumsum(caps, out=base[1:])
     # one buffer: every group writes into its own slice of it
-    OUT, of = _buffers(int(base[-1]))
+    OUT, of = output_buffers(int(base[-1]))
 
     def step(g):
         """Parts ``(result, first unit, end unit, base row or -1: a buffer of its own)``."""
@@ -871,7 +892,9 @@ def _run_units(kernel, P, fixed, alpha_in, org_in, org_out, offsets, closed, par
         done = a + res[2]
         # the units that did not fit: at most 4 points per vertex, a buffer of their own
         cap = 4 * int(core[done:b].sum()) + (b - done) + 1
-        rest = kernel.step_units(*args, units[done:b], *params, *_buffers(cap), close_out, add)
+        rest = kernel.step_units(
+            *args, units[done:b], *params, *output_buffers(cap), close_out, add
+        )
         cut = done - a
         rows = int(res[3][cut - 1, 1]) if cut else 0
         head = (res[0], res[1], rows, res[3][:cut], *(c[:cut] for c in res[4:7]), kernel.DONE)
@@ -934,7 +957,7 @@ def _run_units(kernel, P, fixed, alpha_in, org_in, org_out, offsets, closed, par
     return R, rf, oo, tuple(counts)
 
 
-def _buffers(cap: int):
+def output_buffers(cap: int):
     """Output buffers of the kernel (numpy's allocator: huge pages for large ones)."""
     return np.empty((cap, 2)), np.empty(cap, dtype=bool)
 

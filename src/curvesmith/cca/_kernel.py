@@ -261,6 +261,19 @@ DONE, FULL, ZERO_EDGE = 0, -1, -2
 
 
 @njit(cache=True, nogil=True)
+def curve_units(offsets, closed):
+    """The unit table of :func:`step_units` whose units are the curves themselves."""
+    m = offsets.shape[0] - 1
+    table = np.empty((m, 8), dtype=np.int64)
+    for k in range(m):
+        n = offsets[k + 1] - offsets[k]
+        ring = U_CLOSED | U_RING if closed[k] else 0
+        table[k, 0], table[k, 1], table[k, 2], table[k, 3] = k, offsets[k], n, 0
+        table[k, 4], table[k, 5], table[k, 6], table[k, 7] = n, 0, n, ring | U_FIRST | U_LAST
+    return table
+
+
+@njit(cache=True, nogil=True)
 def _edges(V, n, closed, length, ux, uy):
     """Edge lengths and unit vectors of ``V[:n]`` (edge ``n - 1`` wraps); False at a zero edge.
 
