@@ -1,4 +1,4 @@
-"""The profile's interior angle: fdlibm's atan in numpy and compiled, the same bits, < 1.2 ulp."""
+"""The profile's interior angle: fdlibm's atan in numpy and compiled, the same bits, < 1.6 ulp."""
 
 import math
 from itertools import pairwise
@@ -39,14 +39,23 @@ def _sample(seed: int, n: int) -> tuple[np.ndarray, np.ndarray]:
     return y, d
 
 
-def test_interior_angle_is_within_1_2_ulp_of_the_exact_angle():
+def test_interior_angle_is_within_1_6_ulp_of_the_exact_angle():
     y, d = _sample(3, 1500)
     err = _ulp_error(cca_angle.interior_angle(y, d), y, d)
-    assert err.max() < 1.2  # fdlibm's atan2: below one ulp, plus the rounding of y / d
+    assert err.max() < 1.2
     assert np.median(err) < 0.35
     # the angles of smooth curves (near pi) are rounded as a correct rounding would be
     # but for the last ulp's half
     assert err[1500:3000].max() < 0.51
+    # the worst case: a sharp angle just below a power of two, its ratio |cross| / |dot|
+    # just above it (the ratio's rounding is then up to one ulp of the angle; a reviewer's
+    # find: 1.51 ulp at the first pair)
+    rng = np.random.default_rng(4)
+    th = np.ldexp(1.0 - rng.uniform(0, 1e-3, 600), rng.integers(-12, 1, 600))
+    y = np.r_[0.12415253443286078, np.sin(th)]
+    d = np.r_[-0.9922631446314517, -np.cos(th)]
+    err = _ulp_error(cca_angle.interior_angle(y, d), y, d)
+    assert err[0] > 1.5 and err.max() < 1.6
 
 
 def test_interior_angle_edge_cases_match_atan2():
@@ -57,9 +66,9 @@ def test_interior_angle_edge_cases_match_atan2():
     ref = np.array([math.atan2(p, -q) for p, q in zip(y, d, strict=True)])
     np.testing.assert_array_max_ulp(got, ref, maxulp=1)
     assert got[0] == math.pi and got[3] == 0.5 * math.pi  # atan2(+0, -0), atan2(1, 0)
-    assert np.isnan(
-        cca_angle.interior_angle(np.array([np.nan, 1.0]), np.array([1.0, np.nan]))
-    ).all()
+    nan_y, nan_d = np.array([np.nan, 1.0, np.nan]), np.array([1.0, np.nan, 0.0])
+    assert np.isnan(cca_angle.interior_angle(nan_y, nan_d)).all()
+    assert all(np.isnan(cca_kernel.interior_angle(p, q)) for p, q in zip(nan_y, nan_d, strict=True))
 
 
 finite = st.floats(0.0, 1e300, allow_nan=False, allow_infinity=False, allow_subnormal=True)

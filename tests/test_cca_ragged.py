@@ -279,8 +279,20 @@ def test_a_step_that_outgrows_its_buffer_gives_the_bits_of_one_that_fits(monkeyp
     xy, off, closed = _batch([(ring, True), (zig * 7.5 + 1e5, False), (ring + 3, True)])
     if blocked:
         monkeypatch.setattr(cca_api, "BLOCK", 256)
+    statuses = []
+    kernel_step = cca_kernel.step_units
+
+    def counted(*args):
+        res = kernel_step(*args)
+        statuses.append(int(res[7]))
+        return res
+
+    monkeypatch.setattr(cca_kernel, "step_units", counted)
     got = cca.smooth_ragged_with_info(xy, off, closed=closed, iterations=2, threads=1)
     assert got.fig11_edges[1] > 2 * (n // 16 + 64)
+    # each step: the units that fit are kept, only the others run again
+    assert statuses == [cca_kernel.FULL, cca_kernel.DONE] * 2
+    monkeypatch.setattr(cca_kernel, "step_units", kernel_step)
     roomy = cca_api.output_buffers
     monkeypatch.setattr(cca_api, "output_buffers", lambda cap: roomy(4 * cap))
     want = cca.smooth_ragged_with_info(xy, off, closed=closed, iterations=2, threads=1)

@@ -836,57 +836,65 @@ def _run_units(kernel, P, fixed, alpha_in, org_in, org_out, offsets, closed, par
         u_off = np.zeros(units.shape[0] + 1, dtype=np.int64)
         np.cumsum(units[:, 4], out=u_off[1:])
     chunks = _chunks(u_off, prm.threads)
+    core = units[:, 6] - units[:, 5]
+    flags = units[:, 7]
+    first = None  # the one group's result, when there is one group
     if len(chunks) == 1:
         # one group (most calls): a buffer of the common case's rows plus room for some
-        # Fig. 11 pairs; only a step that needs more takes the general path below
-        ncore = int(offsets[-1]) if blocks is None else int((units[:, 6] - units[:, 5]).sum())
-        OUT, of = output_buffers(3 * ncore + ncore // 16 + units.shape[0] + 64)
-        res = kernel.step_units(
+        # Fig. 11 pairs, and the kernel's output returned as it is; when more Fig. 11
+        # pairs need more rows, the units that did not fit run on below (step)
+        ncore = int(offsets[-1]) if blocks is None else int(core.sum())
+        caps = [3 * ncore + ncore // 16 + units.shape[0] + 64]
+        OUT, of = output_buffers(caps[0])
+        first = kernel.step_units(
             P, fixed, alpha_in, org_in, org_out, units, *params, OUT, of, close_out, add
         )
-        if res[7] == kernel.ZERO_EDGE:
+        if first[7] == kernel.ZERO_EDGE:
             return None
-        if res[7] == kernel.DONE:
-            R, rf, pos, span = res[:4]
-            counts = list(res[4:7])
+        if first[7] == kernel.DONE:
+            R, rf, pos, span = first[:4]
+            counts = list(first[4:7])
             if blocks is not None:
                 counts = [
                     np.bincount(owner, weights=c, minlength=m).astype(np.int64) for c in counts
                 ]
-                span = span[(units[:, 7] & kernel.U_LAST) != 0]
+                span = span[(flags & kernel.U_LAST) != 0]
             oo = np.zeros(m + 1, dtype=np.int64)
             oo[1:] = span[:, 1]
             return R[:pos], rf[:pos], oo, tuple(counts)
-    core = units[:, 6] - units[:, 5]
-    ncore = [int(core[a:b].sum()) for a, b in chunks]
-    # 3 points per core vertex, some Fig. 11 pairs, a closing one per ring
-    caps = [3 * nc + nc // 16 + (b - a) + 64 for nc, (a, b) in zip(ncore, chunks, strict=True)]
-    flags = units[:, 7]
-    if len(chunks) > 1:
+    else:
+        ncore = [int(core[a:b].sum()) for a, b in chunks]
         # the rows of the common case: 3 per core vertex, 1 less per fixed vertex (it is
-        # kept) and per open end (no wrap edge), 1 more per ring closed in the group
+        # kept) and per open end (no wrap edge), 1 more per ring closed in the group; the
+        # last group also some Fig. 11 pairs
+        caps = [3 * ncore[-1] + ncore[-1] // 16 + (chunks[-1][1] - chunks[-1][0]) + 64]
         row0 = units[:, 1] + units[:, 3] + units[:, 5]  # first row of every core in P
         nfix = np.zeros(units.shape[0] + 1, dtype=np.int64)
         if fixed.any():
             nfix = np.concatenate([[0], np.cumsum(fixed)])[np.append(row0, P.shape[0])]
         opened = ((flags & kernel.U_LAST) != 0) & ((flags & kernel.U_RING) == 0) & (core > 0)
         ring_end = ((flags & kernel.U_LAST) != 0) & ((flags & kernel.U_RING) != 0)
+        rows = []
         for g, (a, b) in enumerate(chunks[:-1]):
-            rows = 3 * ncore[g] - int(nfix[b] - nfix[a]) - int(opened[a:b].sum())
+            rows.append(3 * ncore[g] - int(nfix[b] - nfix[a]) - int(opened[a:b].sum()))
             if close_out:
-                rows += int(ring_end[a:b].sum())
-            caps[g] = rows
+                rows[-1] += int(ring_end[a:b].sum())
+        caps = rows + caps
+        # one buffer: every group writes into its own slice of it
+        OUT, of = output_buffers(int(sum(caps)))
     base = np.zeros(len(chunks) + 1, dtype=np.int64)
     np.cumsum(caps, out=base[1:])
-    # one buffer: every group writes into its own slice of it
-    OUT, of = output_buffers(int(base[-1]))
 
-    def step(g):
-        """Parts ``(result, first unit, end unit, base row or -1: a buffer of its own)``."""
+    def step(g, res=None):
+        """Parts ``(result, first unit, end unit, base row or -1: a buffer of its own)``.
+
+        ``res``: the group's kernel result when it ran already.
+        """
         a, b = chunks[g]
         args = (P, fixed, alpha_in, org_in, org_out)
         s, e = base[g], base[g + 1]
-        res = kernel.step_units(*args, units[a:b], *params, OUT[s:e], of[s:e], close_out, add)
+        if res is None:
+            res = kernel.step_units(*args, units[a:b], *params, OUT[s:e], of[s:e], close_out, add)
         if res[7] != kernel.FULL:
             return [(res, a, b, s)]
         done = a + res[2]
@@ -901,7 +909,7 @@ def _run_units(kernel, P, fixed, alpha_in, org_in, org_out, offsets, closed, par
         return [(head, a, done, s), (rest, done, b, -1)]
 
     if len(chunks) == 1:
-        parts = step(0)
+        parts = step(0, first)
     else:
         with ThreadPoolExecutor(len(chunks)) as pool:
             parts = [q for qs in pool.map(step, range(len(chunks))) for q in qs]

@@ -123,7 +123,9 @@ def _interior(scross, dot):
     if dot > 0.0:
         return _A.PI - (_atan_nonneg(scross / dot) - _A.PI_LO)
     if dot == 0.0:
-        return _A.PI if scross == 0.0 else _A.HALF_PI
+        if scross == 0.0:
+            return _A.PI
+        return _A.HALF_PI if scross > 0.0 else scross  # NaN stays NaN
     return _atan_nonneg(scross / abs(dot))  # NaN
 
 
