@@ -159,6 +159,7 @@ _ON_DEMAND: dict[str, tuple[str, str | None]] = {
     "coverage_flat_uses": (".geo._coverage", "_flat_uses"),
     "coverage_shells": (".geo._coverage", "_shells"),
     "coverage_output_valid": (".geo._coverage", "_output_valid"),
+    "coverage_arc_meetings": (".geo._coverage", "_arc_meetings"),
     "coverage_valid_by_proof": (".geo._coverage", "_valid_by_proof"),
     "engine_meeting_pairs": (".geo._engine", "_meeting_pairs"),
     "engine_closed_lines": (".geo._engine", "_closed_lines"),

@@ -176,6 +176,7 @@ def resolve_arcs(
     start: Sequence[int] | None = None,
     seeds: dict[int, Sequence[np.ndarray]] | None = None,
     initial_ragged: dict | None = None,
+    meetings_out: dict | None = None,
 ) -> tuple[list[np.ndarray], list[Reduction]]:
     """Smooth arcs, reducing locally until no two of them cross.
 
@@ -210,6 +211,13 @@ def resolve_arcs(
     initial_ragged : dict, optional
         `initial` as one array: ``"xy"`` (every arc after the other, loops closed by
         their first vertex) and ``"off"``, when at hand (saves copying them together).
+    meetings_out : dict, optional
+        Receives what the first round's compiled arrangement found, so that a later
+        proof on the output needs to look again only where arcs changed:
+        ``"pairs"``, the arcs ``(a, b)`` of every MEET (``a == b``: an arc meets itself),
+        ``"complete"``, whether every pair of arcs was compared (one group, none frozen),
+        and ``"changed"``, per arc, whether its output differs from that round's.
+        Left empty when the first round did not use the arrangement.
 
     Returns
     -------
@@ -224,18 +232,22 @@ def resolve_arcs(
     top = len(levels) - 1
     if check_simple is None:
         check_simple = np.ones(n_arcs, dtype=bool)
-    pieces: list[_Piece] = []
-    for i, xy in enumerate(arcs):
-        last = len(xy) if loops[i] else len(xy) - 1
-        first = top if frozen[i] else (0 if start is None else min(int(start[i]), top))
-        pieces.append(_Piece(i, 0, last, bool(loops[i]), first))
+    # the first round's pieces: every arc whole, at its starting level (as lists: the
+    # many arcs of a coverage are set up without a Python loop of their own)
+    loop_l = np.asarray(loops, dtype=bool).tolist()
+    lens = np.fromiter(map(len, arcs), dtype=np.int64, count=n_arcs)
+    last_l = (lens - 1 + np.asarray(loops, dtype=np.int64)).tolist()
+    lv = np.zeros(n_arcs, dtype=np.int64) if start is None else np.minimum(start, top)
+    top_level = np.where(np.asarray(frozen, dtype=bool), top, lv).astype(np.int64).tolist()
+    zeros = itertools.repeat(0)
+    pieces: list[_Piece] = list(map(_Piece, range(n_arcs), zeros, last_l, loop_l, top_level))
     cache: dict[tuple[int, int, int, bool, int], np.ndarray] = {}
     known = dict(seeds or {})
     if initial is not None:
         known[0] = initial
-    for p in pieces:
-        if p.level in known:
-            cache[(p.arc, p.start, p.stop, p.loop, p.level)] = known[p.level][p.arc]
+    for i, lev in enumerate(top_level):
+        if lev in known:
+            cache[(i, 0, last_l[i], loop_l[i], lev)] = known[lev][i]
 
     def smoothed_piece(p: _Piece) -> np.ndarray:
         key = (p.arc, p.start, p.stop, p.loop, p.level)
@@ -311,12 +323,17 @@ def resolve_arcs(
     assert ragged is not None
     to_check = np.arange(len(pieces))
     # per piece, as arrays carried from round to round (only the changed pieces are new)
-    table = _PieceTable.of(pieces, _closed_lines(ragged))
+    table = _PieceTable(
+        np.arange(n_arcs, dtype=np.int64), np.zeros(n_arcs, dtype=np.int64),
+        np.asarray(last_l, dtype=np.int64), np.asarray(loop_l, dtype=bool),
+        np.asarray(top_level, dtype=np.int64), _closed_lines(ragged),
+    )  # fmt: skip  # the first round's pieces, as _PieceTable.of(pieces) gives them
     geoms = None  # the first round makes them from `ragged`
+    first: dict = {}  # the first round's meetings (see meetings_out)
     for _ in range(MAX_ROUNDS):
         bad, geoms = _conflicts(
             pieces, arcs, geoms, to_check, groups, top, check_simple, original_simple, input_geom,
-            scale, ragged, table, (arc_xy, arc_off),
+            scale, ragged, table, (arc_xy, arc_off), first if ragged is not None else None,
         )  # fmt: skip
         ragged = None  # the coordinates of the first round's pieces
         if not bad:
@@ -357,30 +374,33 @@ def resolve_arcs(
     else:  # pragma: no cover - each round strictly refines, MAX_ROUNDS is a guard
         raise RuntimeError("conflict resolution did not terminate")
 
-    # assemble arcs from their pieces
-    by_arc: dict[int, list[_Piece]] = {}
-    for p in pieces:
-        by_arc.setdefault(p.arc, []).append(p)
-    out: list[np.ndarray] = []
+    # assemble arcs from their pieces, in the order of their first vertex (an arc of one
+    # piece is that piece's points)
+    order = np.lexsort((table.start, table.arc))
+    pieces = [pieces[k] for k in order.tolist()]
+    arc_of, level_of = table.arc[order], table.level[order]
+    n_of = np.bincount(arc_of, minlength=n_arcs)
+    first_of = np.zeros(n_arcs + 1, dtype=np.int64)
+    np.cumsum(n_of, out=first_of[1:])
+    out: list[np.ndarray] = list(map(smoothed_piece, (pieces[k] for k in first_of[:-1].tolist())))
     reductions: list[Reduction] = []
-    for i in range(n_arcs):
-        plist = sorted(by_arc[i], key=lambda p: p.start)
-        for p in plist:
-            if p.level > 0 and not frozen[i]:
-                lev = levels[p.level]
-                reductions.append(Reduction(i, p.start, p.stop, lev.iterations, lev.alpha_scale))
-        if len(plist) == 1 and plist[0].loop:
-            out.append(smoothed_piece(plist[0]))
-            continue
-        if len(plist) == 1:
-            xy = smoothed_piece(plist[0])
-        else:
-            parts = [smoothed_piece(plist[0])]
-            parts += [smoothed_piece(p)[1:] for p in plist[1:]]
-            xy = np.concatenate(parts)
-        if loops[i]:
-            xy = xy[:-1]
-        out.append(xy)
+    for k in np.flatnonzero((level_of > 0) & ~np.asarray(frozen, dtype=bool)[arc_of]).tolist():
+        p = pieces[k]
+        lev = levels[p.level]
+        reductions.append(Reduction(p.arc, p.start, p.stop, lev.iterations, lev.alpha_scale))
+    for i in np.flatnonzero(n_of > 1).tolist():
+        plist = pieces[first_of[i] : first_of[i + 1]]
+        parts = [smoothed_piece(plist[0])]
+        parts += [smoothed_piece(p)[1:] for p in plist[1:]]
+        xy = np.concatenate(parts)
+        out[i] = xy[:-1] if loops[i] else xy
+    if meetings_out is not None and first:
+        # an arc differs from its first-round self when it was cut or smoothed less
+        # (the first round's pieces are the arcs, one each, at their starting level)
+        changed_arc = np.zeros(n_arcs, dtype=bool)
+        changed_arc[arc_of[level_of != np.asarray(top_level)[arc_of]]] = True
+        changed_arc[n_of > 1] = True
+        meetings_out.update(first, changed=changed_arc)
     return out, reductions
 
 
@@ -456,6 +476,7 @@ def _conflicts(
     ragged,
     table,
     flat,
+    first_meets=None,
 ) -> tuple[set[int], np.ndarray]:
     """Indices of pieces in a new crossing, self-intersection or near-contact (margin).
 
@@ -463,7 +484,9 @@ def _conflicts(
     here from `ragged` (after the compiled arrangement started on the coordinates).
 
     `ragged`: the pieces' coordinates and offsets, when at hand (else None); `table`: the
-    pieces' :class:`_PieceTable`; `flat`: :func:`_flat` of `arcs`.
+    pieces' :class:`_PieceTable`; `flat`: :func:`_flat` of `arcs`; `first_meets`: a dict
+    that receives the meetings of a full round's compiled arrangement (see
+    :func:`resolve_arcs`' `meetings_out`).
     """
     import shapely
 
@@ -477,7 +500,9 @@ def _conflicts(
     if len(to_check) == len(pieces) and len(pieces) >= COMPILED_PAIRS:
         # a full round: the compiled arrangement (which releases the GIL) runs in a
         # thread beside the spatial index and the clearance screening
-        pending = in_background(_meeting_pairs, geoms, pieces, grp, changed, closed, ragged, loop)
+        pending = in_background(
+            _meeting_pairs, geoms, pieces, grp, changed, closed, ragged, loop, first_meets
+        )
     if geoms is None:
         geoms = _lines(ragged)
     tree = shapely.STRtree(geoms)
@@ -546,7 +571,7 @@ def _conflicts(
     return bad, geoms
 
 
-def _meeting_pairs(geoms, pieces, grp, changed, closed, ragged=None, loop=None):
+def _meeting_pairs(geoms, pieces, grp, changed, closed, ragged=None, loop=None, meets_out=None):
     """The pairs of a full round that meet, and which of them conflict: ``(a, b, hit, self_meet)``.
 
     What the STRtree ``intersects`` query and ``relate_pattern(.., "FF*F*****")`` give
@@ -558,7 +583,9 @@ def _meeting_pairs(geoms, pieces, grp, changed, closed, ragged=None, loop=None):
     segments or its closing vertex; every piece that is not simple is among them (the
     comparison is exact), but a repeated vertex can make a simple one meet itself, so
     the caller asks GEOS about these. None when the kernel cannot decide (the caller
-    asks GEOS).
+    asks GEOS). `meets_out`: receives ``"pairs"``, the pieces ``(a, b)`` of every MEET
+    (``a == b`` for a piece meeting itself), and ``"complete"``, whether every pair was
+    compared (one group, every piece changed).
     """
     import shapely
 
@@ -580,6 +607,10 @@ def _meeting_pairs(geoms, pieces, grp, changed, closed, ragged=None, loop=None):
     pb = np.searchsorted(off, sb, "right") - 1
     own = pa == pb
     n = len(off) - 1
+    if meets_out is not None:
+        hard = v == MEET
+        complete = bool(np.all(changed)) and bool(np.all(grp == grp[0])) if n else True
+        meets_out.update(pairs=(pa[hard], pb[hard]), complete=complete)
     self_meet = np.zeros(n, dtype=bool)
     self_meet[pa[own & (v == MEET)]] = True
     pa, pb, v = pa[~own], pb[~own], v[~own]
