@@ -571,8 +571,12 @@ def test_topology_rebuilds_holes_islands_and_multipolygons():
     assert all(shapely.equals(a, b) for a, b in zip(back, g, strict=True))
     assert np.array_equal(shapely.get_num_coordinates(back), shapely.get_num_coordinates(g))
     assert topo.loops.sum() >= 3  # the holes (and parts that touch no other cell)
+    # the uses the topology carries are its rings flattened, in order
+    ring, arc, fwd = coverage_flat_uses(topo)
+    flat = [(r, a, f) for r, uses in enumerate(topo.rings) for a, f in uses]
+    assert list(zip(ring.tolist(), arc.tolist(), fwd.tolist(), strict=True)) == flat
+    assert ring.dtype == arc.dtype == np.int64 and fwd.dtype == bool
     # every arc's uses: a shared arc twice (one ring per side), the outer boundary once
-    _, arc, _ = coverage_flat_uses(topo)
     uses = np.bincount(arc, minlength=len(topo.arcs))
     assert set(uses.tolist()) == {1, 2}
     assert all(len(p) == u for p, u in zip(topo.arc_polygons, uses, strict=True) if u == 2)

@@ -48,20 +48,61 @@ def _segs_within(ax, ay, bx, by, cx, cy, dx, dy, d2):
     )
 
 
+#: Segments per chunk of :func:`polylines_within`'s screening: a chunk whose box is
+#: farther than the distance from the other polyline's box is skipped whole.
+CHUNK = 16
+
+
 @njit(cache=True, nogil=True)
-def _candidates(X, i0, i1, bx0, bx1, by0, by1, r, out):
-    """Segments ``t`` (``i0 <= t < i1 - 1``) whose box comes within `r` of the given box."""
+def _candidates(X, i0, i1, cb, c0, bx0, bx1, by0, by1, r, out):
+    """Segments ``t`` (``i0 <= t < i1 - 1``) whose box comes within `r` of the given box.
+
+    ``cb[c0 + j]``: the box ``(x0, x1, y0, y1)`` of the polyline's chunk ``j`` (segments
+    ``i0 + j * CHUNK`` onwards); the segments are listed in increasing order.
+    """
     n = 0
-    for t in range(i0, i1 - 1):
-        if (
-            min(X[t, 0], X[t + 1, 0]) <= bx1 + r
-            and max(X[t, 0], X[t + 1, 0]) >= bx0 - r
-            and min(X[t, 1], X[t + 1, 1]) <= by1 + r
-            and max(X[t, 1], X[t + 1, 1]) >= by0 - r
-        ):
-            out[n] = t
-            n += 1
+    for j in range((i1 - 1 - i0 + CHUNK - 1) // CHUNK):
+        b = c0 + j
+        if cb[b, 0] > bx1 + r or cb[b, 1] < bx0 - r or cb[b, 2] > by1 + r or cb[b, 3] < by0 - r:
+            continue
+        t0 = i0 + j * CHUNK
+        for t in range(t0, min(t0 + CHUNK, i1 - 1)):
+            if (
+                min(X[t, 0], X[t + 1, 0]) <= bx1 + r
+                and max(X[t, 0], X[t + 1, 0]) >= bx0 - r
+                and min(X[t, 1], X[t + 1, 1]) <= by1 + r
+                and max(X[t, 1], X[t + 1, 1]) >= by0 - r
+            ):
+                out[n] = t
+                n += 1
     return n
+
+
+@njit(cache=True, nogil=True)
+def _chunk_boxes(X, offsets, used):
+    """Boxes of every used polyline and of its chunks: ``(boxes, chunk_boxes, first_chunk)``.
+
+    A polyline that is not used gets no chunk (and an empty box).
+    """
+    npoly = offsets.shape[0] - 1
+    first = np.zeros(npoly + 1, dtype=np.int64)
+    for i in range(npoly):
+        nseg = offsets[i + 1] - offsets[i] - 1
+        first[i + 1] = first[i] + (((nseg + CHUNK - 1) // CHUNK) if used[i] and nseg > 0 else 0)
+    boxes = np.empty((npoly, 4))
+    cb = np.empty((first[npoly], 4))
+    for i in range(npoly):
+        x0, x1, y0, y1 = np.inf, -np.inf, np.inf, -np.inf
+        if used[i]:
+            i0, i1 = offsets[i], offsets[i + 1]
+            for j in range(first[i + 1] - first[i]):
+                t0 = i0 + j * CHUNK
+                cx0, cx1, cy0, cy1 = _box(X, t0, min(t0 + CHUNK + 1, i1))
+                cb[first[i] + j, 0], cb[first[i] + j, 1] = cx0, cx1
+                cb[first[i] + j, 2], cb[first[i] + j, 3] = cy0, cy1
+            x0, x1, y0, y1 = _box(X, i0, i1)
+        boxes[i, 0], boxes[i, 1], boxes[i, 2], boxes[i, 3] = x0, x1, y0, y1
+    return boxes, cb, first
 
 
 @njit(cache=True, nogil=True)
@@ -87,10 +128,14 @@ def polylines_within(X, offsets, pa, pb, dist):
     out = np.zeros(npairs, dtype=np.bool_)
     nmax = 1
     npoly = offsets.shape[0] - 1
-    boxes = np.empty((npoly, 4))
+    used = np.zeros(npoly, dtype=np.bool_)
+    for k in range(npairs):
+        used[pa[k]] = True
+        used[pb[k]] = True
     for i in range(npoly):
-        nmax = max(nmax, offsets[i + 1] - offsets[i])
-        boxes[i, 0], boxes[i, 1], boxes[i, 2], boxes[i, 3] = _box(X, offsets[i], offsets[i + 1])
+        if used[i]:
+            nmax = max(nmax, offsets[i + 1] - offsets[i])
+    boxes, cb, first_chunk = _chunk_boxes(X, offsets, used)
     sa = np.empty(nmax, dtype=np.int64)
     sb = np.empty(nmax, dtype=np.int64)
     keys = np.empty(nmax, dtype=np.float64)
@@ -103,8 +148,8 @@ def polylines_within(X, offsets, pa, pb, dist):
         bx0, bx1, by0, by1 = boxes[pb[k], 0], boxes[pb[k], 1], boxes[pb[k], 2], boxes[pb[k], 3]
         if ax0 > bx1 + r or bx0 > ax1 + r or ay0 > by1 + r or by0 > ay1 + r:
             continue  # the boxes are farther apart than r
-        na = _candidates(X, ia0, ia1, bx0, bx1, by0, by1, r, sa)
-        nb = _candidates(X, ib0, ib1, ax0, ax1, ay0, ay1, r, sb)
+        na = _candidates(X, ia0, ia1, cb, first_chunk[pa[k]], bx0, bx1, by0, by1, r, sa)
+        nb = _candidates(X, ib0, ib1, cb, first_chunk[pb[k]], ax0, ax1, ay0, ay1, r, sb)
         if na == 0 or nb == 0:
             continue
         # sort b's candidates along its box's longer axis c (the other axis: e)

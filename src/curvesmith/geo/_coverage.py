@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import functools
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -92,6 +92,9 @@ class Topology:
     n_nodes : int
         Number of distinct nodes (junctions of three or more edges, or points where the
         set of polygons along the boundary changes).
+    uses : tuple of three (U,) ndarray, optional
+        `rings` flattened: the ring, the arc and the direction flag of every use, in
+        order (from :func:`coverage_topology`; computed from `rings` when absent).
     """
 
     arcs: tuple[np.ndarray, ...]
@@ -103,6 +106,9 @@ class Topology:
     ring_offsets: tuple[np.ndarray, np.ndarray]
     was_polygon: np.ndarray
     ring_sign: np.ndarray | None = None
+    uses: tuple[np.ndarray, np.ndarray, np.ndarray] | None = field(
+        default=None, repr=False, compare=False
+    )
 
     @functools.cached_property
     def _ends(self) -> tuple[np.ndarray, np.ndarray]:
@@ -318,6 +324,7 @@ def coverage_topology(polygons: Any, *, frozen_edges: Any = None) -> Topology:
         ring_offsets=(poly_off, geom_off),
         was_polygon=was_polygon,
         ring_sign=ring_orientation(coords, np.asarray(ring_off, dtype=np.int64)),
+        uses=(run_ring.astype(np.int64), run_arc.astype(np.int64), fwd.astype(bool)),
     )
 
 
@@ -1005,6 +1012,8 @@ def _output_valid(topo, uses, smoothed, coords, offs, new, ragged=None, meets=No
 
 def _flat_uses(topo: Topology) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Every (ring, arc, forward) use of the topology's rings, as three arrays."""
+    if topo.uses is not None:
+        return topo.uses
     lens = np.fromiter((len(r) for r in topo.rings), dtype=np.int64, count=len(topo.rings))
     flat = [u for r in topo.rings for u in r]
     arc = np.fromiter((k for k, _ in flat), dtype=np.int64, count=len(flat))
