@@ -202,7 +202,8 @@ def coverage_topology(polygons: Any, *, frozen_edges: Any = None) -> Topology:
     is_last = np.zeros(len(coords), dtype=bool)
     is_last[ring_off[1:] - 1] = True
     vert = np.nonzero(~is_last)[0]
-    xy_all = coords[vert] + 0.0  # -0.0 -> 0.0
+    xy_all = coords[vert]
+    xy_all += 0.0  # -0.0 -> 0.0
     extra = np.empty((0, 2))
     extra_idx = np.empty(0, dtype=np.int64)
     if frozen_edges is not None:
