@@ -595,20 +595,3 @@ def _fill_rings(A, a_off, loops, use_arc, use_fwd, ring_off_uses, closed_loops, 
             w += m
         out[w, 0] = out[offs[r], 0]
         out[w, 1] = out[offs[r], 1]
-
-
-@njit(cache=True, nogil=True)
-def polyline_boxes(X, offsets):
-    """Per polyline ``X[offsets[p]:offsets[p + 1]]``: its box ``(x0, y0, x1, y1)``.
-
-    An empty polyline gets the empty box ``(inf, inf, -inf, -inf)``, which meets nothing.
-    """
-    n = offsets.shape[0] - 1
-    out = np.empty((n, 4))
-    for p in range(n):
-        x0, y0, x1, y1 = np.inf, np.inf, -np.inf, -np.inf
-        for t in range(offsets[p], offsets[p + 1]):
-            x0, x1 = min(x0, X[t, 0]), max(x1, X[t, 0])
-            y0, y1 = min(y0, X[t, 1]), max(y1, X[t, 1])
-        out[p, 0], out[p, 1], out[p, 2], out[p, 3] = x0, y0, x1, y1
-    return out

@@ -95,14 +95,29 @@ def _chunk_boxes(X, offsets, used):
         x0, x1, y0, y1 = np.inf, -np.inf, np.inf, -np.inf
         if used[i]:
             i0, i1 = offsets[i], offsets[i + 1]
-            for j in range(first[i + 1] - first[i]):
+            if first[i + 1] == first[i]:  # a single vertex: no segment, no chunk
+                x0, x1, y0, y1 = _box(X, i0, i1)
+            for j in range(first[i + 1] - first[i]):  # the polyline's box: its chunks'
                 t0 = i0 + j * CHUNK
                 cx0, cx1, cy0, cy1 = _box(X, t0, min(t0 + CHUNK + 1, i1))
                 cb[first[i] + j, 0], cb[first[i] + j, 1] = cx0, cx1
                 cb[first[i] + j, 2], cb[first[i] + j, 3] = cy0, cy1
-            x0, x1, y0, y1 = _box(X, i0, i1)
+                x0, x1, y0, y1 = min(x0, cx0), max(x1, cx1), min(y0, cy0), max(y1, cy1)
         boxes[i, 0], boxes[i, 1], boxes[i, 2], boxes[i, 3] = x0, x1, y0, y1
     return boxes, cb, first
+
+
+@njit(cache=True, nogil=True)
+def polyline_boxes(X, offsets):
+    """Per polyline ``X[offsets[p]:offsets[p + 1]]``: its box ``(x0, x1, y0, y1)``.
+
+    An empty polyline gets the empty box ``(inf, -inf, inf, -inf)``, which meets nothing.
+    """
+    n = offsets.shape[0] - 1
+    out = np.empty((n, 4))
+    for p in range(n):
+        out[p, 0], out[p, 1], out[p, 2], out[p, 3] = _box(X, offsets[p], offsets[p + 1])
+    return out
 
 
 @njit(cache=True, nogil=True)
