@@ -346,6 +346,50 @@ def test_field_types_survive_read_smooth_write(tmp_path, suffix):
     assert days == [dt.date(2020, 1, 31), None, dt.date(1999, 12, 1)]
 
 
+@pytest.mark.parametrize("suffix", [".gpkg", ".fgb", ".geojson"])
+@pytest.mark.filterwarnings("ignore:Non-conformant content")  # GDAL on a GPKG's offsets
+def test_date_times_keep_their_utc_offsets(tmp_path, suffix):
+    # a DateTime field whose values have different offsets (a GPS log across a DST change,
+    # field teams in two zones) was read as UTC by pyogrio's default and written back as
+    # UTC: the same instants, but the offsets of the file were lost
+    import datetime as dt
+
+    from click.testing import CliRunner
+
+    from curvesmith.cli import main
+
+    def tz(h):
+        return dt.timezone(dt.timedelta(hours=h))
+
+    df = gpd.GeoDataFrame(
+        {
+            "mixed": [
+                dt.datetime(2024, 3, 30, 23, 59, 58, tzinfo=tz(1)),
+                dt.datetime(2024, 3, 31, 3, 0, 1, tzinfo=tz(2)),
+                None,
+                dt.datetime(2024, 6, 1, 10, tzinfo=tz(-5)),
+            ],
+            "one_zone": [dt.datetime(2024, 1, k + 1, 12, tzinfo=tz(9)) for k in range(4)],
+            "naive": [dt.datetime(2024, 1, 1, k) for k in range(4)],
+        },
+        geometry=[shapely.box(k * 20, 0, k * 20 + 10, 10) for k in range(4)],
+        crs="EPSG:32633",
+    )
+    src, out = tmp_path / f"in{suffix}", tmp_path / f"out{suffix}"
+    opts = {"layer_options": {"SPATIAL_INDEX": "NO"}} if suffix == ".fgb" else {}  # in order
+    pyogrio.write_dataframe(df, src, **opts)
+    as_text = pyogrio.read_dataframe(src, datetime_as_string=True)
+    assert as_text["mixed"][1].endswith("+02:00")  # the file has the offsets
+    back = geo.read_file(src)
+    assert back["mixed"][3] == df["mixed"][3] and back["mixed"][3].utcoffset().days == -1
+    res = CliRunner().invoke(main, ["smooth", str(src), "-o", str(out)])
+    assert res.exit_code == 0, res.output
+    assert _field_types(out) == _field_types(src)
+    got = pyogrio.read_dataframe(out, datetime_as_string=True)
+    for col in ("mixed", "one_zone", "naive"):
+        assert got[col].fillna("NULL").tolist() == as_text[col].fillna("NULL").tolist(), col
+
+
 def test_reading_says_what_it_chose_or_could_not_find(tmp_path):
     # several layers and no layer=: the first was read without a word; a Shapefile without
     # its .dbf (no attributes) or .prj (no CRS) too

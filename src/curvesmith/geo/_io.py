@@ -202,7 +202,12 @@ def read_file(
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
             with paused_gc():  # a layer's geometries made at once (see curvesmith._gc)
-                df = pyogrio.read_dataframe(path, layer=layer, columns=columns)
+                # a DateTime field whose values have different UTC offsets keeps them (as
+                # Python datetimes; pandas' datetime64 holds one zone per column): pyogrio's
+                # default would convert them to UTC, and the file written would lose them
+                df = pyogrio.read_dataframe(
+                    path, layer=layer, columns=columns, mixed_offsets_as_utc=False
+                )
     except Exception as exc:
         raise CurveFormatError(f"cannot read {str(path)!r}: {exc}") from exc
     measured = any("Measured (M)" in str(w.message) for w in caught)
@@ -291,7 +296,9 @@ def _read_measured(path: Path, layer: Any, columns: Any) -> Any:
         with warnings.catch_warnings():
             warnings.filterwarnings("ignore", message="Measured \\(M\\) geometry types")
             with paused_gc():
-                return pyogrio.read_dataframe(path, layer=layer, columns=columns, use_arrow=True)
+                return pyogrio.read_dataframe(
+                    path, layer=layer, columns=columns, use_arrow=True, mixed_offsets_as_utc=False
+                )
     except Exception as exc:
         raise CurveFormatError(f"cannot read {str(path)!r}: {exc}") from exc
 
