@@ -869,9 +869,12 @@ def _smooth_polygonal(g, feat_index, smoother, levels, batch, single_rings=None)
         was_polygon = shapely.get_type_id(g) == shapely.GeometryType.POLYGON
         coords, ring_off, poly_off, geom_off = polygon_ragged(g, was_polygon)
     n_rings = len(ring_off) - 1
-    ring_poly = np.searchsorted(poly_off, np.arange(n_rings), side="right") - 1
-    ring_geom = np.searchsorted(geom_off, ring_poly, side="right") - 1
-    first_ring_of_geom = np.searchsorted(ring_geom, np.arange(len(g)))
+    if single_rings is not None:  # ring k is polygon k is geometry k
+        ring_poly = ring_geom = first_ring_of_geom = np.arange(n_rings, dtype=np.int64)
+    else:
+        ring_poly = np.searchsorted(poly_off, np.arange(n_rings), side="right") - 1
+        ring_geom = np.searchsorted(geom_off, ring_poly, side="right") - 1
+        first_ring_of_geom = np.searchsorted(ring_geom, np.arange(len(g)))
     full = levels[0]
     fmask = fixed.mask(coords) if fixed is not None else None
     # rings come back closed (first vertex repeated), ready for from_ragged_array
