@@ -41,6 +41,28 @@ def test_smooth_geofile_equal_area_no_warning(tmp_path, capsys):
     assert "Warning" not in capsys.readouterr().err
 
 
+@pytest.mark.parametrize("command", [["smooth"], ["batch", "smooth", "--workers", "1"]])
+def test_equal_area_names_a_feature_off_the_globe(tmp_path, command):
+    # a vertex outside the CRS's area projects to inf: --equal-area ended in a traceback
+    # (ValueError: cannot convert float NaN to integer) in the grouping of the features
+    import geopandas as gpd
+    from click.testing import CliRunner
+
+    from curvesmith.cli import main
+
+    boxes = [shapely.box(0, 0, 10, 10), shapely.box(1e9, 1e9, 1e9 + 10, 1e9 + 10)]
+    src, out = tmp_path / "far.gpkg", tmp_path / "out.gpkg"
+    gpd.GeoDataFrame({"k": [0, 1]}, geometry=boxes, crs="EPSG:32633").to_file(src)
+    res = CliRunner().invoke(main, [*command, str(src), "-o", str(out), "--equal-area"])
+    assert res.exit_code == 1
+    assert "Traceback" not in res.output and res.output.count("\n") == 1, res.output
+    assert "feature 1 cannot be placed on the globe" in res.output
+    assert "(1.00000001e+09, 1e+09)" in res.output and "UTM zone 33N" in res.output
+    assert not out.exists()
+    res = CliRunner().invoke(main, [*command, str(src), "-o", str(out)])  # without: smoothed
+    assert res.exit_code == 0, res.output
+
+
 def test_smooth_geofile_bad_method_and_alpha(tmp_path):
     src = tmp_path / "x.gpkg"
     geo.write_file(geo.us_counties(states=["10"]), src)

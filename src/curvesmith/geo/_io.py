@@ -859,6 +859,16 @@ def _geographic_xy(df: Any) -> tuple[np.ndarray, np.ndarray]:
     shapely = require("shapely", "geo", "equal-area smoothing")
     geo4326 = df.to_crs("EPSG:4326") if not df.crs.equals("EPSG:4326") else df
     xy, index = shapely.get_coordinates(geo4326.geometry.values, return_index=True)
+    bad = ~np.isfinite(xy).all(axis=1)
+    if bad.any():  # PROJ gives inf for points outside the CRS's domain
+        k = int(np.flatnonzero(bad)[0])
+        src = shapely.get_coordinates(df.geometry.values[index[k]])[0]
+        raise CurveError(
+            f"--equal-area: feature {int(index[k])} cannot be placed on the globe: its vertex "
+            f"({src[0]:.9g}, {src[1]:.9g}) lies outside the area of {df.crs.name} (longitude/"
+            f"latitude {xy[k, 0]}, {xy[k, 1]}); fix its coordinates or its CRS, or smooth "
+            "without --equal-area"
+        )
     return xy, index
 
 
