@@ -862,7 +862,8 @@ def _geographic_xy(df: Any) -> tuple[np.ndarray, np.ndarray]:
     bad = ~np.isfinite(xy).all(axis=1)
     if bad.any():  # PROJ gives inf for points outside the CRS's domain
         k = int(np.flatnonzero(bad)[0])
-        src = shapely.get_coordinates(df.geometry.values[index[k]])[0]
+        at = k - int(np.searchsorted(index, index[k]))  # the vertex's place in its feature
+        src = shapely.get_coordinates(df.geometry.values[index[k]])[at]
         raise CurveError(
             f"--equal-area: feature {int(index[k])} cannot be placed on the globe: its vertex "
             f"({src[0]:.9g}, {src[1]:.9g}) lies outside the area of {df.crs.name} (longitude/"
