@@ -205,46 +205,63 @@ def polylines_within(X, offsets, pa, pb, dist):
 
 
 @njit(cache=True, nogil=True)
-def _points_near(P, p0, p1, Q, q0, q1, r, keys):
-    """Whether every vertex ``P[p0:p1]`` lies within `r` of the polyline ``Q[q0:q1]``."""
-    nq = q1 - q0 - 1
-    if nq < 1:  # a single point
-        for i in range(p0, p1):
-            dx, dy = P[i, 0] - Q[q0, 0], P[i, 1] - Q[q0, 1]
-            if dx * dx + dy * dy > r * r:
-                return False
-        return True
+def _segments(parts, f0, f1, sa, sb):
+    """The segments of the polylines ``parts[f0:f1]`` as end indices into the coordinates.
+
+    Polyline ``p`` is ``X[parts[p]:parts[p + 1]]``; a one-point polyline is one segment of
+    length 0, an empty one has none. Returns their number (``sa[:n]``, ``sb[:n]``).
+    """
+    n = 0
+    for p in range(f0, f1):
+        i0, i1 = parts[p], parts[p + 1]
+        if i1 - i0 == 1:
+            sa[n], sb[n] = i0, i0
+            n += 1
+        for q in range(i0, i1 - 1):
+            sa[n], sb[n] = q, q + 1
+            n += 1
+    return n
+
+
+@njit(cache=True, nogil=True)
+def _points_near(P, p0, p1, Q, q0, q1, sa, sb, ns, r, keys):
+    """Whether every vertex ``P[p0:p1]`` lies within `r` of the segments ``sa[:ns]``, ``sb[:ns]``.
+
+    The segments join vertices of ``Q`` (their ends, from :func:`_segments`), which all lie in
+    ``Q[q0:q1]``. With no segment, only an empty ``P`` is within.
+    """
+    if ns == 0:
+        return p1 <= p0
     qx0, qx1, qy0, qy1 = _box(Q, q0, q1)
     c = 0 if qx1 - qx0 >= qy1 - qy0 else 1  # sort along the box's longer axis
     e = 1 - c
     wide = 0.0
-    for v in range(nq):
-        q = q0 + v
-        lo = min(Q[q, c], Q[q + 1, c])
+    for v in range(ns):
+        lo = min(Q[sa[v], c], Q[sb[v], c])
         keys[v] = lo
-        wide = max(wide, max(Q[q, c], Q[q + 1, c]) - lo)
-    order = np.argsort(keys[:nq])
-    xs = keys[:nq][order]
+        wide = max(wide, max(Q[sa[v], c], Q[sb[v], c]) - lo)
+    order = np.argsort(keys[:ns])
+    xs = keys[:ns][order]
     d2 = r * r
     last_hit = 0  # the segment that served the previous vertex: usually serves this one
     for i in range(p0, p1):
         px, py = P[i, c], P[i, e]
-        q = q0 + last_hit
-        if _seg_dist2(Q[q, 0], Q[q, 1], Q[q + 1, 0], Q[q + 1, 1], P[i, 0], P[i, 1]) <= d2:
+        a, b = sa[last_hit], sb[last_hit]
+        if _seg_dist2(Q[a, 0], Q[a, 1], Q[b, 0], Q[b, 1], P[i, 0], P[i, 1]) <= d2:
             continue
         first = np.searchsorted(xs, px - r - wide, side="left")
         last = np.searchsorted(xs, px + r, side="right")
         hit = -1
         for w in range(first, last):
             v = order[w]
-            q = q0 + v
+            a, b = sa[v], sb[v]
             if (
-                max(Q[q, c], Q[q + 1, c]) < px - r
-                or min(Q[q, e], Q[q + 1, e]) > py + r
-                or max(Q[q, e], Q[q + 1, e]) < py - r
+                max(Q[a, c], Q[b, c]) < px - r
+                or min(Q[a, e], Q[b, e]) > py + r
+                or max(Q[a, e], Q[b, e]) < py - r
             ):
                 continue
-            if _seg_dist2(Q[q, 0], Q[q, 1], Q[q + 1, 0], Q[q + 1, 1], P[i, 0], P[i, 1]) <= d2:
+            if _seg_dist2(Q[a, 0], Q[a, 1], Q[b, 0], Q[b, 1], P[i, 0], P[i, 1]) <= d2:
                 hit = v
                 break
         if hit < 0:
@@ -254,22 +271,35 @@ def _points_near(P, p0, p1, Q, q0, q1, r, keys):
 
 
 @njit(cache=True, nogil=True)
-def shifts_within(A, offa, B, offb, dist):
-    """Per polyline ``k``: whether the discrete Hausdorff distance of ``A_k``, ``B_k`` is <= dist.
+def shifts_within(A, parta, feata, B, partb, featb, dist):
+    """Per feature ``k``: whether the discrete Hausdorff distance of ``A_k``, ``B_k`` is <= dist[k].
 
-    ``A_k = A[offa[k]:offa[k + 1]]`` (likewise ``B_k``): every vertex of each within `dist`
-    of the other polyline (point-to-segment distance), the measure GEOS'
-    ``hausdorff_distance`` takes, decided without computing it.
+    A feature is a set of polylines (the rings of a polygon, the lines of a multi-line): those
+    of ``A_k`` are ``parta[feata[k]:feata[k + 1] + 1]`` as offsets into the coordinates ``A``
+    (likewise ``B_k``). Every vertex of each must lie within ``dist[k]`` of a segment of the
+    other (point-to-segment distance), the measure GEOS' ``hausdorff_distance`` takes,
+    decided without computing it. A feature whose distance is not needed has ``dist[k]``
+    NaN and is False.
     """
-    n = offa.shape[0] - 1
+    n = feata.shape[0] - 1
     out = np.zeros(n, dtype=np.bool_)
     nmax = 1
     for k in range(n):
-        nmax = max(nmax, offa[k + 1] - offa[k], offb[k + 1] - offb[k])
+        na = parta[feata[k + 1]] - parta[feata[k]]
+        nb = partb[featb[k + 1]] - partb[featb[k]]
+        nmax = max(nmax, na, nb)
     keys = np.empty(nmax, dtype=np.float64)
+    sa = np.empty(nmax, dtype=np.int64)
+    sb = np.empty(nmax, dtype=np.int64)
     for k in range(n):
-        a0, a1, b0, b1 = offa[k], offa[k + 1], offb[k], offb[k + 1]
-        out[k] = _points_near(A, a0, a1, B, b0, b1, dist, keys) and _points_near(
-            B, b0, b1, A, a0, a1, dist, keys
-        )
+        r = dist[k]
+        if not r >= 0.0:
+            continue
+        a0, a1 = parta[feata[k]], parta[feata[k + 1]]
+        b0, b1 = partb[featb[k]], partb[featb[k + 1]]
+        ns = _segments(partb, featb[k], featb[k + 1], sa, sb)
+        if not _points_near(A, a0, a1, B, b0, b1, sa, sb, ns, r, keys):
+            continue
+        ns = _segments(parta, feata[k], feata[k + 1], sa, sb)
+        out[k] = _points_near(B, b0, b1, A, a0, a1, sa, sb, ns, r, keys)
     return out

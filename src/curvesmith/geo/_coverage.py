@@ -864,7 +864,9 @@ def shifts_within(before, after, max_shift: float) -> np.ndarray:
     """
     from ._clearance_kernel import shifts_within as kernel
 
-    return kernel(before[0], before[1], after[0], after[1], float(max_shift))
+    n = len(before[1]) - 1
+    arcs = np.arange(n + 1, dtype=np.int64)  # one polyline per arc
+    return kernel(*before, arcs, *after, arcs, np.full(n, float(max_shift)))
 
 
 def bounded_levels(

@@ -1277,8 +1277,11 @@ def _smooth_within_budget(
     chosen = np.array(geoms, dtype=object, copy=True)
     level = np.full(len(geoms), -1, dtype=int)  # index into `steps`; -1: unchanged
     runs = {}
-    shifts: dict[int, np.ndarray] = {}  # per strength tried, the features' shifts
-    flat = shapely.force_2d(geoms[present])
+    excess = None  # per feature, the powers of 2 by which the weakest pass moves too far
+    if max_shift is not None:
+        from . import _shift
+
+        before = _shift.Linework(geoms[present])  # XY: the shift is measured in the plane
     top = int(options["iterations"])
     # the strengths tried, weakest first: with max_shift, one pass at 1/8, 1/4 and 1/2 of
     # the cut ratio (a shallower cut moves the boundary less), then 1 .. iterations passes
@@ -1289,12 +1292,19 @@ def _smooth_within_budget(
         res = smooth(geoms, **{**options, "iterations": k, "alpha": alpha}, full_output=True)
         out = np.asarray(res.geometry, dtype=object)
         ok = np.ones(int(present.sum()), dtype=bool)
-        smoothed = shapely.force_2d(out[present])
         if max_shift is not None:
-            shift = shapely.hausdorff_distance(flat, smoothed)
-            shifts[j] = shift
-            ok &= shift <= max_shift
+            after = _shift.Linework(out[present])
+            within = _shift.shifts_within(before, after, max_shift)
+            if j == 0 and max_shift > 0:
+                # the weakest pass: by how many powers of 2 it misses, where it does
+                far = np.flatnonzero(present)[~within]
+                excess = np.zeros(len(geoms), dtype=np.int64)
+                excess[far] = _shift.excess_powers(
+                    _shift.Linework(geoms[far]), _shift.Linework(out[far]), max_shift
+                )
+            ok &= within
         if min_segment is not None:
+            smoothed = shapely.force_2d(out[present])
             # edges of the output: coordinates minus one per ring or line
             n_edges = shapely.get_num_coordinates(smoothed) - _num_linear(smoothed)
             ok &= shapely.length(smoothed) >= min_segment * np.maximum(n_edges, 1)
@@ -1307,13 +1317,12 @@ def _smooth_within_budget(
     reductions = [r for j, res in runs.items() for r in res.reductions if level[r.feature] == j]
     changes = [res.max_area_change for j, res in runs.items() if (level == j).any()]
     n_curves = next(iter(runs.values())).n_curves if runs else 0
-    if max_shift is not None and max_shift > 0 and top and 0 in shifts:
+    if excess is not None:
         # features that the weakest pass moved too far: shallower single passes, per feature
         # the power of 2 its excess asks for, each group smoothed in one call of its own
         pos = np.flatnonzero(present)
-        left = (level[pos] < 0) & (shifts[0] > max_shift) & (shifts[0] > 0)
-        with np.errstate(divide="ignore"):
-            need = np.ceil(np.log2(shifts[0] / max_shift))
+        need = excess[pos]
+        left = (level[pos] < 0) & (need > 0)
         for _ in range(WEAK_RETRIES + 1):
             todo = pos[left]
             if not todo.size:
@@ -1331,9 +1340,8 @@ def _smooth_within_budget(
                     sub_options["fixed"] = np.asarray(given, dtype=bool)[_expand(off, sub)[0]]
                 res = smooth(geoms[sub], **sub_options, full_output=True)
                 out = np.asarray(res.geometry, dtype=object)
-                ok = (
-                    shapely.hausdorff_distance(shapely.force_2d(geoms[sub]), shapely.force_2d(out))
-                    <= max_shift
+                ok = _shift.shifts_within(
+                    _shift.Linework(geoms[sub]), _shift.Linework(out), max_shift
                 )
                 if min_segment is not None:
                     two = shapely.force_2d(out)
