@@ -14,6 +14,7 @@ import click
 
 from .. import __version__
 from ..errors import CurveError
+from ._stop import exit_cleanly_on_sigterm, install_watchdog
 
 __all__ = ["main"]
 
@@ -26,8 +27,13 @@ class _Group(click.Group):
     is its message, exit status 1.
     """
 
+    def main(self, args=None, *rest, **kwargs):
+        if args is None:  # the program itself (not click's test runner, not a caller's args)
+            install_watchdog()
+        return super().main(args, *rest, **kwargs)
+
     def invoke(self, ctx):
-        _exit_cleanly_on_sigterm()
+        exit_cleanly_on_sigterm()
         try:
             return super().invoke(ctx)
         except click.UsageError as exc:
@@ -42,24 +48,6 @@ class _Group(click.Group):
             where = f": {exc.filename}" if getattr(exc, "filename", None) else ""
             click.echo(f"Error: {exc.strerror or exc}{where}", err=True)
             sys.exit(1)
-
-
-def _on_sigterm(signum, frame):
-    raise SystemExit(128 + signum)
-
-
-def _exit_cleanly_on_sigterm() -> None:
-    """SIGTERM (a scheduler's or QGIS's Cancel) unwinds like an error: temporary files go.
-
-    Python's default for SIGTERM ends the process without running ``finally`` blocks, so
-    the temporary output beside OUT would stay; as SystemExit it is removed like after any
-    failed run (exit status 143, as before).
-    """
-    import signal
-    import threading
-
-    if threading.current_thread() is threading.main_thread():
-        signal.signal(signal.SIGTERM, _on_sigterm)
 
 
 @click.group(cls=_Group, context_settings={"help_option_names": ["-h", "--help"]})

@@ -49,6 +49,7 @@ def _write(df, path: str) -> None:
     import os
 
     from .. import geo
+    from ..io._core import in_flight
 
     target = Path(path)
     suffix = target.suffix.lower()
@@ -57,8 +58,9 @@ def _write(df, path: str) -> None:
         return
     tmp = target.with_name(f".{target.stem}.{os.getpid()}.tmp{target.suffix}")
     try:
-        geo.write_file(df, tmp, layer=target.stem)  # the layer named as without the rename
-        os.replace(tmp, target)
+        with in_flight(tmp):
+            geo.write_file(df, tmp, layer=target.stem)  # the layer named as without the rename
+            os.replace(tmp, target)
     finally:
         tmp.unlink(missing_ok=True)
 

@@ -332,6 +332,33 @@ def check_destination(dest: str | os.PathLike) -> Path:
     return path
 
 
+#: Temporary files and folders of outputs being written. A run that must stop at once,
+#: inside a compiled call that Python's unwinding would wait for (the command line's
+#: SIGTERM watchdog, :mod:`curvesmith.cli._stop`), removes them before it exits.
+_IN_FLIGHT: set[Path] = set()
+
+
+@contextlib.contextmanager
+def in_flight(path: str | os.PathLike) -> Iterator[Path]:
+    """Register `path` (a temporary file or folder) as in flight while the block runs."""
+    path = Path(path)
+    _IN_FLIGHT.add(path)
+    try:
+        yield path
+    finally:
+        _IN_FLIGHT.discard(path)
+
+
+def remove_in_flight() -> None:
+    """Remove every temporary file and folder in flight (see :func:`in_flight`)."""
+    for path in list(_IN_FLIGHT):
+        if path.is_dir():
+            shutil.rmtree(path, ignore_errors=True)
+        else:
+            with contextlib.suppress(OSError):
+                path.unlink()
+
+
 @contextlib.contextmanager
 def atomic_path(dest: str | os.PathLike, *, stale: Iterable[str] = ()) -> Iterator[Path]:
     """Write a file under a temporary name in its own folder; rename it into place on success.
@@ -366,6 +393,7 @@ def atomic_path(dest: str | os.PathLike, *, stale: Iterable[str] = ()) -> Iterat
         raise CurveFormatError(
             f"{os.fspath(dest)}: cannot write the file: {exc.strerror or exc}"
         ) from None
+    _IN_FLIGHT.add(tmpdir)
     try:
         yield tmpdir / path.name
         written = sorted(tmpdir.iterdir(), key=lambda f: f.name == path.name)
@@ -378,6 +406,7 @@ def atomic_path(dest: str | os.PathLike, *, stale: Iterable[str] = ()) -> Iterat
                 old.unlink()
     finally:
         shutil.rmtree(tmpdir, ignore_errors=True)
+        _IN_FLIGHT.discard(tmpdir)
 
 
 class _Utf8Sink:
