@@ -305,7 +305,7 @@ def test_null_geometries_need_allow_null_and_are_counted(tmp_path):
     assert not out.exists()
     res = CliRunner().invoke(main, ["smooth", str(src), "-o", str(out), "--allow-null"])
     assert res.exit_code == 0, res.output
-    assert "4 features smoothed; 1 without geometry (NULL) and 1 empty" in res.output
+    assert "2 of 4 feature(s) smoothed; 1 without geometry (NULL) and 1 empty" in res.output
     back = geo.read_file(out)
     assert back.geometry.isna().tolist() == [False, False, True, False]
     assert back.geometry.is_empty.tolist()[3]
@@ -424,7 +424,7 @@ def test_geojson_null_and_point_features_pass_through(tmp_path):
     out = tmp_path / "o.geojson"
     res = CliRunner().invoke(main, ["smooth", str(src), "-o", str(out)])
     assert res.exit_code == 0, res.output
-    assert "2 feature(s) without a curve geometry (NULL, Point, MultiPoint) passed through" in (
+    assert "2 feature(s) without a curve geometry (NULL, empty, Point, MultiPoint) passed through" in (
         res.output
     )
     doc = json.loads(out.read_text())
@@ -519,8 +519,9 @@ def test_sigterm_during_a_write_leaves_no_temporary_files(tmp_path):
         time.sleep(0.05)
     assert proc.poll() is None, proc.communicate()
     proc.send_signal(signal.SIGTERM)
-    proc.communicate(timeout=120)
+    _, err = proc.communicate(timeout=120)
     assert proc.returncode == 128 + signal.SIGTERM
+    assert err.decode().strip().splitlines()[-1] == "Error: stopped by SIGTERM"
     assert not list(tmp_path.glob(".out.csv.*")), "temporary output left behind"
     assert out.read_bytes() == before
 
@@ -561,9 +562,62 @@ def test_geojson_points_inside_geometry_collections_pass_through(tmp_path):
     assert "2 Point/MultiPoint member(s) of GeometryCollections not written: CSV holds" in (
         res.output
     )
-    assert "1 feature(s) without a curve geometry (NULL, Point, MultiPoint) not written" in (
+    assert "1 feature(s) without a curve geometry (NULL, empty, Point, MultiPoint) not written" in (
         res.output
     )
     kept = cio.read_geojson(src, others="keep")
     assert sorted(kept.members) == [(0, 0), (0, 2)] and sorted(kept.others) == [1]
     assert kept.with_curves(list(kept)).members == kept.members
+
+
+_SPIN = """
+import pathlib, sys
+import numba
+from curvesmith.cli._stop import install_watchdog
+from curvesmith.io._core import in_flight
+
+@numba.njit(nogil=True)
+def spin(n):
+    s = 0.0
+    for i in range(n):
+        s += (i % 7) * 1e-9
+    return s
+
+spin(10)  # compiled before the signal can come
+install_watchdog()
+tmp = pathlib.Path(sys.argv[1])
+tmp.mkdir()
+(tmp / "part.gpkg").write_bytes(b"half")
+with in_flight(tmp):
+    print("ready", flush=True)
+    print(spin(10**12))  # minutes inside one compiled call that releases the GIL
+"""
+
+
+@pytest.mark.parametrize("name", ["SIGTERM", "SIGINT"])
+def test_a_signal_stops_a_long_compiled_call_within_seconds(tmp_path, name):
+    # Python runs signal handlers between bytecodes only: before the watchdog, a SIGTERM
+    # (a scheduler's cancel, `timeout`) waited for the engine's call over the whole layer
+    import signal
+    import sys
+    import time
+
+    signum = getattr(signal, name)
+    tmp = tmp_path / ".out.gpkg.abc.tmp"
+    proc = subprocess.Popen(
+        [sys.executable, "-c", _SPIN, str(tmp)],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    assert proc.stdout.readline().strip() == "ready", proc.communicate()
+    time.sleep(0.3)  # inside spin()
+    t0 = time.monotonic()
+    proc.send_signal(signum)
+    out, err = proc.communicate(timeout=60)
+    took = time.monotonic() - t0
+    assert proc.returncode == 128 + signum, (out, err)
+    assert took < 10, took  # GRACE is 1 s; the call itself would take minutes
+    assert not tmp.exists(), "temporary output left behind"
+    assert err.strip() == f"Error: stopped by {name}"
+    assert out == ""

@@ -25,7 +25,7 @@ def test_smooth_geofile_coverage_with_summary(tmp_path, capsys):
     )
     err = capsys.readouterr().err
     assert "Warning:" in err and "geographic CRS" in err
-    assert "5 features smoothed" in err and "coverage valid" in err
+    assert "5 of 5 feature(s) smoothed" in err and "coverage valid" in err
     assert rep.coverage_valid
     back = geo.read_file(out, layer="counties")
     np.testing.assert_allclose(

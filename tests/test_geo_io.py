@@ -485,3 +485,34 @@ def test_geopackage_keeps_its_geometry_column_name(tmp_path, monkeypatch, chunk)
     info = pyogrio.read_info(out)
     assert info["geometry_name"] == "shape" and info["features"] == len(df)
     assert shapely.equals(geo.read_file(out).geometry.values, back.geometry.values).all()
+
+
+@pytest.mark.parametrize("suffix", [".gpkg", ".fgb", ".geojson", ".shp"])
+def test_nested_geojson_properties_stay_json(tmp_path, suffix):
+    # pyogrio reads a GeoJSON property holding an object or an array as Python objects and
+    # wrote them back with str(): "{'x': [1, 2]}", which no program reads as JSON
+    import json
+
+    from click.testing import CliRunner
+
+    from curvesmith.cli import main
+
+    values = [{"x": [1, 2], "name": "Zürich"}, [3, {"y": None}], None, "plain"]
+    feats = [
+        {"type": "Feature", "properties": {"k": k, "tags": v},
+         "geometry": {"type": "Polygon", "coordinates": [[[k, 0], [k + 1, 0], [k, 1], [k, 0]]]}}
+        for k, v in enumerate(values)
+    ]  # fmt: skip
+    src = tmp_path / "nested.geojson"
+    src.write_text(json.dumps({"type": "FeatureCollection", "features": feats}), "utf-8")
+    out = tmp_path / f"o{suffix}"
+    res = CliRunner().invoke(main, ["smooth", str(src), "-o", str(out), "--allow-null"])
+    assert res.exit_code == 0, res.output
+    if suffix == ".geojson":  # GDAL's writer turns the JSON text into the nested value
+        got = [f["properties"]["tags"] for f in json.loads(out.read_text("utf-8"))["features"]]
+        assert got == values
+        return
+    text = pyogrio.read_dataframe(out)["tags"].tolist()
+    assert [json.loads(t) for t in text[:2]] == values[:2]
+    assert text[2] is None or text[2] != text[2]  # NULL
+    assert text[3] == "plain"

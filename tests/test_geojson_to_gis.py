@@ -99,3 +99,44 @@ def test_curves_from_csv_to_a_gis_file_get_a_true_message(tmp_path):
         f"or GeoJSON input; {src} is not one: write .geojson, .csv or .svg"
     )
     assert not (tmp_path / "sq.gpkg").exists()
+
+
+def test_empty_geometries_pass_through_in_both_paths(tmp_path):
+    # an empty Polygon was an error written to GeoJSON ("the geometry is empty") and passed
+    # through written to a GeoPackage; it is data in both, like a NULL
+    src = _mixed_layer(tmp_path, point=False)
+    fc = json.loads(src.read_text())
+    empty = {"type": "Feature", "properties": {"name": "void"},
+             "geometry": {"type": "Polygon", "coordinates": []}}  # fmt: skip
+    fc["features"].insert(5, empty)
+    src.write_text(json.dumps(fc))
+    runner = CliRunner()
+    for suffix in ("geojson", "gpkg"):
+        out = tmp_path / f"o.{suffix}"
+        res = runner.invoke(main, ["smooth", str(src), "-o", str(out)])
+        assert res.exit_code == 0, res.output
+        back = gpd.read_file(out)
+        assert back["name"].tolist() == [f["properties"]["name"] for f in fc["features"]]
+        g = back.geometry.iloc[5]  # a GeoPackage layer of Polygons and MultiPolygons: Multi
+        assert g.is_empty and g.geom_type in ("Polygon", "MultiPolygon")
+    assert json.loads((tmp_path / "o.geojson").read_text())["features"][5] == empty
+    assert "10 of 12 feature(s) smoothed; 1 without geometry (NULL) and 1 empty" in res.stderr
+
+
+@pytest.mark.parametrize(
+    "option", [["--make-valid"], ["--allow-null"], ["--equal-area"], ["--max-shift", "0.5"]]
+)
+def test_gis_options_on_geojson_to_geojson_go_through_geo(tmp_path, option):
+    # these were refused for GeoJSON output with a message that listed GeoJSON as allowed
+    src = _mixed_layer(tmp_path, point=False)
+    out = tmp_path / "o.geojson"
+    res = CliRunner().invoke(main, ["smooth", str(src), "-o", str(out), *option])
+    assert res.exit_code == 0, res.output
+    assert "10 of 11 feature(s) smoothed" in res.stderr
+    before, after = gpd.read_file(src), gpd.read_file(out)
+    assert after["name"].tolist() == before["name"].tolist()
+    poly = ~before.geometry.isna().to_numpy()
+    assert shapely.is_valid(after.geometry.values[poly]).all()
+    if option[0] != "--equal-area":  # planar areas in degrees exact; equal-area: ground areas
+        a0, a1 = shapely.area(before.geometry.values[poly]), shapely.area(after.geometry.values[poly])
+        assert np.max(np.abs(a1 / a0 - 1)) < 1e-9

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import json
 
+import geopandas as gpd
 import numpy as np
 import pytest
 import shapely
@@ -94,15 +95,32 @@ def test_cli_csv_rings_checked_too(tmp_path):
     assert len(c.points) >= 3 * len(neck)
 
 
-def test_invalid_input_polygons_are_reported(tmp_path):
+def test_invalid_input_polygons_are_refused_as_for_gis_output(tmp_path):
+    # smoothed ring by ring a bow-tie stays crossed; the same file written to a GeoPackage
+    # was refused while GeoJSON output exited 0 with a warning: one input, one answer
     bowtie = {"type": "Polygon", "coordinates": [[[0, 0], [2, 2], [2, 0], [0, 2], [0, 0]]]}
+    good = {"type": "Polygon", "coordinates": [[[5, 0], [7, 0], [7, 2], [5, 2], [5, 0]]]}
+    feats = [{"type": "Feature", "properties": {"n": k}, "geometry": g}
+             for k, g in enumerate([good, bowtie, bowtie])]  # fmt: skip
     src = tmp_path / "bow.geojson"
-    src.write_text(json.dumps(bowtie))
-    res = CliRunner().invoke(main, ["smooth", str(src), "-o", str(tmp_path / "o.geojson")])
-    assert res.exit_code == 0, res.output
-    assert "1 polygon(s) were already invalid in the input (feature 0: Self-intersection" in (
-        res.output
-    )
+    src.write_text(json.dumps({"type": "FeatureCollection", "features": feats}))
+    for suffix in ("geojson", "gpkg"):
+        out = tmp_path / f"o.{suffix}"
+        res = CliRunner().invoke(main, ["smooth", str(src), "-o", str(out)])
+        assert res.exit_code == 1, res.output
+        lines = res.output.strip().splitlines()
+        assert len(lines) == 1 or suffix == "gpkg", lines  # gpkg: also the CRS warning
+        assert "feature 1" in lines[-1] or "geometry[1]" in lines[-1]
+        assert "Self-intersection" in lines[-1] and "(and 1 more)" in lines[-1]
+        assert "--make-valid" in lines[-1]
+        assert not out.exists()
+        res = CliRunner().invoke(main, ["smooth", str(src), "-o", str(out), "--make-valid"])
+        assert res.exit_code == 0, res.output
+        back = gpd.read_file(out)
+        assert back["n"].tolist() == [0, 1, 2]
+        assert shapely.is_valid(back.geometry.values).all()
+        # the repaired bow-tie is two triangles, their area kept by the smoothing
+        assert back.geometry.values[1].area == pytest.approx(2.0, rel=1e-12)
 
 
 def test_anchored_invalid_output_says_why(tmp_path):

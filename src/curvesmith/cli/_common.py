@@ -193,7 +193,8 @@ def _say_others(curves, fmt: str) -> None:
     )
     if others:
         click.echo(
-            f"{len(others)} feature(s) without a curve geometry (NULL, Point, MultiPoint) {fate}",
+            f"{len(others)} feature(s) without a curve geometry (NULL, empty, Point, "
+            f"MultiPoint) {fate}",
             err=True,
         )
     if members:

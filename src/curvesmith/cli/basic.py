@@ -271,8 +271,11 @@ def smooth_command(
         return
     geojson_in = Path(source).suffix.lower() in (".geojson", ".json")
     gis_out = dest != "-" and is_geofile(dest)
+    # GeoJSON goes through curvesmith.geo for what only it does (GIS output, the map-unit
+    # bounds, repair, NULLs, CRS work); otherwise ring by ring, every method, its own writer
+    gis_only = budget or make_valid or allow_null or equal_area or layer is not None
     if source != "-" and (
-        is_geofile(source, coverage=coverage) or (geojson_in and (gis_out or budget))
+        is_geofile(source, coverage=coverage) or (geojson_in and (gis_out or gis_only))
     ):
         if anchors or curve_kind:
             raise OptionError("--anchors and --curves are not available for GIS files")
@@ -300,7 +303,8 @@ def smooth_command(
     if any(flags) or budget:
         raise OptionError(
             "--coverage, --layer, --equal-area, --make-valid, --snap, --allow-null, "
-            "--max-shift and --min-segment apply to GIS files (.gpkg, .shp, .fgb, or GeoJSON)"
+            "--max-shift and --min-segment apply to GIS files (.gpkg, .shp, .fgb) and "
+            "GeoJSON files, not to CSV, SVG or standard input"
         )
     if gis_out:
         raise CurveError(
@@ -329,6 +333,7 @@ def smooth_command(
         )
 
     curves = read_curves(source, fmt, keep_others=True)
+    _refuse_invalid_polygons(curves, source)
     out = []
     for i, c in enumerate(curves):
         try:
@@ -383,6 +388,34 @@ def _check_method_options(spec: methods.SmoothingMethod, keep_angle: float | Non
     if keep_angle is not None and not spec.keeps_vertices:
         able = " or ".join(m.name for m in methods.METHODS.values() if m.keeps_vertices)
         raise click.UsageError(f"--keep-angle needs --method {able}, got {spec.name}")
+
+
+def _refuse_invalid_polygons(curves, source: str) -> None:
+    """An error for GeoJSON polygons that are not valid, as the GIS path gives.
+
+    Smoothed ring by ring they stay invalid (a bow-tie stays crossed), and the same file
+    written to a GeoPackage is refused: the two outputs of one input must not differ.
+    """
+    from ..errors import MissingDependencyError
+    from ..io.geojson import GeoJSONCurves
+
+    if not isinstance(curves, GeoJSONCurves):  # CSV, SVG: closed curves, not polygons
+        return
+
+    try:
+        from ..geo._io import invalid_polygons
+
+        bad = invalid_polygons(curves)
+    except (ImportError, MissingDependencyError):
+        return  # _keep_valid says that validity was not checked
+    if bad:
+        f, why = bad[0]
+        more = f" (and {len(bad) - 1} more)" if len(bad) > 1 else ""
+        where = "standard input" if source == "-" else source
+        raise CurveError(
+            f"{where}: feature {f} is not a valid polygon ({why}){more}; repair it first or "
+            "pass --make-valid to repair it with shapely.make_valid"
+        )
 
 
 def _features_text(items) -> str:

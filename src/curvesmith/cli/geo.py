@@ -150,9 +150,10 @@ def smooth_geofile(
     import tempfile
 
     from .. import geo
+    from ..io._core import in_flight
 
     gis = gis_method(method, what="GIS files")
-    with tempfile.TemporaryDirectory(prefix="curvesmith-") as tmp:
+    with tempfile.TemporaryDirectory(prefix="curvesmith-") as tmp, in_flight(tmp):
         target = Path(tmp) / "stdout.geojson" if out_path == "-" else out_path
         report = _run_reporting_crs(
             geo.smooth_file,
@@ -178,7 +179,8 @@ def smooth_geofile(
 
 
 def _summary(report) -> None:
-    parts = [f"{report.n_features} features smoothed"]
+    through = report.n_null + report.n_empty + report.n_points + report.n_unchanged
+    parts = [f"{report.n_features - through} of {report.n_features} feature(s) smoothed"]
     if report.n_null or report.n_empty:
         parts.append(
             f"{report.n_null} without geometry (NULL) and {report.n_empty} empty, written "
@@ -205,7 +207,12 @@ def _summary(report) -> None:
             f"there"
         )
     if report.coverage_valid is not None:
-        parts.append("coverage valid" if report.coverage_valid else "coverage NOT valid")
+        if report.coverage_valid:
+            parts.append("coverage valid")
+        elif report.invalid_edges:
+            parts.append("coverage NOT valid, as the input was not (clean it first: --snap)")
+        else:
+            parts.append("coverage NOT valid")
     click.echo("; ".join(parts), err=True)
 
 

@@ -281,6 +281,36 @@ def _with_dates(df: Any) -> tuple[Any, bool]:
     return out, True
 
 
+def _with_json(df: Any) -> Any:
+    """`df` with nested values (dicts and lists) of its fields as JSON text, for writing.
+
+    pyogrio reads a JSON field (a GeoJSON property holding an object or an array, GDAL's
+    ``OFSTJSON``) as Python objects and writes them back with ``str()``: ``{'x': [1, 2]}``,
+    which no program reads as JSON. As JSON text they stay JSON in every format (GDAL's
+    GeoJSON writer turns such text back into the nested value).
+    """
+    import json
+
+    import pandas as pd
+
+    names = [
+        n
+        for n in df.columns
+        if n != df.geometry.name
+        and df[n].dtype == object
+        and pd.api.types.infer_dtype(df[n], skipna=True) not in ("string", "empty", "bytes")
+    ]
+    nested = [n for n in names if df[n].map(lambda v: isinstance(v, dict | list)).any()]
+    if not nested:
+        return df
+    out = df.copy()
+    for n in nested:
+        out[n] = out[n].map(
+            lambda v: json.dumps(v, ensure_ascii=False) if isinstance(v, dict | list) else v
+        )
+    return out
+
+
 def _read_measured(path: Path, layer: Any, columns: Any) -> Any:
     """Read a layer with M values through pyogrio's Arrow reader (which keeps M)."""
     import pyogrio
@@ -645,6 +675,7 @@ def write_file(df: Any, path: str | Path, *, layer: str | None = None) -> None:
                 kwargs["promote_to_multi"] = True
             z = "3D " if shapely.has_z(geoms[present]).any() else ""
             kwargs["geometry_type"] = f"Measured {z}{name}"
+    df = _with_json(df)
     df, dated = _with_dates(df)
     if dated:
         kwargs["use_arrow"] = True  # pyogrio writes a Date field from Arrow's date32 only
@@ -1421,6 +1452,28 @@ def _rings_of(geom) -> dict[tuple[int, int], np.ndarray]:
         for r, ring in enumerate([poly.exterior, *poly.interiors]):
             out[(p, r)] = shapely.get_coordinates(ring)[:-1]
     return out
+
+
+def invalid_polygons(curves) -> list[tuple[int, str]]:
+    """The Polygon and MultiPolygon features of `curves` that are not valid: (feature, reason).
+
+    What :func:`curvesmith.geo.smooth` refuses without ``make_valid``, for the curves of a
+    GeoJSON file read ring by ring (closed curves of other kinds are not polygons).
+    """
+    shapely = require("shapely", "geo", "checking the validity of polygons")
+    groups = [
+        g
+        for g in _polygon_groups(curves)
+        if curves[g[0]].kind in ("Polygon", "MultiPolygon") and all(curves[i].dim == 2 for i in g)
+    ]
+    polys = [_polygon_of(curves, g) for g in groups]
+    known = [k for k, p in enumerate(polys) if p is not None]
+    valid = shapely.is_valid(np.array([polys[k] for k in known], dtype=object))
+    return [
+        (curves[groups[k][0]].feature, shapely.is_valid_reason(polys[k]))
+        for k, ok in zip(known, valid, strict=True)
+        if not ok
+    ]
 
 
 def keep_polygons_valid(

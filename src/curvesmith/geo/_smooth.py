@@ -487,11 +487,14 @@ def _prepare(
     changed = False
     if not defer_validity and not valid.all():
         if not make_valid:
-            k = int(np.nonzero(~valid)[0][0])
+            bad = np.flatnonzero(~valid)
+            k = int(bad[0])
             reason = shapely.is_valid_reason(g[k])
+            more = f" (and {len(bad) - 1} more)" if len(bad) > 1 else ""
             raise CurveError(
-                f"{what}[{int(np.flatnonzero(present)[k])}] is not valid ({reason}); repair "
-                "it first or pass make_valid=True to repair it with shapely.make_valid"
+                f"{what}[{int(np.flatnonzero(present)[k])}] is not valid ({reason}){more}; "
+                "repair it first or pass make_valid=True (--make-valid) to repair it with "
+                "shapely.make_valid"
             )
         fixed = shapely.make_valid(g[~valid], method="structure", keep_collapsed=False)
         g = g.copy()

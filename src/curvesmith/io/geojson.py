@@ -151,7 +151,9 @@ class _GeoJSONReader:
             )
         geom = feat.get("geometry")
         kind = geom.get("type") if isinstance(geom, dict) else None
-        if self.keep and (geom is None or kind in ("Point", "MultiPoint") or _points_only(geom)):
+        if self.keep and (
+            geom is None or kind in ("Point", "MultiPoint") or _points_only(geom) or _empty(geom)
+        ):
             self.others[i] = feat
             return
         if geom is None:
@@ -254,6 +256,14 @@ class _GeoJSONReader:
             self.add(w, pts, True, kind=kind, part=part, ring=r, **common)
 
 
+def _empty(geom) -> bool:
+    """Whether `geom` is an empty curve geometry or collection (``"coordinates": []``)."""
+    if not isinstance(geom, dict):
+        return False
+    key = "geometries" if geom.get("type") == "GeometryCollection" else "coordinates"
+    return geom.get("type") in _GEOMETRY_TYPES and geom.get(key) == []
+
+
 def _points_only(geom) -> bool:
     """Whether `geom` is a GeometryCollection of Points and MultiPoints only (none: no)."""
     if not isinstance(geom, dict) or geom.get("type") != "GeometryCollection":
@@ -274,7 +284,7 @@ def read_geojson(source: Source, *, others: Literal["error", "keep"] = "error") 
     source : str or path-like or text file object
         A FeatureCollection, a Feature or a bare geometry.
     others : {"error", "keep"}, optional
-        Features whose geometry is NULL, a Point or a MultiPoint: an error (default), or
+        Features whose geometry is NULL, empty, a Point or a MultiPoint: an error (default), or
         kept aside: the result is then a :class:`GeoJSONCurves` holding them (and the
         ``crs`` member, kept without a warning) for :func:`write_geojson` to write back.
 
