@@ -203,3 +203,22 @@ def test_demo_section_of_a_missing_extra_is_reported_not_fatal(tmp_path, monkeyp
     assert "Not run" in summary["sections"][0]["text"][0]
     assert "curvesmith[geo]" in (tmp_path / "summary.md").read_text()
     assert (tmp_path / "subdivision_overview.png").exists()
+
+
+def test_measure_skips_geojson_features_without_curves(runner, tmp_path):
+    # a NULL or empty geometry is data in GeoJSON (smooth writes it through); measure failed
+    feats = [
+        {"type": "Feature", "properties": {}, "geometry": None},
+        {"type": "Feature", "properties": {}, "geometry": {"type": "Polygon", "coordinates": []}},
+        {"type": "Feature", "properties": {},
+         "geometry": {"type": "Polygon", "coordinates": [[[0, 0], [4, 0], [4, 3], [0, 0]]]}},
+    ]  # fmt: skip
+    src = tmp_path / "gaps.geojson"
+    src.write_text(json.dumps({"type": "FeatureCollection", "features": feats}))
+    res = runner.invoke(main, ["measure", str(src), "--json"])
+    assert res.exit_code == 0, res.output
+    (row,) = json.loads(res.stdout)["curves"]
+    assert row["signed_area"] == 6.0 and row["feature"] == 2
+    assert res.stderr.strip() == (
+        "2 feature(s) without a curve geometry (NULL, empty, Point, MultiPoint) not measured"
+    )

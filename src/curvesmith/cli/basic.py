@@ -88,7 +88,14 @@ def measure_command(source: str, fmt: str | None, as_json: bool) -> None:
         if not curves:
             raise CurveError(f"{source} contains no lines or polygons")
     else:
-        curves = read_curves(source, fmt)
+        curves = read_curves(source, fmt, keep_others=True)  # GeoJSON NULLs are data
+        others = getattr(curves, "others", {}) or {}
+        if others:
+            click.echo(
+                f"{len(others)} feature(s) without a curve geometry (NULL, empty, Point, "
+                "MultiPoint) not measured",
+                err=True,
+            )
     rows = []
     for i, c in enumerate(curves):
         with np.errstate(over="ignore", invalid="ignore"):
