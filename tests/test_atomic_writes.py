@@ -424,8 +424,9 @@ def test_geojson_null_and_point_features_pass_through(tmp_path):
     out = tmp_path / "o.geojson"
     res = CliRunner().invoke(main, ["smooth", str(src), "-o", str(out)])
     assert res.exit_code == 0, res.output
-    assert "2 feature(s) without a curve geometry (NULL, empty, Point, MultiPoint) passed through" in (
-        res.output
+    assert (
+        "2 feature(s) without a curve geometry (NULL, empty, Point, MultiPoint) passed through"
+        in (res.output)
     )
     doc = json.loads(out.read_text())
     assert doc["crs"] == crs

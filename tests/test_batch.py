@@ -309,3 +309,47 @@ def test_equal_area_batch_is_per_region_like_smooth_file(cluster, tmp_path):
     before = np.array([abs(geod.geometry_area_perimeter(g)[0]) for g in world.geometry])
     after = np.array([abs(geod.geometry_area_perimeter(g)[0]) for g in b.geometry])
     assert np.max(np.abs(after / before - 1)) < 1e-3  # worst 0.057 % (geo's equal-area test)
+
+
+@pytest.mark.parametrize(
+    ("n", "size"),
+    [(0, 1000), (10, 1000), (16_000, 1000), (16_001, 1001), (400_000, 25_000), (10**7, 50_000)],
+)
+def test_default_partition_size(n, size):
+    # 1,000 features per task (the old default) on 398,222 footprints: 399 tasks, 12.6 s of
+    # smoothing on 2 workers; 20 tasks: 7.7 s
+    assert batch.features_per_task(None, n) == size
+    assert batch.features_per_task(7, n) == 7
+    with pytest.raises(CurveError, match="partition_size must be an integer >= 1, got 0"):
+        batch.features_per_task(0, n)
+
+
+def test_progress_bar_is_dasks_format_drawn_per_result(cluster, capsys, monkeypatch):
+    # the client draws the bar as results arrive (distributed's progress() blocked until all
+    # tasks were done, so no result was decoded while the workers computed); the QGIS
+    # plugin reads the percentage of this format
+    import re
+
+    from curvesmith.internals import BatchProgressBar
+
+    rng = np.random.default_rng(2)
+    geoms = [shapely.box(x, 0, x + 1, 1 + rng.uniform()) for x in range(0, 200, 2)]
+    seen = []
+    real = BatchProgressBar.step
+
+    def step(bar):
+        seen.append(bar.done)
+        real(bar)
+
+    monkeypatch.setattr(BatchProgressBar, "step", step)
+    with distributed.Client(cluster.scheduler_address) as client:
+        out, errors, n_tasks, _ = batch.smooth_partitioned(
+            geoms, client=client, partition_size=10, progress=True
+        )
+    assert errors == () and n_tasks == 10 and seen == list(range(10))
+    frames = capsys.readouterr().err.split("\r")
+    pct = [int(m.group(1)) for f in frames if (m := re.search(r"\|\s*(\d{1,3})% Completed", f))]
+    assert pct == [0, 10, 20, 30, 40, 50, 60, 70, 80, 90, 100]
+    assert frames[-1].startswith("[" + "#" * 40 + "] | 100% Completed |")
+    ref = geo.smooth(geoms)
+    assert all(shapely.equals_exact(a, b, 0.0) for a, b in zip(out, ref, strict=True))

@@ -138,5 +138,8 @@ def test_gis_options_on_geojson_to_geojson_go_through_geo(tmp_path, option):
     poly = ~before.geometry.isna().to_numpy()
     assert shapely.is_valid(after.geometry.values[poly]).all()
     if option[0] != "--equal-area":  # planar areas in degrees exact; equal-area: ground areas
-        a0, a1 = shapely.area(before.geometry.values[poly]), shapely.area(after.geometry.values[poly])
+        a0, a1 = (
+            shapely.area(before.geometry.values[poly]),
+            shapely.area(after.geometry.values[poly]),
+        )
         assert np.max(np.abs(a1 / a0 - 1)) < 1e-9

@@ -262,9 +262,11 @@ OPTIONS = (
         "PARTITION_SIZE",
         "--partition-size",
         "int",
-        1000,
+        None,
         "Features per Dask task",
-        "Batch mode: features per task (arcs per task in coverage and network mode).",
+        "Batch mode: features per task (default: about 16 tasks of 1,000 to 50,000 features; "
+        "arcs per task in coverage and network mode, default 1,000).",
+        optional=True,
         minimum=1,
         advanced=True,
         batch="only",

@@ -1,10 +1,11 @@
 """Smoothing GIS files at scale on Dask (the ``dask`` extra: ``dask[distributed]``).
 
-Features are cut into partitions of ``partition_size`` consecutive features; every
-partition is one task (not one task per feature) run by a Dask cluster: a local cluster of
-worker processes by default, or an existing scheduler given by its address. The output
-has exactly the input's features in the input's order. A feature whose smoothing fails is
-written unchanged and listed, with the reason, in the errors report — never dropped.
+Features are cut into partitions of ``partition_size`` consecutive features (by default
+about 16 partitions, see :func:`features_per_task`); every partition is one task (not one
+task per feature) run by a Dask cluster: a local cluster of worker processes by default,
+or an existing scheduler given by its address. The output has exactly the input's
+features in the input's order. A feature whose smoothing fails is written unchanged and
+listed, with the reason, in the errors report — never dropped.
 
 In coverage mode the arc-node structure is built once (on the client), the arcs are cut
 into chunks smoothed in parallel, and conflicts between arcs are resolved on the client
@@ -17,7 +18,7 @@ touch, so noding and conflict resolution need the whole network.
 from __future__ import annotations
 
 import json
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -206,32 +207,100 @@ class _Workers:
 def _run(
     client,
     fn: Callable,
-    args: Sequence[tuple],
+    args: Iterable[tuple],
     progress: bool,
     on_result: Callable[[int, Any], None] | None = None,
+    *,
+    total: int | None = None,
 ) -> list[Any]:
-    """Submit one task per argument tuple, show a progress bar, gather in order.
+    """Submit one task per argument tuple, show a progress bar, return the results in order.
 
-    With `on_result`, each result is handed to ``on_result(k, result)`` as soon as it
-    arrives (task ``k``), so the client decodes results while the workers still compute,
-    and its task is released then; the list returned is empty.
+    `args` may be a generator: each task is submitted as soon as its arguments exist, so
+    the workers start on the first partition while the client still packs the others.
+    Results are taken as they arrive, in whatever order the tasks finish; with
+    `on_result`, each is handed to ``on_result(k, result)`` (task ``k``) at once and
+    released, so the client decodes results while the workers still compute, and the
+    list returned is empty. The progress bar (`total` tasks, default ``len(args)``) is
+    drawn by the client as results arrive, in Dask's format
+    (``[####    ] | 42% Completed |  1.2s``, which the QGIS plugin reads).
     """
     distributed = require("distributed", "dask", "batch smoothing")
-    futures = [client.submit(fn, *a, pure=False) for a in args]
-    if progress:
-        distributed.progress(futures, notebook=False)
-    if on_result is None:
-        return client.gather(futures)
-    task = {f.key: k for k, f in enumerate(futures)}
-    arriving = distributed.as_completed(futures, with_results=True)
-    del futures  # each task is released once its result is handed on
+    n = len(args) if total is None else total  # type: ignore[arg-type]
+    bar = _ProgressBar(n) if progress else None
+    arriving = distributed.as_completed(with_results=True)
+    task: dict[str, int] = {}
+    for k, a in enumerate(args):
+        future = client.submit(fn, *a, pure=False)
+        task[future.key] = k
+        arriving.add(future)
+        del future
+    results: list[Any] = [None] * len(task) if on_result is None else []
     for future, result in arriving:
-        on_result(task[future.key], result)
+        k = task.pop(future.key)
+        if on_result is None:
+            results[k] = result
+        else:
+            on_result(k, result)
         del future, result
-    return []
+        if bar is not None:
+            bar.step()
+    if bar is not None:
+        bar.close()
+    return results
+
+
+class _ProgressBar:
+    """A text progress bar on stderr, redrawn after a carriage return (Dask's format)."""
+
+    WIDTH = 40
+
+    def __init__(self, total: int) -> None:
+        import time
+
+        self.total, self.done, self.t0 = max(int(total), 1), 0, time.perf_counter()
+        self._draw()
+
+    def step(self) -> None:
+        self.done += 1
+        self._draw()
+
+    def close(self) -> None:
+        import sys
+
+        sys.stderr.write("\n")
+        sys.stderr.flush()
+
+    def _draw(self) -> None:
+        import sys
+        import time
+
+        frac = min(self.done / self.total, 1.0)
+        bar = "#" * round(frac * self.WIDTH)
+        took = time.perf_counter() - self.t0
+        sys.stderr.write(
+            f"\r[{bar:<{self.WIDTH}}] | {int(100 * frac):3d}% Completed | {took:4.1f}s"
+        )
+        sys.stderr.flush()
 
 
 # ---------------------------------------------------------------------------- API
+
+#: Tasks a layer is cut into by default (:func:`features_per_task`): enough for the
+#: workers to share the load when tasks take unequal times, few enough that Dask's cost per
+#: task (scheduling, a transfer each way) stays small beside the smoothing.
+AUTO_TASKS = 16
+
+#: Bounds of the default partition size, in features. Measured on 398,222 footprints
+#: (2 workers, 2 iterations): 1,000 per task (399 tasks) smoothed in 12.6 s, 20,000 per
+#: task in 7.7 s.
+MIN_PARTITION, MAX_PARTITION = 1000, 50_000
+
+
+def features_per_task(partition_size: int | None, n: int) -> int:
+    """The partition size: `partition_size` as given, else about :data:`AUTO_TASKS` tasks."""
+    if partition_size is not None:
+        return as_int(partition_size, name="partition_size", minimum=1)
+    return int(min(max(-(-n // AUTO_TASKS), MIN_PARTITION), MAX_PARTITION))
 
 
 def smooth_partitioned(
@@ -241,7 +310,7 @@ def smooth_partitioned(
     iterations: int = 1,
     alpha: Any = "regular",
     make_valid: bool = False,
-    partition_size: int = 1000,
+    partition_size: int | None = None,
     workers: int | None = None,
     scheduler: str | None = None,
     client: Any = None,
@@ -259,8 +328,9 @@ def smooth_partitioned(
         The features; the output has the same type, order, index, columns and CRS.
     method, iterations, alpha, make_valid
         As in :func:`curvesmith.geo.smooth`.
-    partition_size : int
-        Features per task.
+    partition_size : int, optional
+        Features per task. Default: about :data:`AUTO_TASKS` tasks, of
+        :data:`MIN_PARTITION` to :data:`MAX_PARTITION` features each.
     workers : int, optional
         Worker processes of the local cluster (default 2).
     scheduler : str, optional
@@ -291,10 +361,10 @@ def smooth_partitioned(
     from .geo._smooth import as_geometry_array, check_method
 
     iterations = check_method(method, iterations, alpha)
-    partition_size = as_int(partition_size, name="partition_size", minimum=1)
+    geoms, wrap = as_geometry_array(geometry)
+    partition_size = features_per_task(partition_size, len(geoms))
     if workers is not None:
         workers = as_int(workers, name="workers", minimum=1)
-    geoms, wrap = as_geometry_array(geometry)
     options = {"method": method, "iterations": iterations, "alpha": alpha, "make_valid": make_valid}
     if fixed is not None:
         options["fixed"] = fixed
@@ -309,7 +379,7 @@ def smooth_partitioned(
     from .geo._packets import pack, unpack
 
     starts = list(range(0, len(geoms), partition_size))
-    args = [(pack(geoms[s : s + partition_size]), s, options) for s in starts]
+    args = ((pack(geoms[s : s + partition_size]), s, options) for s in starts)  # as submitted
     out = np.array(geoms, dtype=object, copy=True)
     errors: list[FeatureError] = []
     n_red = 0
@@ -322,10 +392,10 @@ def smooth_partitioned(
         n_red += nr
 
     with _Workers(client, workers, scheduler) as pool:
-        if args:
-            _run(pool.client, _smooth_partition, args, progress, on_result=take)
+        if starts:
+            _run(pool.client, _smooth_partition, args, progress, on_result=take, total=len(starts))
     errors.sort(key=lambda e: e.index)
-    return wrap(out), tuple(errors), len(args), n_red
+    return wrap(out), tuple(errors), len(starts), n_red
 
 
 def smooth_file(
@@ -341,7 +411,7 @@ def smooth_file(
     equal_area: bool = False,
     make_valid: bool = False,
     snap: float | None = None,
-    partition_size: int = 1000,
+    partition_size: int | None = None,
     workers: int | None = None,
     scheduler: str | None = None,
     client: Any = None,
@@ -374,8 +444,9 @@ def smooth_file(
         Smooth in an equal-area projection and transform back.
     snap : float, optional
         Coverage mode: snapping distance for :func:`shapely.coverage_clean`.
-    partition_size : int
-        Features per task (arcs per task in coverage mode).
+    partition_size : int, optional
+        Features per task, by default as in :func:`smooth_partitioned`; arcs per task in
+        coverage and network mode (default :data:`MIN_PARTITION`).
     workers : int, optional
         Worker processes of the local cluster (default 2).
     scheduler : str, optional
@@ -411,7 +482,8 @@ def smooth_file(
         to_one_equal_area,
     )
 
-    partition_size = as_int(partition_size, name="partition_size", minimum=1)
+    if partition_size is not None:
+        partition_size = as_int(partition_size, name="partition_size", minimum=1)
     budget = {k: v for k, v in (("max_shift", max_shift), ("min_segment", min_segment)) if v}
     if network and (coverage or make_valid or snap is not None):
         what = "coverage" if coverage else ("make_valid" if make_valid else "snap")
@@ -460,7 +532,7 @@ def smooth_file(
             alpha=alpha,
             keep_angle=keep_angle,
             budget=budget,
-            chunk=partition_size,
+            chunk=partition_size or MIN_PARTITION,
             workers=workers,
             scheduler=scheduler,
             client=client,
@@ -477,7 +549,7 @@ def smooth_file(
             snap=snap,
             keep_angle=keep_angle,
             budget=budget,
-            chunk=partition_size,
+            chunk=partition_size or MIN_PARTITION,
             workers=workers,
             scheduler=scheduler,
             client=client,
@@ -534,7 +606,7 @@ def _equal_area_on_dask(
     *,
     options: dict[str, Any],
     make_valid: bool,
-    partition_size: int,
+    partition_size: int | None,
     workers: int | None,
     scheduler: str | None,
     client: Any,
@@ -559,10 +631,11 @@ def _equal_area_on_dask(
         nonlocal n_tasks
         args, where = [], []
         for k, (geoms, labels, extra) in enumerate(jobs):
-            for s in range(0, len(geoms), partition_size):
+            size = features_per_task(partition_size, len(geoms))
+            for s in range(0, len(geoms), size):
                 opts = {**options, "make_valid": make_valid, **extra}
-                part = pack(geoms[s : s + partition_size])
-                args.append((part, s, opts, labels[s : s + partition_size]))
+                part = pack(geoms[s : s + size])
+                args.append((part, s, opts, labels[s : s + size]))
                 where.append((k, s))
         n_tasks += len(args)
         outs = [[np.array(g, dtype=object, copy=True), 0, []] for g, _, _ in jobs]

@@ -151,6 +151,7 @@ _ON_DEMAND: dict[str, tuple[str, str | None]] = {
     "geo_packets": (".geo._packets", None),
     "clearance_kernel": (".geo._clearance_kernel", None),
     "geo_shift": (".geo._shift", None),
+    "BatchProgressBar": (".batch", "_ProgressBar"),
     "lon_arc": (".geo._io", "_lon_arc"),
     "slices": (".geo._io", "_slices"),
     "coverage_ragged": (".geo._coverage", "_ragged"),

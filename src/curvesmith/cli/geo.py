@@ -264,9 +264,9 @@ def batch_group() -> None:
 @click.option(
     "--partition-size",
     type=click.IntRange(min=1),
-    default=1000,
-    show_default=True,
-    help="Features per task (arcs per task with --coverage or --network).",
+    default=None,
+    help="Features per task [default: about 16 tasks of 1000-50000] (arcs per task with "
+    "--coverage or --network [default: 1000]).",
 )
 @click.option(
     "--errors", "errors_path", default=None, help="Errors report [default: OUT.errors.json]."
@@ -292,7 +292,7 @@ def batch_smooth_command(
     snap: float | None,
     workers: int | None,
     scheduler: str | None,
-    partition_size: int,
+    partition_size: int | None,
     errors_path: str | None,
     progress: bool,
     allow_null: bool,
