@@ -139,3 +139,29 @@ def test_option_clashes_on_gis_files_are_usage_errors(tmp_path, args):
     assert res.exit_code == 2, res.output
     assert res.output.startswith("Error: ") and len(res.output.strip().splitlines()) == 1
     assert not out.exists()
+
+
+@pytest.mark.parametrize("command", [["smooth"], ["batch", "smooth", "--workers", "1"]])
+def test_layer_by_index_or_name_writes_the_same_output_layer(tmp_path, command):
+    # --layer 1 wrote the output layer under the output's stem, --layer two under "two"
+    import pyogrio
+    from click.testing import CliRunner
+
+    from curvesmith.cli import main
+
+    df = geo.us_counties(states=["44"]).to_crs("EPSG:32619")  # Rhode Island
+    src = tmp_path / "two_layers.gpkg"
+    geo.write_file(df.iloc[:2], src, layer="one")
+    geo.write_file(df.iloc[2:], src, layer="two")
+    names = []
+    for k, layer in enumerate(["1", "two"]):
+        out = tmp_path / f"out{k}.gpkg"
+        res = CliRunner().invoke(main, [*command, str(src), "-o", str(out), "--layer", layer])
+        assert res.exit_code == 0, res.output
+        names.append([str(n) for n, _ in pyogrio.list_layers(out)])
+        back = geo.read_file(out)
+        assert len(back) == len(df) - 2
+        np.testing.assert_allclose(
+            shapely.area(back.geometry.values), shapely.area(df.geometry.values[2:]), rtol=1e-9
+        )
+    assert names == [["two"], ["two"]]

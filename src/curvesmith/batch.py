@@ -478,6 +478,7 @@ def smooth_file(
         check_network_back,
         clamp_to_domain,
         domain_fixed,
+        input_layer_name,
         is_equal_area_crs,
         to_one_equal_area,
     )
@@ -583,8 +584,7 @@ def smooth_file(
     if crs is not None and crs.is_geographic:
         out = out.copy()
         out.geometry = clamp_to_domain(out.geometry, str(in_path), df.geometry)
-    out_layer = None if layer is None or isinstance(layer, int) else str(layer)
-    geo.write_file(out, out_path, layer=out_layer)
+    geo.write_file(out, out_path, layer=input_layer_name(in_path, layer))
     if errors_path is None:
         errors_path = Path(str(out_path) + ".errors.json")
     Path(errors_path).write_text(

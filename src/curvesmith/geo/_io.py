@@ -619,6 +619,21 @@ def _set_xy(values: np.ndarray, xy: np.ndarray, index: np.ndarray) -> np.ndarray
     return values
 
 
+def input_layer_name(path: str | Path, layer: str | int | None) -> str | None:
+    """The name of the input layer `layer` (a name, or an index into the file's layers).
+
+    None when no layer was chosen. An index is resolved to the layer's name, so that
+    ``--layer 0`` and ``--layer roads`` write the same output layer.
+    """
+    if layer is None:
+        return None
+    if not isinstance(layer, int | np.integer):
+        return str(layer)
+    pyogrio = require("pyogrio", "geo", "reading GIS files")
+    names = [str(n) for n, _ in pyogrio.list_layers(path)]
+    return names[int(layer)] if 0 <= int(layer) < len(names) else None
+
+
 def write_file(df: Any, path: str | Path, *, layer: str | None = None) -> None:
     """Write a GeoDataFrame; the format follows the suffix (see :data:`DRIVERS`).
 
@@ -1252,7 +1267,8 @@ def smooth_file(
     layer : str or int, optional
         Input layer.
     out_layer : str, optional
-        Output layer name (GeoPackage); default the input layer's name.
+        Output layer name (GeoPackage); default the input layer's name when `layer` is
+        given (by name or by index: the same output), else GDAL's (the output's stem).
     equal_area : bool
         Smooth in an equal-area projection (:func:`equal_area_crs`) and transform back,
         so that ground areas, not areas in degrees, are the ones kept. Needs a CRS. Data
@@ -1366,8 +1382,8 @@ def smooth_file(
     if points.any():
         out = out.copy()
         out.geometry = np.where(points, kept, np.asarray(out.geometry.values, dtype=object))
-    if out_layer is None and layer is not None and not isinstance(layer, int | np.integer):
-        out_layer = str(layer)
+    if out_layer is None:
+        out_layer = input_layer_name(in_path, layer)
     del df, kept  # the input's geometries are not needed while the output is written
     write_file(out, out_path, layer=out_layer)
     return FileSmoothReport(
