@@ -866,7 +866,8 @@ def shifts_within(before, after, max_shift: float) -> np.ndarray:
 
     n = len(before[1]) - 1
     arcs = np.arange(n + 1, dtype=np.int64)  # one polyline per arc
-    return kernel(*before, arcs, *after, arcs, np.full(n, float(max_shift)))
+    (xa, offa), (xb, offb) = before, after
+    return kernel(xa, offa, arcs, xb, offb, arcs, np.full(n, float(max_shift)))
 
 
 def bounded_levels(
