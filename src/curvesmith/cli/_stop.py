@@ -12,9 +12,9 @@ byte that Python's C-level handler writes to its wakeup descriptor the moment th
 arrives, waits :data:`GRACE` seconds for that unwinding. If the process is still running
 then, the watchdog removes the temporary outputs in flight
 (:func:`curvesmith.io._core.remove_in_flight`), stops the child processes (Dask
-workers) and exits with the same status. Either way one line names the signal (SIGINT
-that Python unwinds itself stays click's "Aborted!", exit status 1). The compiled kernels release
-the GIL, so the watchdog gets to run while they work.
+workers) and exits with the same status. Either way one line names the signal (a SIGINT
+that Python unwinds by itself stays click's "Aborted!", exit status 1). The compiled
+kernels release the GIL, so the watchdog gets to run while they work.
 """
 
 from __future__ import annotations
@@ -31,8 +31,6 @@ import time
 GRACE = 1.0
 
 _installed = False
-
-
 _said = threading.Lock()
 
 
@@ -80,6 +78,7 @@ def install_watchdog() -> None:
 
 
 def _watch(wake: socket.socket, bell: socket.socket) -> None:
+    # `bell` is held here so that its descriptor, Python's wakeup fd, stays open
     stops = {int(signal.SIGTERM), int(signal.SIGINT)}
     while True:
         try:
