@@ -75,7 +75,7 @@ def _alpha(alpha: Any) -> Any:
 
 def _echo_warnings(caught) -> None:
     for w in caught:
-        click.echo(f"Warning: {w.message}", err=True)
+        click.echo(f"Warning: {_in_cli_words(str(w.message))}", err=True)
 
 
 def _layer(layer: str | None) -> str | int | None:
@@ -92,9 +92,27 @@ def _run_reporting_crs(fn, *args, **kwargs):
     with warnings.catch_warnings(record=True) as caught:
         for kind in kinds:
             warnings.simplefilter("always", kind)
-        report = fn(*args, **kwargs)
+        try:
+            report = fn(*args, **kwargs)
+        except CurveError as exc:
+            _echo_warnings(w for w in caught if issubclass(w.category, kinds))
+            exc.args = (_in_cli_words(str(exc)), *exc.args[1:])
+            raise
     _echo_warnings(w for w in caught if issubclass(w.category, kinds))
     return report
+
+
+def _in_cli_words(message: str) -> str:
+    """A library message in the command line's words: the file's feature, the flag."""
+    import re
+
+    message = re.sub(r"^(?:geometry|polygons)\[(\d+)\]", r"feature \1", message)
+    for api, flag in (
+        ("pass make_valid=True (--make-valid)", "pass --make-valid"),
+        ("smooth_file(..., equal_area=True) (--equal-area)", "--equal-area"),
+    ):
+        message = message.replace(api, flag)
+    return message
 
 
 def smooth_geofile(
