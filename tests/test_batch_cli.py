@@ -77,3 +77,30 @@ def test_batch_smooth_exits_1_when_features_failed_and_names_file_indices(tmp_pa
     back = geo.read_file(out)  # written, failing feature unchanged
     got = shapely.get_coordinates(back.geometry[last])
     np.testing.assert_array_equal(got, shapely.get_coordinates(bowtie))
+
+
+def test_an_errors_report_that_cannot_be_written_fails_before_the_work(tmp_path):
+    # the report was written last: the output was already there when --errors failed
+    src = tmp_path / "ri.gpkg"
+    geo.write_file(geo.us_counties(states=["44"]).to_crs("EPSG:32619"), src)
+    from curvesmith.cli import main
+
+    out = tmp_path / "out.gpkg"
+    for errors in (tmp_path / "missing" / "e.json", tmp_path):
+        res = CliRunner().invoke(
+            main,
+            [
+                "batch",
+                "smooth",
+                str(src),
+                "-o",
+                str(out),
+                "--errors",
+                str(errors),
+                "--workers",
+                "1",
+            ],
+        )
+        assert res.exit_code == 1, res.output
+        assert str(errors) in res.output and "Traceback" not in res.output
+        assert not out.exists()

@@ -485,6 +485,11 @@ def smooth_file(
 
     if partition_size is not None:
         partition_size = as_int(partition_size, name="partition_size", minimum=1)
+    from .io._core import check_destination
+
+    if errors_path is None:
+        errors_path = Path(str(out_path) + ".errors.json")
+    check_destination(errors_path)  # before the work: a report that cannot be written
     budget = {k: v for k, v in (("max_shift", max_shift), ("min_segment", min_segment)) if v}
     if network and (coverage or make_valid or snap is not None):
         what = "coverage" if coverage else ("make_valid" if make_valid else "snap")
@@ -585,8 +590,6 @@ def smooth_file(
         out = out.copy()
         out.geometry = clamp_to_domain(out.geometry, str(in_path), df.geometry)
     geo.write_file(out, out_path, layer=input_layer_name(in_path, layer))
-    if errors_path is None:
-        errors_path = Path(str(out_path) + ".errors.json")
     Path(errors_path).write_text(
         json.dumps([{"index": e.index, "reason": e.reason} for e in errors], indent=1) + "\n"
     )

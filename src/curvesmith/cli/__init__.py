@@ -14,7 +14,7 @@ import click
 
 from .. import __version__
 from ..errors import CurveError
-from ._stop import exit_cleanly_on_sigterm, install_watchdog
+from ._stop import exit_cleanly_on_sigterm, install_watchdog, wait_if_stopping
 
 __all__ = ["main"]
 
@@ -42,9 +42,11 @@ class _Group(click.Group):
             click.echo(f"Error: {message} (see '{where} --help')", err=True)
             sys.exit(exc.exit_code)
         except CurveError as exc:
+            wait_if_stopping()  # caused by the watchdog removing the output: it exits
             click.echo(f"Error: {exc}", err=True)
             sys.exit(1)
         except OSError as exc:
+            wait_if_stopping()
             where = f": {exc.filename}" if getattr(exc, "filename", None) else ""
             click.echo(f"Error: {exc.strerror or exc}{where}", err=True)
             sys.exit(1)

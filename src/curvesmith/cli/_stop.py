@@ -33,6 +33,10 @@ GRACE = 1.0
 _installed = False
 _said = threading.Lock()
 
+#: Set when the watchdog has begun to stop the process: the main thread, failing because
+#: the watchdog removed its temporary output, must not report that as an error of its own.
+stopping = threading.Event()
+
 
 def _say_stopped(signum: int) -> None:
     """One line on stderr, once per process: which signal stopped the run."""
@@ -99,10 +103,21 @@ def _watch(wake: socket.socket, bell: socket.socket) -> None:
 def _stop_now(signum: int) -> None:
     from ..io._core import remove_in_flight
 
+    stopping.set()
+    _say_stopped(signum)
+    with contextlib.suppress(OSError):  # nothing more from the main thread
+        quiet = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(quiet, 1)
+        os.dup2(quiet, 2)
     remove_in_flight()
     _stop_children()
-    _say_stopped(signum)
     os._exit(128 + signum)
+
+
+def wait_if_stopping() -> None:
+    """In the main thread's error handling: leave the exit to the watchdog if it is stopping."""
+    if stopping.is_set():
+        time.sleep(30)  # the watchdog ends the process within moments
 
 
 def _stop_children() -> None:
