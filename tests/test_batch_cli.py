@@ -104,3 +104,23 @@ def test_an_errors_report_that_cannot_be_written_fails_before_the_work(tmp_path)
         assert res.exit_code == 1, res.output
         assert str(errors) in res.output and "Traceback" not in res.output
         assert not out.exists()
+
+
+def test_points_pass_through_as_in_smooth(tmp_path):
+    # batch reported "feature 1 is a Point: only lines and polygons can be smoothed" and
+    # exited 1, where smooth writes the point through
+    from curvesmith.cli import main
+
+    df = geo.us_counties(states=["44"]).to_crs("EPSG:32619").iloc[:3].copy()
+    df.loc[1, "geometry"] = shapely.Point(300_000, 4_600_000)
+    df.loc[2, "geometry"] = shapely.MultiPoint([(1, 2), (3, 4)])
+    src = tmp_path / "mixed.gpkg"
+    geo.write_file(df, src)
+    outs = [tmp_path / "batch.gpkg", tmp_path / "plain.gpkg"]
+    for cmd, out in ((["batch", "smooth", "--workers", "1"], outs[0]), (["smooth"], outs[1])):
+        res = CliRunner().invoke(main, [*cmd, str(src), "-o", str(out)])
+        assert res.exit_code == 0, res.output
+    a, b = (geo.read_file(o).geometry.values for o in outs)
+    assert shapely.equals_exact(a, b, 0.0).all()
+    assert a[1].equals(df.geometry.values[1]) and a[2].equals(df.geometry.values[2])
+    assert shapely.get_num_coordinates(a[0]) > 2 * shapely.get_num_coordinates(df.geometry[0])

@@ -496,6 +496,14 @@ def smooth_file(
         raise CurveError(f"network mode does not take {what} (it smooths lines, not polygons)")
     df = geo.read_file(in_path, layer=layer)
     crs = df.crs
+    # points have nothing to smooth: set aside like NULLs, written back unchanged (as geo's
+    # smooth_file does; a network's points stay where they are, as its nodes)
+    shapely = require("shapely", "geo", "smoothing a GIS file")
+    kept = np.asarray(df.geometry.values, dtype=object)
+    points = np.isin(shapely.get_type_id(kept), (0, 4)) & (not network)  # Point, MultiPoint
+    if points.any():
+        df = df.copy()
+        df.geometry = np.where(points, np.array(None, dtype=object), kept)
     if equal_area and crs is None:
         raise CurveError(f"equal_area needs a CRS, but {str(in_path)!r} has none")
     if equal_area and is_equal_area_crs(crs):
@@ -589,6 +597,10 @@ def smooth_file(
     if crs is not None and crs.is_geographic:
         out = out.copy()
         out.geometry = clamp_to_domain(out.geometry, str(in_path), df.geometry)
+    if points.any():
+        out = out.copy()
+        out.geometry = np.where(points, kept, np.asarray(out.geometry.values, dtype=object))
+    del kept
     geo.write_file(out, out_path, layer=input_layer_name(in_path, layer))
     Path(errors_path).write_text(
         json.dumps([{"index": e.index, "reason": e.reason} for e in errors], indent=1) + "\n"
