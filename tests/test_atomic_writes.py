@@ -611,12 +611,15 @@ def test_a_signal_stops_a_long_compiled_call_within_seconds(tmp_path, name):
         stderr=subprocess.PIPE,
         text=True,
     )
-    assert proc.stdout.readline().strip() == "ready", proc.communicate()
-    time.sleep(0.3)  # inside spin()
-    t0 = time.monotonic()
-    proc.send_signal(signum)
-    out, err = proc.communicate(timeout=60)
-    took = time.monotonic() - t0
+    try:
+        assert proc.stdout.readline().strip() == "ready", proc.communicate()
+        time.sleep(0.3)  # inside spin()
+        t0 = time.monotonic()
+        proc.send_signal(signum)
+        out, err = proc.communicate(timeout=60)
+        took = time.monotonic() - t0
+    finally:
+        proc.kill()  # never left spinning for minutes when the test fails
     assert proc.returncode == 128 + signum, (out, err)
     assert took < 10, took  # GRACE is 1 s; the call itself would take minutes
     assert not tmp.exists(), "temporary output left behind"
