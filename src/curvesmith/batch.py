@@ -480,6 +480,8 @@ def smooth_file(
         domain_fixed,
         input_layer_name,
         is_equal_area_crs,
+        put_points_back,
+        set_points_aside,
         to_one_equal_area,
     )
 
@@ -497,13 +499,8 @@ def smooth_file(
     df = geo.read_file(in_path, layer=layer)
     crs = df.crs
     # points have nothing to smooth: set aside like NULLs, written back unchanged (as geo's
-    # smooth_file does; a network's points stay where they are, as its nodes)
-    shapely = require("shapely", "geo", "smoothing a GIS file")
-    kept = np.asarray(df.geometry.values, dtype=object)
-    points = np.isin(shapely.get_type_id(kept), (0, 4)) & (not network)  # Point, MultiPoint
-    if points.any():
-        df = df.copy()
-        df.geometry = np.where(points, np.array(None, dtype=object), kept)
+    # smooth_file does; a network's points stay in it, as its nodes)
+    df, kept, points = set_points_aside(df, keep=not network)
     if equal_area and crs is None:
         raise CurveError(f"equal_area needs a CRS, but {str(in_path)!r} has none")
     if equal_area and is_equal_area_crs(crs):
@@ -597,9 +594,7 @@ def smooth_file(
     if crs is not None and crs.is_geographic:
         out = out.copy()
         out.geometry = clamp_to_domain(out.geometry, str(in_path), df.geometry)
-    if points.any():
-        out = out.copy()
-        out.geometry = np.where(points, kept, np.asarray(out.geometry.values, dtype=object))
+    out = put_points_back(out, kept, points)
     del kept
     geo.write_file(out, out_path, layer=input_layer_name(in_path, layer))
     Path(errors_path).write_text(

@@ -619,6 +619,30 @@ def _set_xy(values: np.ndarray, xy: np.ndarray, index: np.ndarray) -> np.ndarray
     return values
 
 
+def set_points_aside(df: Any, *, keep: bool = True) -> tuple[Any, np.ndarray, np.ndarray]:
+    """`df` with its Point and MultiPoint features as NULLs, for smoothing (nothing to smooth).
+
+    Returns ``(df, geometries, points)``: the input's geometries and the mask of points,
+    for :func:`put_points_back`. With ``keep=False`` nothing is set aside (no points).
+    """
+    shapely = require("shapely", "geo", "smoothing a GIS file")
+    kept = np.asarray(df.geometry.values, dtype=object)
+    points = np.isin(shapely.get_type_id(kept), (0, 4)) & bool(keep)  # Point, MultiPoint
+    if points.any():
+        df = df.copy()
+        df.geometry = np.where(points, np.array(None, dtype=object), kept)
+    return df, kept, points
+
+
+def put_points_back(out: Any, kept: np.ndarray, points: np.ndarray) -> Any:
+    """`out` with the points that :func:`set_points_aside` set aside, unchanged."""
+    if not points.any():
+        return out
+    out = out.copy()
+    out.geometry = np.where(points, kept, np.asarray(out.geometry.values, dtype=object))
+    return out
+
+
 def input_layer_name(path: str | Path, layer: str | int | None) -> str | None:
     """The name of the input layer `layer` (a name, or an index into the file's layers).
 
@@ -1325,13 +1349,7 @@ def smooth_file(
             GeographicCRSWarning,
             stacklevel=2,
         )
-    # points have nothing to smooth: set aside like NULLs, written back unchanged
-    shapely = require("shapely", "geo", "smoothing a GIS file")
-    kept = np.asarray(df.geometry.values, dtype=object)
-    points = np.isin(shapely.get_type_id(kept), (0, 4))  # Point, MultiPoint
-    if points.any():
-        df = df.copy()
-        df.geometry = np.where(points, np.array(None, dtype=object), kept)
+    df, kept, points = set_points_aside(df)
     planar: list[int] = []
     n_unchanged = 0
     # lon/lat data: vertices on the antimeridian and the poles stay put (Fiji, Chukotka and
@@ -1379,9 +1397,7 @@ def smooth_file(
     if geographic:
         out = out.copy()
         out.geometry = clamp_to_domain(out.geometry, str(in_path), df.geometry)
-    if points.any():
-        out = out.copy()
-        out.geometry = np.where(points, kept, np.asarray(out.geometry.values, dtype=object))
+    out = put_points_back(out, kept, points)
     if out_layer is None:
         out_layer = input_layer_name(in_path, layer)
     del df, kept  # the input's geometries are not needed while the output is written
