@@ -232,6 +232,12 @@ def resolve_arcs(
     top = len(levels) - 1
     if check_simple is None:
         check_simple = np.ones(n_arcs, dtype=bool)
+    if start is None and seeds is None and initial_ragged is None and meetings_out is None:
+        solo = _solo_loops(arcs, loops, groups, frozen)
+        if solo.any():
+            return _resolve_with_solo_loops(
+                solo, arcs, loops, groups, frozen, smoother, levels, check_simple, initial
+            )
     # the first round's pieces: every arc whole, at its starting level (as lists: the
     # many arcs of a coverage are set up without a Python loop of their own)
     loop_l = np.asarray(loops, dtype=bool).tolist()
@@ -401,6 +407,107 @@ def resolve_arcs(
         changed_arc[arc_of[level_of != np.asarray(top_level)[arc_of]]] = True
         changed_arc[n_of > 1] = True
         meetings_out.update(first, changed=changed_arc)
+    return out, reductions
+
+
+def _solo_loops(arcs, loops, groups, frozen) -> np.ndarray:
+    """Per arc: a loop alone in its group, of at most MIN_PIECE_VERTICES vertices, not frozen.
+
+    Such a loop (the ring of a footprint whose output was not valid) meets no other piece
+    and is never cut: each round of :func:`resolve_arcs` only smooths it one level less
+    until it is simple. :func:`_resolve_with_solo_loops` does those rounds for all of them
+    at once, without the rounds' spatial index and pair tests.
+    """
+    n = len(arcs)
+    groups = np.asarray(groups)
+    if n == 0:
+        return np.zeros(0, dtype=bool)
+    lens = np.fromiter(map(len, arcs), dtype=np.int64, count=n)
+    _, inv, count = np.unique(groups, return_inverse=True, return_counts=True)
+    return (
+        np.asarray(loops, dtype=bool)
+        & ~np.asarray(frozen, dtype=bool)
+        & (count[inv.reshape(-1)] == 1)
+        & (lens <= MIN_PIECE_VERTICES)
+    )
+
+
+def _resolve_with_solo_loops(
+    solo, arcs, loops, groups, frozen, smoother, levels, check_simple, initial
+) -> tuple[list[np.ndarray], list[Reduction]]:
+    """:func:`resolve_arcs` when some arcs are `solo` loops (:func:`_solo_loops`).
+
+    The same arcs and reductions: a solo loop ends at the first level (from full strength
+    down) at which it is simple as a closed line, or at which it is not checked (not in
+    `check_simple`, or its input is not simple), or that leaves it unchanged; its
+    reduction is the whole loop, ``0 .. n``. The other arcs go through :func:`resolve_arcs`.
+    """
+    import shapely
+
+    n_arcs = len(arcs)
+    top = len(levels) - 1
+    out: list[Any] = [None] * n_arcs
+    reductions: list[Reduction] = []
+    idx = np.flatnonzero(solo)
+    batch = getattr(smoother, "batch", None)
+
+    def smoothed(ks: np.ndarray, level: int) -> list[np.ndarray]:
+        lev = levels[level]
+        pts = [arcs[k] for k in ks.tolist()]
+        if lev.iterations == 0:
+            return pts
+        if batch is not None:
+            return list(batch(pts, True, lev))
+        return [smoother(p, True, lev) for p in pts]
+
+    def simple(rings: list[np.ndarray]) -> np.ndarray:
+        xy = np.concatenate([np.vstack([r, r[:1]]) for r in rings])
+        ids = np.repeat(np.arange(len(rings)), [len(r) + 1 for r in rings])
+        return shapely.is_simple(shapely.linestrings(xy, indices=ids))
+
+    cur = [initial[k] for k in idx.tolist()] if initial is not None else smoothed(idx, 0)
+    pending, level = idx, 0
+    while pending.size:
+        for k, xy in zip(pending.tolist(), cur, strict=True):
+            out[k] = xy
+        if level == top:
+            break
+        bad = ~simple(cur)
+        if bad.any():  # only loops checked, whose input is simple, are smoothed less
+            bad[bad] = check_simple[pending[bad]] & simple([arcs[k] for k in pending[bad]])
+        pending, level = pending[bad], level + 1
+        if pending.size:
+            cur = smoothed(pending, level)
+            lev = levels[level]
+            stops = [len(arcs[k]) for k in pending.tolist()]
+            reductions += [
+                Reduction(int(k), 0, s, lev.iterations, lev.alpha_scale)
+                for k, s in zip(pending.tolist(), stops, strict=True)
+            ]
+    # a loop smoothed less several times keeps the reduction of its last level
+    last: dict[int, Reduction] = {}
+    for r in reductions:
+        last[r.arc] = r
+    reductions = list(last.values())
+    rest = np.flatnonzero(~solo)
+    if rest.size:
+        sub, sub_red = resolve_arcs(
+            [arcs[k] for k in rest.tolist()],
+            loops=np.asarray(loops, dtype=bool)[rest],
+            groups=np.asarray(groups)[rest],
+            frozen=np.asarray(frozen, dtype=bool)[rest],
+            smoother=smoother,
+            levels=levels,
+            check_simple=np.asarray(check_simple, dtype=bool)[rest],
+            initial=[initial[k] for k in rest.tolist()] if initial is not None else None,
+        )
+        for k, xy in zip(rest.tolist(), sub, strict=True):
+            out[k] = xy
+        reductions += [
+            Reduction(int(rest[r.arc]), r.start, r.stop, r.iterations, r.alpha_scale)
+            for r in sub_red
+        ]
+    reductions.sort(key=lambda r: (r.arc, r.start))
     return out, reductions
 
 
