@@ -222,3 +222,40 @@ def test_measure_skips_geojson_features_without_curves(runner, tmp_path):
     assert res.stderr.strip() == (
         "2 feature(s) without a curve geometry (NULL, empty, Point, MultiPoint) not measured"
     )
+
+
+@pytest.mark.parametrize("name", ["folder", "folder.gpkg", "folder.csv", "folder.tif"])
+@pytest.mark.parametrize(
+    "command",
+    [
+        ["measure", "{src}"],
+        ["smooth", "{src}", "-o", "{out}.csv"],
+        ["smooth", "{src}", "-o", "{out}.gpkg"],
+        ["smooth", "{src}", "-o", "{out}.gpkg", "--coverage"],
+        ["smooth", "{src}", "-o", "{out}.gpkg", "--network"],
+        ["batch", "smooth", "{src}", "-o", "{out}.gpkg"],
+        ["affine", "{src}", "-o", "{out}.csv", "--vertices", "8"],
+        ["fair", "{src}", "-o", "{out}.csv"],
+        ["contours", "{src}", "-o", "{out}.gpkg", "--interval", "1"],
+    ],
+)
+def test_a_directory_as_input_is_named_as_one(runner, tmp_path, name, command):
+    # measure and smooth said "no file suffix" of a folder without one, and GDAL's "not
+    # recognized as being in a supported file format" of one named like a GeoPackage
+    src = tmp_path / name
+    src.mkdir()
+    args = [a.format(src=src, out=tmp_path / "out") for a in command]
+    res = runner.invoke(main, args)
+    assert res.exit_code == 1, res.output
+    assert res.stderr == f"Error: {src}: is a directory, not a file\n"
+    assert res.stdout == ""
+    assert sorted(p.name for p in tmp_path.iterdir()) == [name]  # nothing written
+
+
+def test_geo_read_file_names_a_directory(tmp_path):
+    from curvesmith import geo
+    from curvesmith.errors import CurveFormatError
+
+    (tmp_path / "roads.gpkg").mkdir()
+    with pytest.raises(CurveFormatError, match=r"roads\.gpkg: is a directory, not a file$"):
+        geo.read_file(tmp_path / "roads.gpkg")

@@ -27,6 +27,7 @@ __all__ = [
     "MIN_SEGMENT_OPTION",
     "POSITIVE",
     "POSITIVE_INT",
+    "check_input",
     "check_output",
     "gis_method",
     "parse_floats",
@@ -132,12 +133,23 @@ def _read(source, format: str, keep_others: bool = False):
     return _read_registry(source, format=format)
 
 
+def check_input(source: str) -> None:
+    """A directory given as an input file is that error, whatever its name.
+
+    Without this, a folder without a suffix was "no file suffix" and one named like a GIS
+    file got GDAL's "not recognized as being in a supported file format".
+    """
+    if source != "-" and Path(source).is_dir():
+        raise CurveFormatError(f"{source}: is a directory, not a file")
+
+
 def read_curves(source: str, fmt: str | None = None, *, keep_others: bool = False) -> list[Curve]:
     """Read curves from a path, or from standard input when `source` is ``-``.
 
     `keep_others`: GeoJSON features without a curve (NULL, Point) and the ``crs`` member are
     kept aside for the writer (commands that write the curves back, like ``smooth``).
     """
+    check_input(source)
     if source == "-":
         if fmt is None:
             raise CurveError("--format is required when reading from standard input (-)")

@@ -22,6 +22,7 @@ from ._common import (
     NON_NEGATIVE,
     POSITIVE,
     OptionError,
+    check_input,
     check_output,
     parse_indices,
     read_curves,
@@ -81,6 +82,7 @@ def measure_command(source: str, fmt: str | None, as_json: bool) -> None:
     """
     from .geo import GEO_SUFFIXES
 
+    check_input(source)
     if source != "-" and Path(source).suffix.lower() in GEO_SUFFIXES:
         from ..geo._io import curves_from_frame, read_file
 
@@ -255,6 +257,7 @@ def smooth_command(
     """
     from .geo import check_geo_output, is_geofile, smooth_geofile
 
+    check_input(source)
     spec = methods.get(method)
     _check_method_options(spec, keep_angle)
     budget = max_shift is not None or min_segment is not None

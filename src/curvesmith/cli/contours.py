@@ -23,6 +23,7 @@ from ._common import (
     MIN_SEGMENT_OPTION,
     POSITIVE,
     POSITIVE_INT,
+    check_input,
     gis_method,
 )
 
@@ -237,6 +238,7 @@ def contours_command(
     if interval is not None and levels is not None:
         raise click.UsageError("give --interval or --levels, not both")
     _check_output(dest)
+    check_input(grid)
     g = geo.read_grid(grid, band=raster_band)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", geo.GeographicCRSWarning)

@@ -10,7 +10,14 @@ import click
 import numpy as np
 
 from ..errors import CurveError
-from ._common import FORMAT_OPTION, POSITIVE, check_output, read_curves, write_curves
+from ._common import (
+    FORMAT_OPTION,
+    POSITIVE,
+    check_input,
+    check_output,
+    read_curves,
+    write_curves,
+)
 
 __all__ = ["fair_command"]
 
@@ -24,6 +31,7 @@ def _read(source: str, fmt: str | None):
     from ..io import Curve
     from ..io.scan import PLAIN_SUFFIXES, read_scan
 
+    check_input(source)
     if source != "-" and fmt is None and Path(source).suffix.lower() in PLAIN_SUFFIXES:
         return [
             Curve(pts, closed=False, properties={"id": name} if i else {})

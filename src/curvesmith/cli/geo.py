@@ -24,6 +24,7 @@ from ._common import (
     MIN_SEGMENT_OPTION,
     NON_NEGATIVE,
     OptionError,
+    check_input,
     gis_method,
 )
 
@@ -383,6 +384,7 @@ def batch_smooth_command(
 def _check_batch_paths(source: str, dest: str) -> None:
     from ..geo import DRIVERS
 
+    check_input(source)
     if Path(source).suffix.lower() not in DRIVERS:
         raise click.UsageError(
             f"{source}: batch smooth reads GIS files ({', '.join(sorted(DRIVERS))}); for CSV, "

@@ -154,6 +154,8 @@ def read_file(
     path = Path(path)
     if not path.exists():
         raise CurveFormatError(f"no such file: {str(path)!r}")
+    if path.is_dir():
+        raise CurveFormatError(f"{path}: is a directory, not a file")
     if path.suffix.lower() == ".shp":
         _check_shapefile(path)
     try:
