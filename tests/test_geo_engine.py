@@ -8,8 +8,8 @@ import pytest
 shapely = pytest.importorskip("shapely")
 pytest.importorskip("numba")
 
+from curvesmith.internals import engine_solo_loops, geo_smooth  # noqa: E402
 from curvesmith.internals import geo_engine as E  # noqa: E402
-from curvesmith.internals import geo_smooth  # noqa: E402
 
 
 def spiky_rings(seed: int, n: int = 600):
@@ -32,7 +32,7 @@ def spiky_rings(seed: int, n: int = 600):
 @pytest.mark.parametrize("iterations", [1, 2, 3])
 def test_solo_loops_resolve_as_the_rounds_do(seed, iterations):
     arcs, loops, groups, frozen = spiky_rings(seed)
-    solo = E._solo_loops(arcs, loops, groups, frozen)
+    solo = engine_solo_loops(arcs, loops, groups, frozen)
     assert 0 < solo.sum() < len(arcs)  # both kinds in the call
     levels = E.levels_for(iterations, scalable=True)
     smoother = geo_smooth.make_smoother("cca", "regular")
@@ -57,7 +57,7 @@ def test_solo_loops_are_single_small_unfrozen_loops():
     loops = np.array([True, True, True, True, False, True])
     groups = np.array([0, 1, 1, 2, 3, 4])
     frozen = np.array([False, False, False, False, False, True])
-    assert E._solo_loops(arcs, loops, groups, frozen).tolist() == [
+    assert engine_solo_loops(arcs, loops, groups, frozen).tolist() == [
         True,  # alone, 4 vertices
         False,  # shares its group
         False,

@@ -166,6 +166,7 @@ _ON_DEMAND: dict[str, tuple[str, str | None]] = {
     "engine_meeting_pairs": (".geo._engine", "_meeting_pairs"),
     "engine_closed_lines": (".geo._engine", "_closed_lines"),
     "engine_lines": (".geo._engine", "_lines"),
+    "engine_solo_loops": (".geo._engine", "_solo_loops"),
     "EnginePieceTable": (".geo._engine", "_PieceTable"),
     "close_ragged": (".geo._smooth", "_close_ragged"),
     "EnginePiece": (".geo._engine", "_Piece"),
