@@ -115,3 +115,92 @@ def test_packet_is_cheaper_than_wkb_and_pickles_as_buffers():
     pickle.dumps(packet, protocol=5, buffer_callback=buffers.append)
     sizes = sorted(b.raw().nbytes for b in buffers)
     assert sizes[-1] == packet.coords.nbytes == 16 * shapely.get_num_coordinates(geoms).sum()
+
+
+def _footprints(n: int, seed: int) -> np.ndarray:
+    """Valid rings of 5-12 vertices in metres at uneven angles, both orientations; some
+    smoothed rings cross themselves (the conflict resolution then reduces them)."""
+    rng = np.random.default_rng(seed)
+    out = []
+    while len(out) < n:
+        m = int(rng.integers(5, 13))
+        t = np.sort(rng.uniform(0, 2 * np.pi, m))
+        r = rng.uniform(4, 25) * (1 + 0.3 * rng.uniform(size=m))
+        ring = np.c_[r * np.cos(t), r * np.sin(t)] + rng.uniform([4e5, 5e6], [5e5, 5.1e6])
+        poly = shapely.Polygon(ring[::-1] if rng.uniform() < 0.3 else ring)
+        if poly.is_valid:
+            out.append(poly)
+    return np.asarray(out, dtype=object)
+
+
+def _packets_equal(p, q) -> bool:
+    return (
+        p.kind == q.kind
+        and np.array_equal(p.types, q.types)
+        and np.array_equal(p.filled, q.filled)
+        and np.array_equal(p.coords, q.coords)
+        and len(p.offsets) == len(q.offsets)
+        and all(np.array_equal(a, b) for a, b in zip(p.offsets, q.offsets, strict=True))
+    )
+
+
+@pytest.mark.parametrize("method", ["cca", "chaikin"])
+@pytest.mark.parametrize("iterations", [1, 2, 3])
+def test_smooth_to_packet_is_the_packet_of_smooth(method, iterations):
+    from curvesmith import geo
+    from curvesmith.internals import geo_smooth
+
+    polys = _footprints(8000, iterations)
+    res = geo.smooth(polys, method=method, iterations=iterations, full_output=True)
+    packet, reductions = geo_smooth.smooth_to_packet(polys, method=method, iterations=iterations)
+    assert _packets_equal(packet, pack(res.geometry))
+    assert reductions == res.reductions
+    if method == "cca":
+        assert len(reductions) > 0  # the spliced-in reduced rings are compared too
+    assert _same(unpack(packet), res.geometry)
+
+
+def test_smooth_to_packet_in_chunks(monkeypatch):
+    from curvesmith import geo
+    from curvesmith.internals import geo_smooth
+
+    polys = _footprints(2000, 7)
+    monkeypatch.setattr(geo_smooth, "CHUNK_VERTICES", 1000)  # about 100 chunks
+    res = geo.smooth(polys, iterations=2, full_output=True)
+    packet, reductions = geo_smooth.smooth_to_packet(polys, iterations=2)
+    assert _packets_equal(packet, pack(res.geometry))
+    assert reductions == res.reductions
+
+
+@pytest.mark.parametrize(
+    "odd",
+    [
+        None,
+        shapely.Polygon(),
+        shapely.MultiPolygon([shapely.box(0, 0, 1, 1)]),
+        shapely.box(0, 0, 9, 9).difference(shapely.box(3, 3, 4, 4)),  # a hole
+        shapely.Polygon([(0, 0, 1), (1, 0, 1), (0, 1, 1)]),  # Z
+        shapely.Polygon([(0, 0), (1, 0), (1, 0), (1, 1), (0, 1)]),  # a repeated vertex
+        shapely.LineString([(0, 0), (1, 1), (2, 0)]),
+    ],
+    ids=["none", "empty", "multi", "hole", "z", "repeated", "line"],
+)
+def test_smooth_to_packet_declines_other_layers(odd):
+    from curvesmith.internals import geo_smooth
+
+    polys = np.append(_footprints(20, 1), np.array([odd], dtype=object)[:1])
+    assert geo_smooth.smooth_to_packet(polys, iterations=2) is None
+    assert geo_smooth.smooth_to_packet(polys[:0], iterations=2) is None
+
+
+def test_smooth_to_packet_refuses_invalid_input_as_smooth_does():
+    from curvesmith import geo
+    from curvesmith.errors import CurveError
+    from curvesmith.internals import geo_smooth
+
+    bowtie = shapely.Polygon([(0, 0), (2, 2), (2, 0), (0, 2)])
+    polys = np.append(_footprints(5, 2), np.array([bowtie], dtype=object))
+    with pytest.raises(CurveError, match=r"\[5\] is not valid"):
+        geo.smooth(polys)
+    with pytest.raises(CurveError, match=r"\[5\] is not valid"):
+        geo_smooth.smooth_to_packet(polys)

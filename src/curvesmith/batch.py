@@ -97,9 +97,16 @@ def _smooth_partition(
     """
     from . import geo
     from .geo._packets import pack, unpack
+    from .geo._smooth import smooth_to_packet
 
     geoms = unpack(packet)
     try:
+        if set(options) <= {"method", "iterations", "alpha", "make_valid"}:
+            # a layer of Polygons without holes (footprints, parcels): the packet of the
+            # output straight from the smoothed rings, without building the polygons
+            done = smooth_to_packet(geoms, **options)
+            if done is not None:
+                return done[0], [], len(done[1])
         res = geo.smooth(geoms, full_output=True, **options)
         return pack(res.geometry), [], len(res.reductions)
     except Exception:  # retried feature by feature below, to isolate the failing ones

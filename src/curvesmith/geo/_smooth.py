@@ -654,6 +654,31 @@ def _put(
     return out, new_off
 
 
+def _splice(
+    xy: np.ndarray, off: np.ndarray, idx: np.ndarray, sub_xy: np.ndarray, sub_off: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`_put` for a few curves `idx` of a long batch.
+
+    The rows between them are copied as whole slices (one pass, no index arrays).
+    """
+    if idx.size == 0:
+        return xy, off
+    lens = np.diff(off)
+    lens[idx] = np.diff(sub_off)
+    new_off = np.zeros(off.size, dtype=np.int64)
+    np.cumsum(lens, out=new_off[1:])
+    out = np.empty((int(new_off[-1]), xy.shape[1]))
+    src = 0  # first row of xy not copied yet
+    for k, r in enumerate(idx.tolist()):
+        a = off[r]
+        d = new_off[r] - (a - src)
+        out[d : new_off[r]] = xy[src:a]
+        out[new_off[r] : new_off[r + 1]] = sub_xy[sub_off[k] : sub_off[k + 1]]
+        src = off[r + 1]
+    out[new_off[-1] - (off[-1] - src) :] = xy[src:]
+    return out, new_off
+
+
 def _expand(off: np.ndarray, idx: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Rows ``off[i] .. off[i + 1] - 1`` of every ``i`` in `idx`, and their new offsets."""
     lens = (off[1:] - off[:-1])[idx]
@@ -725,8 +750,14 @@ def _smooth_feature_array(
     alpha: Any,
     fixed: FixedVertices | None = None,
     facts: _Facts | None = None,
+    ragged_out: list[dict] | None = None,
 ) -> tuple[np.ndarray, list[GeometryReduction], int, float]:
-    """Smooth every feature; ``facts``: :func:`_prepare`'s facts about `geoms`, if known."""
+    """Smooth every feature; ``facts``: :func:`_prepare`'s facts about `geoms`, if known.
+
+    ``ragged_out`` (a list; for a layer of Polygons without holes whose `facts` hold their
+    coordinates): the output is not built but appended to it, chunk by chunk, as the dicts
+    of :func:`_smooth_polygonal`; the features of the array returned are then None.
+    """
     shapely = _shapely()
     out = geoms.copy()
     smoother = make_smoother(method, alpha, fixed)
@@ -768,15 +799,20 @@ def _smooth_feature_array(
             and not np.any((types != T.POLYGON) | (facts.holes != 0))
         ):
             rxy, roff, rcen = facts.xy, facts.offsets, facts.centres
+        if ragged_out is not None and rxy is None:
+            raise AssertionError("ragged_out needs a layer of Polygons without holes")
         counts = np.diff(roff) if roff is not None else shapely.get_num_coordinates(g[sel])
         for part in _chunks(counts):
             k = sel[part]
             if rxy is not None and roff is not None and rcen is not None:
                 a, b = roff[part.start], roff[part.stop]
                 rag = rxy[a:b], roff[part.start : part.stop + 1] - a, rcen[part]
+                part_out: dict | None = None if ragged_out is None else {}
                 res, red, n, ch = _smooth_polygonal(
-                    g[k], idx[k], smoother, levels, batch, single_rings=rag
+                    g[k], idx[k], smoother, levels, batch, single_rings=rag, ragged_out=part_out
                 )
+                if ragged_out is not None and part_out is not None:
+                    ragged_out.append(part_out)
             else:
                 res, red, n, ch = smooth_kind(g[k], idx[k], smoother, levels, batch)
             out[idx[k]] = res
@@ -853,12 +889,16 @@ def polygon_ragged(g: np.ndarray, was_polygon: np.ndarray):
     return coords, ring_off.astype(np.int64), poly_off, geom_off
 
 
-def _smooth_polygonal(g, feat_index, smoother, levels, batch, single_rings=None):
+def _smooth_polygonal(g, feat_index, smoother, levels, batch, single_rings=None, ragged_out=None):
     """Smooth the (Multi)Polygons ``g``.
 
     ``single_rings``: ``(xy, offsets, centres)`` when every one is a Polygon without holes
     and these are its coordinates (``get_coordinates``) and the centres of its input's
     star proof (the output proof tries them first).
+    ``ragged_out`` (a dict, with ``single_rings`` only): the output is not built; the dict
+    receives its closed rings, ``"xy"`` and ``"offsets"`` (ring ``k`` is polygon ``k``),
+    and the first value returned is None. GEOS then builds only the polygons whose
+    validity the compiled proof leaves in doubt.
     """
     shapely = _shapely()
     method, alpha, fixed = batch
@@ -894,7 +934,11 @@ def _smooth_polygonal(g, feat_index, smoother, levels, batch, single_rings=None)
         return proof, _ring_areas(xy, off), _ring_areas(coords, ring_off)
 
     build = assemble_polygons
-    if beside_worthwhile(new_xy.shape[0]):
+    if ragged_out is not None:
+        assert single_rings is not None  # ring k is geometry k
+        res = None
+        proven, a1, a0 = proof_and_areas(new_xy, new_off, centres)
+    elif beside_worthwhile(new_xy.shape[0]):
         future = in_background(proof_and_areas, new_xy, new_off, centres)
         res = build(new_xy, new_off, poly_off, geom_off, was_polygon)
         proven, a1, a0 = future.result()
@@ -905,7 +949,13 @@ def _smooth_polygonal(g, feat_index, smoother, levels, batch, single_rings=None)
     hard = rings_per_geom > 1  # holes or parts: checked for conflicts anyway
     one = np.flatnonzero(~hard)
     doubt = one[~proven[first_ring_of_geom[one]]]
-    hard[doubt] = ~shapely.is_valid(res[doubt])
+    if res is None:  # the doubtful ones alone (single rings: ring k is geometry k)
+        d_xy, d_off = _take(new_xy, new_off, doubt)
+        ids = np.arange(len(doubt) + 1, dtype=np.int64)
+        d_geoms = build(d_xy, d_off, ids, ids, np.ones(len(doubt), dtype=bool))
+        hard[doubt] = ~shapely.is_valid(d_geoms)
+    else:
+        hard[doubt] = ~shapely.is_valid(res[doubt])
     reductions: list[GeometryReduction] = []
     rings = _RaggedView(coords, ring_off, drop_last=True)
     if hard.any():
@@ -938,7 +988,12 @@ def _smooth_polygonal(g, feat_index, smoother, levels, batch, single_rings=None)
         p_off = np.append(np.searchsorted(ring_poly[sel], polys), len(sel))
         poly_geom = np.searchsorted(geom_off, polys, side="right") - 1
         g_off = np.append(np.searchsorted(poly_geom, hard_idx), len(polys))
-        res[hard_idx] = build(sub_xy, sub_off, p_off, g_off, was_polygon[hard_idx])
+        if res is None:
+            new_xy, new_off = _splice(new_xy, new_off, sel, sub_xy, sub_off)
+        else:
+            res[hard_idx] = build(sub_xy, sub_off, p_off, g_off, was_polygon[hard_idx])
+    if ragged_out is not None:
+        ragged_out["xy"], ragged_out["offsets"] = new_xy, new_off
     del new_xy
     scale = np.where(a0 != 0, np.abs(a0), 1.0)
     change = float(np.max(np.abs(a1 - a0) / scale)) if len(a0) else 0.0
@@ -1216,6 +1271,69 @@ def smooth(
     if full_output:
         return SmoothResult(result, tuple(reductions), n, change)
     return result
+
+
+@gc_paused
+def smooth_to_packet(
+    geoms: np.ndarray,
+    *,
+    method: GisMethod = "cca",
+    iterations: int = 1,
+    alpha: Any = "regular",
+    make_valid: bool = False,
+) -> tuple[Any, tuple[GeometryReduction, ...]] | None:
+    """:func:`smooth` of a layer of Polygons without holes, straight to its packet.
+
+    The packet (:mod:`curvesmith.geo._packets`) of what :func:`smooth` returns, bit for
+    bit, and its reductions, without building the output geometries: the smoothed rings
+    are the packet's coordinates, and GEOS builds only the few polygons whose validity
+    the compiled proof leaves in doubt. What a Dask worker sends back (building the
+    polygons and then reading their coordinates again was a quarter of its work).
+
+    Returns None when `geoms` is not such a layer (None, empty, holes, other types, Z/M,
+    repaired or repeated vertices): the caller then smooths and packs as usual.
+    """
+    from ._packets import POLYGONS, GeometryPacket
+
+    shapely = _shapely()
+    iterations = check_method(method, iterations, alpha)
+    geoms = np.asarray(geoms, dtype=object)
+    types = shapely.get_type_id(geoms)
+    if len(geoms) == 0 or np.any(types != shapely.GeometryType.POLYGON):
+        return None
+    if shapely.has_z(geoms).any() or shapely.has_m(geoms).any():
+        return None
+    geoms, facts = _prepare(geoms, make_valid=make_valid, planar=True)
+    single = (
+        facts.xy is not None
+        and facts.present.all()
+        and not facts.empty.any()
+        and np.all(facts.types == shapely.GeometryType.POLYGON)
+        and not facts.holes.any()
+    )
+    if not single:
+        return None
+    parts: list[dict] = []
+    _, reductions, _, _ = _smooth_feature_array(
+        geoms, method=method, iterations=iterations, alpha=alpha, facts=facts, ragged_out=parts
+    )
+    if len(parts) == 1:
+        xy, rings = parts[0]["xy"], parts[0]["offsets"]
+    else:
+        xy = np.concatenate([q["xy"] for q in parts])
+        base = np.cumsum([0] + [len(q["xy"]) for q in parts[:-1]])
+        rings = np.concatenate(
+            [[0]] + [q["offsets"][1:] + b for q, b in zip(parts, base, strict=True)]
+        ).astype(np.int64)
+    ids = np.arange(len(geoms) + 1, dtype=np.int64)
+    packet = GeometryPacket(
+        POLYGONS,
+        types.astype(np.int8),
+        np.ones(len(geoms), dtype=bool),
+        np.ascontiguousarray(xy, dtype=np.float64),
+        (np.asarray(rings, dtype=np.int64), ids, ids),
+    )
+    return packet, tuple(reductions)
 
 
 def _warn_off_the_map(geometry: Any, out: np.ndarray) -> None:
