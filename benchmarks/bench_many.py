@@ -21,7 +21,10 @@ UTM-like frame, uneven spacing, both orientations), 2 iterations. In one run:
   200,000: the 20,000 of the set are 0.1 s of work, less than a cluster's start) with 1 and 2
   Dask workers (throughput, and the cores the workers got: their CPU seconds per wall
   second and their CPU affinity; and the caller's CPU seconds per wall second: it packs
-  the partitions and builds the output geometries, on the same 2 cores).
+  the partitions and builds the output geometries, on the same 2 cores). Beside it the
+  ceiling: 1 and 2 independent processes (no Dask) smoothing a half each, with their share
+  in memory before the clock starts and nothing sent back: what the machine's cores give
+  this work when nothing else runs, against which the workers' throughput is read.
 
 The machine these figures come from is shared (2 cores, several jobs): compare the
 ratios of one run, not absolute times across runs.
@@ -424,15 +427,76 @@ def bench_footprints(m: int) -> None:
 # ------------------------------------------------------------------------------- Dask
 
 
+def _ceiling_worker(conn) -> None:
+    """A process of :func:`ceiling`: smooth its share on every "go", answer with the seconds."""
+    os.environ["OMP_NUM_THREADS"] = "1"  # as in a Dask worker: the engine in one thread
+    packet = conn.recv()
+    from curvesmith.internals import geo_packets
+
+    geoms = geo_packets.unpack(packet)
+    geo.smooth(geoms[:500], iterations=ITER)  # warm: numba's cache, the heap
+    conn.send("ready")
+    while conn.recv() == "go":
+        t0 = time.perf_counter()
+        out = geo.smooth(geoms, iterations=ITER)
+        conn.send(time.perf_counter() - t0)
+        del out
+
+
+def ceiling(polys: np.ndarray, k: int, repeats: int) -> float:
+    """Polygons per second of ``k`` independent processes smoothing a k-th each, no Dask.
+
+    The machine's own parallel capacity on this work: the processes get their share
+    before the clock starts and send nothing back, so no transfer, no packing, no client
+    and no scheduler share the cores. The processes start once; best of `repeats` rounds
+    (at least 5: a round is about a second).
+    """
+    import multiprocessing as mp
+
+    from curvesmith.internals import geo_packets
+
+    ctx = mp.get_context("spawn")
+    pipes, procs = [], []
+    for part in np.array_split(polys, k):
+        a, b = ctx.Pipe()
+        proc = ctx.Process(target=_ceiling_worker, args=(b,))
+        proc.start()
+        a.send(geo_packets.pack(part))
+        pipes.append(a)
+        procs.append(proc)
+    for a in pipes:
+        a.recv()
+    best = float("inf")
+    for _ in range(max(5, repeats)):
+        t0 = time.perf_counter()
+        for a in pipes:
+            a.send("go")
+        for a in pipes:
+            a.recv()
+        best = min(best, time.perf_counter() - t0)
+    for a in pipes:
+        a.send("stop")
+    for proc in procs:
+        proc.join()
+    return len(polys) / best
+
+
 def bench_dask(polys: np.ndarray, repeats: int = 3) -> None:
     import distributed
 
     from curvesmith import batch
 
     print(f"\n== Dask: batch.smooth_partitioned on {len(polys)} polygons, {ITER} iterations ==")
+    # what this machine gives k processes doing this work with nothing else running
+    top = {k: ceiling(polys, k, repeats) for k in (1, 2)}
+    print(
+        "ceiling (k processes, a k-th each, no Dask, no transfer): "
+        + ", ".join(f"{k}: {r:.0f} polygons/s" for k, r in top.items())
+        + f" = {top[2] / top[1]:.2f}x for 2"
+    )
     print(
         f"{'workers':>7} {'polygons/s':>11} {'x 1 worker':>10} {'cores used':>10} "
-        f"{'client':>7} {'affinity':>9}"
+        f"{'client':>7} {'affinity':>9} {'x ceiling':>10}"
     )
     base = None
     for w in (1, 2):
@@ -467,11 +531,12 @@ def bench_dask(polys: np.ndarray, repeats: int = 3) -> None:
             cores = ",".join(str(v) for v in sorted({c for a in aff.values() for c in a}))
             print(
                 f"{w:>7} {rate:>11.0f} {rate / base:>10.2f} {used:>10.2f} {mine / wall:>7.2f} "
-                f"{cores:>9}"
+                f"{cores:>9} {rate / top[w]:>10.2f}"
             )
     print(
         "(cores used: the workers' CPU seconds per wall second; client: the caller's, which "
-        "packs the partitions and builds the output geometries as the results arrive)"
+        "packs the partitions and builds the output geometries as the results arrive; "
+        "x ceiling: the throughput against k processes smoothing alone)"
     )
 
 
