@@ -143,6 +143,7 @@ def __getattr__(name: str):
 # name -> (module, attribute or None for the module itself)
 _ON_DEMAND: dict[str, tuple[str, str | None]] = {
     "cli_group": (".cli", "_Group"),
+    "measure_ragged": (".cli._measure", "measure_ragged"),
     "geo_io": (".geo._io", None),
     "geo_engine": (".geo._engine", None),
     "geo_smooth": (".geo._smooth", None),
