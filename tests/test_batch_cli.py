@@ -124,3 +124,50 @@ def test_points_pass_through_as_in_smooth(tmp_path):
     assert shapely.equals_exact(a, b, 0.0).all()
     assert a[1].equals(df.geometry.values[1]) and a[2].equals(df.geometry.values[2])
     assert shapely.get_num_coordinates(a[0]) > 2 * shapely.get_num_coordinates(df.geometry[0])
+
+
+def test_an_error_during_the_progress_bar_is_a_line_of_its_own():
+    # the error (and the watchdog's "stopped by SIGTERM") was glued to the bar's last frame
+    import click
+
+    from curvesmith.errors import CurveError
+    from curvesmith.internals import BatchProgressBar, cli_group
+
+    @click.group(cls=cli_group)
+    def tool():
+        pass
+
+    @tool.command()
+    def run():
+        bar = BatchProgressBar(4)
+        bar.step()
+        raise CurveError("feature 3 failed")
+
+    res = CliRunner().invoke(tool, ["run"])
+    assert res.exit_code == 1
+    *frames, last = res.stderr.split("\n")[:-1]
+    assert frames[-1].endswith("25% Completed |  0.0s") and last == "Error: feature 3 failed"
+    assert not BatchProgressBar.line_open
+
+
+def test_geographic_warning_and_summary_as_in_smooth(tmp_path):
+    # batch said "use --equal-area" where smooth says what --equal-area does, and
+    # "0 task(s)" when --coverage with --max-shift ran on the client
+    from curvesmith.cli import main
+
+    src = tmp_path / "ri.gpkg"
+    geo.write_file(geo.us_counties(states=["44"]), src)  # NAD83 degrees
+    res = CliRunner().invoke(main, ["smooth", str(src), "-o", str(tmp_path / "a.gpkg")])
+    warning = res.stderr.splitlines()[0]
+    assert warning.startswith("Warning:") and "--equal-area smooths in" in warning
+    res = CliRunner().invoke(
+        main,
+        ["batch", "smooth", str(src), "-o", str(tmp_path / "b.gpkg"), "--workers", "1",
+         "--no-progress", "--coverage", "--max-shift", "0.001"],
+    )  # fmt: skip
+    assert res.exit_code == 0, res.output
+    lines = res.stderr.splitlines()
+    assert lines[0] == warning
+    assert lines[1].startswith(
+        "5 features on the client (--coverage with --keep-angle, --max-shift or --min-segment)"
+    )

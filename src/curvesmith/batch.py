@@ -242,24 +242,31 @@ def _run(
         arriving.add(future)
         del future
     results: list[Any] = [None] * len(task) if on_result is None else []
-    for future, result in arriving:
-        k = task.pop(future.key)
-        if on_result is None:
-            results[k] = result
-        else:
-            on_result(k, result)
-        del future, result
+    try:
+        for future, result in arriving:
+            k = task.pop(future.key)
+            if on_result is None:
+                results[k] = result
+            else:
+                on_result(k, result)
+            del future, result
+            if bar is not None:
+                bar.step()
+    finally:  # a failed task's error, or a stop, is then a line of its own
         if bar is not None:
-            bar.step()
-    if bar is not None:
-        bar.close()
+            bar.close()
     return results
 
 
 class _ProgressBar:
-    """A text progress bar on stderr, redrawn after a carriage return (Dask's format)."""
+    """A text progress bar on stderr, redrawn after a carriage return (Dask's format).
+
+    ``line_open`` is True while a bar's line has no newline yet: a message written then
+    (the CLI's error line, the watchdog's stop line) starts a line of its own.
+    """
 
     WIDTH = 40
+    line_open = False
 
     def __init__(self, total: int) -> None:
         import time
@@ -274,8 +281,10 @@ class _ProgressBar:
     def close(self) -> None:
         import sys
 
-        sys.stderr.write("\n")
-        sys.stderr.flush()
+        if _ProgressBar.line_open:
+            sys.stderr.write("\n")
+            sys.stderr.flush()
+            _ProgressBar.line_open = False
 
     def _draw(self) -> None:
         import sys
@@ -288,6 +297,7 @@ class _ProgressBar:
             f"\r[{bar:<{self.WIDTH}}] | {int(100 * frac):3d}% Completed | {took:4.1f}s"
         )
         sys.stderr.flush()
+        _ProgressBar.line_open = True
 
 
 # ---------------------------------------------------------------------------- API
@@ -515,7 +525,8 @@ def smooth_file(
     if crs is not None and crs.is_geographic and not equal_area:
         warnings.warn(
             f"{str(in_path)!r} is in a geographic CRS ({crs.name}): smoothing keeps planar "
-            f"areas in degrees, not ground areas; use --equal-area",
+            f"areas in degrees, not ground areas; smooth_file(..., equal_area=True) "
+            f"(--equal-area) smooths in an equal-area projection",
             GeographicCRSWarning,
             stacklevel=2,
         )

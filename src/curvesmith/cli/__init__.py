@@ -14,7 +14,7 @@ import click
 
 from .. import __version__
 from ..errors import CurveError
-from ._stop import exit_cleanly_on_sigterm, install_watchdog, wait_if_stopping
+from ._stop import end_open_line, exit_cleanly_on_sigterm, install_watchdog, wait_if_stopping
 
 __all__ = ["main"]
 
@@ -39,15 +39,18 @@ class _Group(click.Group):
         except click.UsageError as exc:
             where = exc.ctx.command_path if exc.ctx is not None else ctx.command_path
             message = exc.format_message().replace("\n", " ")
+            end_open_line()
             click.echo(f"Error: {message} (see '{where} --help')", err=True)
             sys.exit(exc.exit_code)
         except CurveError as exc:
             wait_if_stopping()  # caused by the watchdog removing the output: it exits
+            end_open_line()
             click.echo(f"Error: {exc}", err=True)
             sys.exit(1)
         except OSError as exc:
             wait_if_stopping()
             where = f": {exc.filename}" if getattr(exc, "filename", None) else ""
+            end_open_line()
             click.echo(f"Error: {exc.strerror or exc}{where}", err=True)
             sys.exit(1)
 

@@ -38,10 +38,20 @@ _said = threading.Lock()
 stopping = threading.Event()
 
 
+def end_open_line() -> None:
+    """End a progress bar's line on stderr (``batch``'s), so that a message has its own."""
+    batch = sys.modules.get("curvesmith.batch")
+    bar = getattr(batch, "_ProgressBar", None)
+    if bar is not None and bar.line_open:
+        bar.line_open = False
+        sys.stderr.write("\n")
+
+
 def _say_stopped(signum: int) -> None:
     """One line on stderr, once per process: which signal stopped the run."""
     if _said.acquire(blocking=False):
         with contextlib.suppress(Exception):
+            end_open_line()
             sys.stderr.write(f"Error: stopped by {signal.Signals(signum).name}\n")
             sys.stderr.flush()
 

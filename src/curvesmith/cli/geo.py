@@ -366,8 +366,15 @@ def batch_smooth_command(
         max_shift=max_shift,
         min_segment=min_segment,
     )
+    if report.n_partitions:
+        where = f"in {report.n_partitions} task(s)"
+    elif coverage and (keep_angle is not None or max_shift is not None or min_segment is not None):
+        # smooth_coverage tries these arc by arc at every strength: not cut into tasks
+        where = "on the client (--coverage with --keep-angle, --max-shift or --min-segment)"
+    else:
+        where = "on the client"
     click.echo(
-        f"{report.n_features} features in {report.n_partitions} task(s), "
+        f"{report.n_features} features {where}, "
         f"{report.seconds:.2f} s; {len(report.errors)} failed "
         f"(written unchanged, see {report.errors_path})"
         + (f"; {n_null} without geometry (NULL) and {n_empty} empty" if n_null or n_empty else ""),
