@@ -259,3 +259,27 @@ def test_geo_read_file_names_a_directory(tmp_path):
     (tmp_path / "roads.gpkg").mkdir()
     with pytest.raises(CurveFormatError, match=r"roads\.gpkg: is a directory, not a file$"):
         geo.read_file(tmp_path / "roads.gpkg")
+
+
+def test_geojson_to_geojson_says_what_the_gis_path_says(runner, tmp_path):
+    # GeoJSON -> GeoJSON (ring by ring, curvesmith.io) printed no summary and no
+    # geographic-CRS warning, where the same file to a GeoPackage printed both
+    from curvesmith import geo
+
+    df = geo.us_counties(states=["44"])  # NAD83 degrees: a crs member in the file
+    src = tmp_path / "ri.geojson"
+    df.to_file(src, driver="GeoJSON")
+    gis = runner.invoke(main, ["smooth", str(src), "-o", str(tmp_path / "ri.gpkg")])
+    plain = runner.invoke(main, ["smooth", str(src), "-o", str(tmp_path / "o.geojson")])
+    assert gis.exit_code == plain.exit_code == 0, plain.output
+    assert plain.stderr.splitlines() == gis.stderr.splitlines()  # the warning, 5 of 5 smoothed
+    assert "(NAD83)" in plain.stderr and "5 of 5 feature(s) smoothed" in plain.stderr
+    # RFC 7946 without a crs member is WGS 84; metres without one are not degrees
+    for crs, said in (("EPSG:4326", "(WGS 84)"), ("EPSG:3857", None)):
+        doc = json.loads(df.to_crs(crs).to_json())
+        doc.pop("crs", None)
+        src.write_text(json.dumps(doc))
+        res = runner.invoke(main, ["smooth", str(src), "-o", str(tmp_path / "o.geojson")])
+        lines = res.stderr.splitlines()
+        assert lines[-1] == "5 of 5 feature(s) smoothed"
+        assert (said in lines[0]) if said else len(lines) == 1

@@ -354,18 +354,25 @@ def test_old_geojson_crs_is_reported_not_silently_dropped(runner, tmp_path):
     src.write_text(json.dumps(doc))
     out = tmp_path / "out.geojson"
     res = runner.invoke(main, ["smooth", str(src), "-o", str(out), "--method", "chaikin"])
-    assert res.exit_code == 0 and res.output == ""
+    n = len(GEOJSON["features"])
+    assert res.exit_code == 0 and res.output == f"{n} of {n} feature(s) smoothed\n"
     assert json.loads(out.read_text())["crs"] == doc["crs"]
     res = runner.invoke(
         main, ["smooth", str(src), "-o", str(tmp_path / "o.csv"), "--method", "chaikin"]
     )
     assert res.exit_code == 0, res.output
-    (line,) = [ln for ln in res.output.splitlines() if ln.strip()]
+    line, summary = [ln for ln in res.output.splitlines() if ln.strip()]
     assert line.startswith("Warning: ") and "EPSG::2056" in line and "not kept" in line
+    assert summary == f"{n} of {n} feature(s) smoothed"  # in metres: no geographic warning
     wgs = dict(doc, crs={"type": "name", "properties": {"name": "urn:ogc:def:crs:OGC:1.3:CRS84"}})
     src.write_text(json.dumps(wgs))
     res = runner.invoke(main, ["smooth", str(src), "-o", str(out), "--method", "chaikin"])
-    assert res.exit_code == 0 and res.output == ""
+    # kept without a word; in degrees, the GIS path's warning
+    assert res.exit_code == 0 and res.output == (
+        f"Warning: {str(src)!r} is in a geographic CRS (WGS 84): smoothing keeps planar areas "
+        f"in degrees, not ground areas; --equal-area smooths in an equal-area projection\n"
+        f"{n} of {n} feature(s) smoothed\n"
+    )
 
 
 def test_smooth_cli_on_coordinates_of_1e_170(runner, tmp_path):

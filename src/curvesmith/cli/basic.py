@@ -408,6 +408,9 @@ def smooth_command(
         )
 
     curves = read_curves(source, fmt, keep_others=True)
+    from ..io.geojson import GeoJSONCurves
+
+    geojson = isinstance(curves, GeoJSONCurves)
     _refuse_invalid_polygons(curves, source)
     out = []
     for i, c in enumerate(curves):
@@ -429,9 +432,47 @@ def smooth_command(
         return write_fitted(
             curves, out, dest, fmt, kind=curve_kind, tolerance=tolerance, anchors=anchors
         )
-    if hasattr(curves, "with_curves"):  # GeoJSON: NULL/Point features and crs go back too
+    if hasattr(curves, "with_curves"):  # GeoJSON's NULL/Point features and crs, SVG's document
         out = curves.with_curves(out)
     write_curves(out, dest, fmt)
+    if geojson:  # what the GIS path says (after the run: an error stays one line)
+        _warn_geographic(curves, source)
+        smoothed = len({c.feature for c in curves})
+        click.echo(f"{smoothed} of {smoothed + len(curves.others)} feature(s) smoothed", err=True)
+
+
+def _warn_geographic(curves, source: str) -> None:
+    """The GIS path's warning for GeoJSON in longitude/latitude (RFC 7946's default CRS).
+
+    A file without a ``crs`` member is WGS 84 unless its coordinates cannot be degrees
+    (a projected file written without its CRS: nothing is said of it); one with a ``crs``
+    member is looked up with pyproj when it is installed.
+    """
+    crs = curves.crs
+    props = crs.get("properties") if isinstance(crs, dict) else None
+    label = props.get("name") if isinstance(props, dict) else None
+    name = None
+    if crs is None or (isinstance(label, str) and label.endswith("CRS84")):
+        degrees = all(
+            (np.abs(c.points[:, 0]) <= 180).all() and (np.abs(c.points[:, 1]) <= 90).all()
+            for c in curves
+        )
+        name = "WGS 84" if degrees else None
+    elif isinstance(label, str):
+        try:
+            from pyproj import CRS
+
+            found = CRS.from_user_input(label)
+        except Exception:  # pyproj missing, or a name it does not know: say nothing
+            found = None
+        name = found.name if found is not None and found.is_geographic else None
+    if name is not None:
+        click.echo(
+            f"Warning: {source!r} is in a geographic CRS ({name}): smoothing keeps "
+            "planar areas in degrees, not ground areas; --equal-area smooths in an equal-area "
+            "projection",
+            err=True,
+        )
 
 
 # the options of `smooth` that belong to some methods only: (parameter, flag)
