@@ -353,3 +353,30 @@ def test_progress_bar_is_dasks_format_drawn_per_result(cluster, capsys, monkeypa
     assert frames[-1].startswith("[" + "#" * 40 + "] | 100% Completed |")
     ref = geo.smooth(geoms)
     assert all(shapely.equals_exact(a, b, 0.0) for a, b in zip(out, ref, strict=True))
+
+
+def _gpkg_blobs(path):
+    import sqlite3
+
+    with sqlite3.connect(path) as con:
+        (table,) = con.execute("select table_name from gpkg_contents").fetchone()
+        return [row[0] for row in con.execute(f'select geom from "{table}" order by fid')]
+
+
+@pytest.mark.parametrize("coverage", [False, True])
+def test_empty_multipolygon_written_back_as_read(cluster, tmp_path, coverage):
+    # GDAL stores POLYGON EMPTY of a MultiPolygon layer as MULTIPOLYGON(POLYGON EMPTY);
+    # batch wrote MULTIPOLYGON EMPTY where geo.smooth_file keeps the bytes that were read
+    df = geo.us_counties(states=["44"]).to_crs("EPSG:5070")
+    g = [shapely.MultiPolygon([p]) if p.geom_type == "Polygon" else p for p in df.geometry]
+    g[2] = shapely.Polygon()
+    src = tmp_path / "e.gpkg"
+    geo.write_file(df.assign(geometry=g), src)
+    read = _gpkg_blobs(src)[2]
+    assert read.endswith(bytes.fromhex("010600000001000000010300000000000000"))
+    out, ref = tmp_path / "b.gpkg", tmp_path / "r.gpkg"
+    kw = {"coverage": coverage}
+    batch.smooth_file(src, out, scheduler=cluster.scheduler_address, progress=False, **kw)
+    geo.smooth_file(src, ref, **kw)
+    assert _gpkg_blobs(out) == _gpkg_blobs(ref)
+    assert _gpkg_blobs(out)[2] == read

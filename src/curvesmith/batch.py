@@ -489,6 +489,8 @@ def smooth_file(
     import time
     import warnings
 
+    import shapely
+
     from . import geo
     from .geo._io import (
         GeographicCRSWarning,
@@ -518,6 +520,9 @@ def smooth_file(
     # points have nothing to smooth: set aside like NULLs, written back unchanged (as geo's
     # smooth_file does; a network's points stay in it, as its nodes)
     df, kept, points = set_points_aside(df, keep=not network)
+    # an empty geometry is written back as it was read, as geo's smooth_file does (GDAL
+    # stores POLYGON EMPTY of a MultiPolygon layer as MULTIPOLYGON(POLYGON EMPTY))
+    untouched = points | shapely.is_empty(kept)
     if equal_area and crs is None:
         raise CurveError(f"equal_area needs a CRS, but {str(in_path)!r} has none")
     if equal_area and is_equal_area_crs(crs):
@@ -612,7 +617,7 @@ def smooth_file(
     if crs is not None and crs.is_geographic:
         out = out.copy()
         out.geometry = clamp_to_domain(out.geometry, str(in_path), df.geometry)
-    out = put_points_back(out, kept, points)
+    out = put_points_back(out, kept, untouched)
     del kept
     geo.write_file(out, out_path, layer=input_layer_name(in_path, layer))
     Path(errors_path).write_text(
