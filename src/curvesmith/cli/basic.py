@@ -410,7 +410,6 @@ def smooth_command(
     curves = read_curves(source, fmt, keep_others=True)
     from ..io.geojson import GeoJSONCurves
 
-    geojson = isinstance(curves, GeoJSONCurves)
     _refuse_invalid_polygons(curves, source)
     out = []
     for i, c in enumerate(curves):
@@ -435,8 +434,8 @@ def smooth_command(
     if hasattr(curves, "with_curves"):  # GeoJSON's NULL/Point features and crs, SVG's document
         out = curves.with_curves(out)
     write_curves(out, dest, fmt)
-    if geojson:  # what the GIS path says (after the run: an error stays one line)
-        _warn_geographic(curves, source)
+    if isinstance(curves, GeoJSONCurves):  # what the GIS path says (after the run, so
+        _warn_geographic(curves, source)  # that an error stays one line)
         smoothed = len({c.feature for c in curves})
         click.echo(f"{smoothed} of {smoothed + len(curves.others)} feature(s) smoothed", err=True)
 
