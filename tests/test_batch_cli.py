@@ -1,9 +1,11 @@
 """``curvesmith batch smooth`` through click."""
 
+import contextlib
 import json
 
 import distributed
 import numpy as np
+import pytest
 import shapely
 from click.testing import CliRunner
 
@@ -171,3 +173,92 @@ def test_geographic_warning_and_summary_as_in_smooth(tmp_path):
     assert lines[1].startswith(
         "5 features on the client (--coverage with --keep-angle, --max-shift or --min-segment)"
     )
+
+
+def _footprint_layer(path, n, seed=0):
+    """`n` rotated rectangles with a notch (7 vertices) on a 50 m grid, in metres."""
+    import geopandas
+
+    rng = np.random.default_rng(seed)
+    base = np.array([[0, 0], [12, 0], [12, 8], [7, 8], [7, 5], [0, 5], [0, 0]], float)
+    th = rng.uniform(0, np.pi, n)
+    rot = np.stack([np.c_[np.cos(th), -np.sin(th)], np.c_[np.sin(th), np.cos(th)]], axis=1)
+    rings = np.einsum("nij,kj->nki", rot, base)
+    k = np.arange(n)
+    rings += np.c_[(k % 1000) * 50.0, (k // 1000) * 50.0][:, None, :] + 5e5
+    polys = shapely.polygons(rings)
+    geo.write_file(geopandas.GeoDataFrame(geometry=polys, crs="EPSG:32633"), path)
+
+
+def _workers_importing(me) -> bool:
+    """Whether psutil process `me` has a spawned child (a worker, not the resource tracker)
+    that has run Python for a while: 0.2 s of CPU, importing distributed and curvesmith."""
+    import psutil
+
+    for child in me.children():
+        with contextlib.suppress(psutil.Error):  # a child that ends meanwhile
+            if "spawn_main" in " ".join(child.cmdline()):
+                cpu = child.cpu_times()
+                return cpu.user + cpu.system > 0.2
+    return False
+
+
+def _ignores_sigint(pid: int) -> bool:
+    """Whether process `pid` ignores SIGINT (batch does while it spawns its workers)."""
+    import signal
+
+    with open(f"/proc/{pid}/status") as f:
+        (mask,) = [ln.split()[1] for ln in f if ln.startswith("SigIgn:")]
+    return bool(int(mask, 16) >> (signal.SIGINT - 1) & 1)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("when", ["workers starting", "tasks running"])
+def test_ctrl_c_is_one_line_and_leaves_nothing(tmp_path, when):
+    # Ctrl-C at a terminal sends SIGINT to the whole process group, the Dask workers too:
+    # each printed a traceback (several while still starting), and the client's teardown
+    # logged tornado's and the scheduler's errors. One line now, and no output.
+    import os
+    import signal
+    import subprocess
+    import sys
+    import threading
+    import time
+
+    import psutil
+
+    src, out = tmp_path / "fp.gpkg", tmp_path / "out.gpkg"
+    _footprint_layer(src, 300_000)
+    cmd = [sys.executable, "-m", "curvesmith.cli", "batch", "smooth", str(src), "-o", str(out)]
+    proc = subprocess.Popen(
+        [*cmd, "--iterations", "3", "--workers", "2", "--partition-size", "5000"],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+        start_new_session=True,  # its own process group, as a terminal's job
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
+    )
+    err: list[bytes] = []
+    reader = threading.Thread(target=lambda: err.extend(iter(lambda: proc.stderr.read(1), b"")))
+    reader.start()
+    try:
+        me, deadline = psutil.Process(proc.pid), time.monotonic() + 240
+        while proc.poll() is None and time.monotonic() < deadline:
+            if when == "tasks running":
+                ready = b"% Completed" in b"".join(err) and b"100%" not in b"".join(err)
+            else:  # the workers exist and still import; the client hears SIGINT again
+                ready = _workers_importing(me) and not _ignores_sigint(proc.pid)
+            if ready:
+                break
+            time.sleep(0.002)
+        assert proc.poll() is None, b"".join(err)
+        os.killpg(proc.pid, signal.SIGINT)
+        proc.wait(timeout=60)
+        reader.join(timeout=10)
+    finally:
+        with contextlib.suppress(ProcessLookupError):
+            os.killpg(proc.pid, signal.SIGKILL)
+    lines = b"".join(err).decode().replace("\r", "\n").splitlines()
+    said = [ln for ln in lines if ln.strip() and "Completed |" not in ln]
+    assert proc.returncode in (1, 130), (proc.returncode, lines)
+    assert said in (["Aborted!"], ["Error: stopped by SIGINT"]), lines
+    assert sorted(os.listdir(tmp_path)) == ["fp.gpkg"]  # no output, no temporary file

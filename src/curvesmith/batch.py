@@ -17,6 +17,7 @@ touch, so noding and conflict resolution need the whole network.
 
 from __future__ import annotations
 
+import contextlib
 import json
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
@@ -159,7 +160,8 @@ class _Cluster:
 
     def __init__(self, workers: int | None, scheduler: str | None):
         distributed = require("distributed", "dask", "batch smoothing")
-        self.cluster = None
+        self.cluster: Any = None
+        self.client: Any = None
         if scheduler is not None:
             try:
                 self.client = distributed.Client(scheduler, timeout="20s")
@@ -169,19 +171,128 @@ class _Cluster:
                 ) from exc
         else:
             n = 2 if workers is None else workers
+            _quiet_resource_tracker()
             self.cluster = distributed.LocalCluster(
-                n_workers=n,
+                n_workers=0,
                 threads_per_worker=1,
                 processes=True,
                 dashboard_address=":0",
                 silence_logs=40,
+                preload=[__name__],  # dask_setup below, in each worker process
             )
-            self.client = distributed.Client(self.cluster)
+            self.client = None
+            try:  # a stop or a failure while starting closes what has started, quietly
+                self.client = distributed.Client(self.cluster)
+                _spawn_deaf_to_ctrl_c(self.cluster, n)
+                try:
+                    self.client.wait_for_workers(n, timeout=120)
+                except TimeoutError as exc:
+                    raise CurveError(
+                        f"the {n} local Dask worker(s) did not start within 120 s: {exc}"
+                    ) from exc
+            except BaseException:
+                self.close(quiet=True)
+                raise
 
-    def close(self) -> None:
-        self.client.close()
-        if self.cluster is not None:
-            self.cluster.close()
+    def close(self, *, quiet: bool = False) -> None:
+        """Close the client and the cluster this started.
+
+        `quiet` (the run failed or was stopped): the tasks still in flight lose their
+        connections as the cluster goes, and tornado and the scheduler would log an error
+        for each; that is not news to the user, whose one line says why the run ended.
+        """
+        import logging
+
+        level = logging.root.manager.disable
+        if quiet:  # tornado's tracebacks, the scheduler's "Couldn't gather keys"
+            logging.disable(logging.CRITICAL)
+            if self.cluster is not None and self.client is not None:
+                with contextlib.suppress(Exception):  # the workers' "failed during get data"
+                    self.client.run(_quiet_logs, wait=False)
+        try:
+            if self.client is not None:
+                self.client.close()
+            if self.cluster is not None:
+                self.cluster.close()
+        finally:
+            logging.disable(level)
+
+
+def _quiet_resource_tracker() -> None:
+    """In the command line: start multiprocessing's resource tracker with its warnings off.
+
+    The tracker (a process of its own) removes the semaphores of worker processes that
+    ended without releasing them, and warns of each on stderr; a run stopped by a signal
+    (``cli._stop``) ends its workers so, after its one line, which the warning would follow.
+    """
+    import sys
+    from multiprocessing import resource_tracker
+
+    stop = sys.modules.get("curvesmith.cli._stop")
+    if not getattr(stop, "_installed", False):  # a library caller's process: its tracker
+        return
+    saved = list(sys.warnoptions)
+    sys.warnoptions.append("ignore::UserWarning")  # the tracker's flags are taken from these
+    try:
+        resource_tracker.ensure_running()
+    finally:
+        sys.warnoptions[:] = saved
+
+
+def _spawn_deaf_to_ctrl_c(cluster: Any, n: int) -> None:
+    """Start `n` worker processes of `cluster` that do not hear Ctrl-C.
+
+    Ctrl-C at a terminal is sent to the whole process group: the workers too, and each
+    would print a traceback (a worker still starting prints several); the client stops the
+    run with one line and closes its cluster, which ends them. SIGINT is ignored while the
+    processes are spawned, so that they inherit the ignored disposition through ``exec``
+    (Python then installs no handler of its own), and restored as soon as they exist:
+    a Ctrl-C in those few milliseconds is lost, none after them.
+    """
+    import multiprocessing
+    import signal
+    import threading
+    import time
+
+    if threading.current_thread() is not threading.main_thread():
+        cluster.scale(n)  # a library caller's thread: signals are the main thread's
+        return
+
+    def spawned() -> int:
+        return sum(
+            p.pid not in before and p.name.startswith("Dask Worker")
+            for p in multiprocessing.active_children()
+        )
+
+    before = {p.pid for p in multiprocessing.active_children()}
+    handler = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        cluster.scale(n)
+        deadline = time.monotonic() + 10.0
+        while spawned() < n and time.monotonic() < deadline:  # else wait_for_workers says
+            time.sleep(0.002)
+    finally:
+        signal.signal(signal.SIGINT, handler)
+
+
+async def _quiet_logs() -> None:
+    """In a worker of a cluster that is being closed after a failure or a stop."""
+    import logging
+
+    logging.disable(logging.CRITICAL)
+
+
+def dask_setup(worker: Any) -> None:
+    """Dask's preload hook, in each worker process of a cluster that batch starts itself.
+
+    The worker ignores SIGINT (see :func:`_spawn_deaf_to_ctrl_c`), also when its Nanny
+    restarts it after the spawn.
+    """
+    import signal
+    import threading
+
+    if threading.current_thread() is threading.main_thread():
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
 
 
 class _Workers:
@@ -208,7 +319,7 @@ class _Workers:
 
     def __exit__(self, *exc) -> None:
         if self._own is not None:
-            self._own.close()
+            self._own.close(quiet=exc[0] is not None)
 
 
 def _run(

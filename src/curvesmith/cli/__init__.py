@@ -14,7 +14,13 @@ import click
 
 from .. import __version__
 from ..errors import CurveError
-from ._stop import end_open_line, exit_cleanly_on_sigterm, install_watchdog, wait_if_stopping
+from ._stop import (
+    claim_last_line,
+    end_open_line,
+    exit_cleanly_on_sigterm,
+    install_watchdog,
+    wait_if_stopping,
+)
 
 __all__ = ["main"]
 
@@ -53,6 +59,10 @@ class _Group(click.Group):
             end_open_line()
             click.echo(f"Error: {exc.strerror or exc}{where}", err=True)
             sys.exit(1)
+        except KeyboardInterrupt:  # click says "Aborted!", unless the watchdog spoke first
+            if not claim_last_line():
+                wait_if_stopping()
+            raise
 
 
 @click.group(cls=_Group, context_settings={"help_option_names": ["-h", "--help"]})

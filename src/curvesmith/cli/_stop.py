@@ -47,13 +47,27 @@ def end_open_line() -> None:
         sys.stderr.write("\n")
 
 
-def _say_stopped(signum: int) -> None:
-    """One line on stderr, once per process: which signal stopped the run."""
+def _say_stopped(signum: int, fd: int | None = None) -> None:
+    """One line on stderr (or descriptor `fd`), once per process: which signal stopped the run."""
     if _said.acquire(blocking=False):
         with contextlib.suppress(Exception):
             end_open_line()
-            sys.stderr.write(f"Error: stopped by {signal.Signals(signum).name}\n")
-            sys.stderr.flush()
+            line = f"Error: stopped by {signal.Signals(signum).name}\n"
+            if fd is None:
+                sys.stderr.write(line)
+                sys.stderr.flush()
+            else:
+                sys.stderr.flush()
+                os.write(fd, line.encode())
+
+
+def claim_last_line() -> bool:
+    """Whether the main thread may write the run's last line (click's "Aborted!").
+
+    False when the watchdog has written its line already: the process is then ending, and
+    nothing more is said.
+    """
+    return _said.acquire(blocking=False)
 
 
 def _on_sigterm(signum, frame):
@@ -114,11 +128,13 @@ def _stop_now(signum: int) -> None:
     from ..io._core import remove_in_flight
 
     stopping.set()
-    _say_stopped(signum)
-    with contextlib.suppress(OSError):  # nothing more from the main thread
+    err = None
+    with contextlib.suppress(OSError):  # nothing more from the main thread, from now on
+        err = os.dup(2)
         quiet = os.open(os.devnull, os.O_WRONLY)
         os.dup2(quiet, 1)
         os.dup2(quiet, 2)
+    _say_stopped(signum, err)
     remove_in_flight()
     _stop_children()
     os._exit(128 + signum)
