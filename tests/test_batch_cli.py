@@ -262,3 +262,24 @@ def test_ctrl_c_is_one_line_and_leaves_nothing(tmp_path, when):
     assert proc.returncode in (1, 130), (proc.returncode, lines)
     assert said in (["Aborted!"], ["Error: stopped by SIGINT"]), lines
     assert sorted(os.listdir(tmp_path)) == ["fp.gpkg"]  # no output, no temporary file
+
+
+def test_pieces_smoothed_less_are_counted_as_in_smooth(tmp_path):
+    # batch's summary left out the pieces smoothed less to stay valid, which smooth counts
+    from curvesmith.cli import main
+
+    df = geo.us_counties().to_crs("EPSG:5070")
+    src = tmp_path / "c.gpkg"
+    geo.write_file(df.iloc[[0, 361, 642, 1092, 1]], src)  # some of them need it
+    res = CliRunner().invoke(main, ["smooth", str(src), "-o", str(tmp_path / "a.gpkg")])
+    assert res.exit_code == 0, res.output
+    (said,) = [p for p in res.stderr.strip().split("; ") if "smoothed less" in p]
+    n = int(said.split()[0])
+    assert n >= 1 and said == f"{n} piece(s) smoothed less to stay valid"
+    res = CliRunner().invoke(
+        main,
+        ["batch", "smooth", str(src), "-o", str(tmp_path / "b.gpkg"), "--workers", "1",
+         "--no-progress"],
+    )  # fmt: skip
+    assert res.exit_code == 0, res.output
+    assert res.stderr.strip().endswith(f"; {said}")

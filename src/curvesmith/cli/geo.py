@@ -377,7 +377,12 @@ def batch_smooth_command(
         f"{report.n_features} features {where}, "
         f"{report.seconds:.2f} s; {len(report.errors)} failed "
         f"(written unchanged, see {report.errors_path})"
-        + (f"; {n_null} without geometry (NULL) and {n_empty} empty" if n_null or n_empty else ""),
+        + (f"; {n_null} without geometry (NULL) and {n_empty} empty" if n_null or n_empty else "")
+        + (
+            f"; {report.n_reductions} piece(s) smoothed less to stay valid"
+            if report.n_reductions
+            else ""
+        ),
         err=True,
     )
     if report.errors:
