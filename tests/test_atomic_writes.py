@@ -589,14 +589,19 @@ install_watchdog()
 tmp = pathlib.Path(sys.argv[1])
 tmp.mkdir()
 (tmp / "part.gpkg").write_bytes(b"half")
+if sys.argv[2:] == ["bar"]:  # batch's progress bar, its line open
+    from curvesmith.batch import _ProgressBar
+
+    _ProgressBar(4)
 with in_flight(tmp):
     print("ready", flush=True)
     print(spin(10**12))  # minutes inside one compiled call that releases the GIL
 """
 
 
+@pytest.mark.parametrize("bar", [False, True])
 @pytest.mark.parametrize("name", ["SIGTERM", "SIGINT"])
-def test_a_signal_stops_a_long_compiled_call_within_seconds(tmp_path, name):
+def test_a_signal_stops_a_long_compiled_call_within_seconds(tmp_path, name, bar):
     # Python runs signal handlers between bytecodes only: before the watchdog, a SIGTERM
     # (a scheduler's cancel, `timeout`) waited for the engine's call over the whole layer
     import signal
@@ -606,7 +611,7 @@ def test_a_signal_stops_a_long_compiled_call_within_seconds(tmp_path, name):
     signum = getattr(signal, name)
     tmp = tmp_path / ".out.gpkg.abc.tmp"
     proc = subprocess.Popen(
-        [sys.executable, "-c", _SPIN, str(tmp)],
+        [sys.executable, "-c", _SPIN, str(tmp), *(["bar"] if bar else [])],
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
         text=True,
@@ -623,5 +628,10 @@ def test_a_signal_stops_a_long_compiled_call_within_seconds(tmp_path, name):
     assert proc.returncode == 128 + signum, (out, err)
     assert took < 10, took  # GRACE is 1 s; the call itself would take minutes
     assert not tmp.exists(), "temporary output left behind"
-    assert err.strip() == f"Error: stopped by {name}"
+    if bar:  # the watchdog's line is a line of its own, after the bar's
+        assert err.lstrip("\n").startswith("[  ") and err.endswith(
+            f"Completed |  0.0s\nError: stopped by {name}\n"
+        )
+    else:
+        assert err.strip() == f"Error: stopped by {name}"
     assert out == ""

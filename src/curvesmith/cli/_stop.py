@@ -38,12 +38,19 @@ _said = threading.Lock()
 stopping = threading.Event()
 
 
-def end_open_line() -> None:
-    """End a progress bar's line on stderr (``batch``'s), so that a message has its own."""
+def _take_open_line() -> bool:
+    """Whether a progress bar's line (``batch``'s) is open on stderr; it counts as ended."""
     batch = sys.modules.get("curvesmith.batch")
     bar = getattr(batch, "_ProgressBar", None)
     if bar is not None and bar.line_open:
         bar.line_open = False
+        return True
+    return False
+
+
+def end_open_line() -> None:
+    """End a progress bar's line on stderr (``batch``'s), so that a message has its own."""
+    if _take_open_line():
         sys.stderr.write("\n")
 
 
@@ -51,14 +58,13 @@ def _say_stopped(signum: int, fd: int | None = None) -> None:
     """One line on stderr (or descriptor `fd`), once per process: which signal stopped the run."""
     if _said.acquire(blocking=False):
         with contextlib.suppress(Exception):
-            end_open_line()
             line = f"Error: stopped by {signal.Signals(signum).name}\n"
             if fd is None:
+                end_open_line()
                 sys.stderr.write(line)
                 sys.stderr.flush()
-            else:
-                sys.stderr.flush()
-                os.write(fd, line.encode())
+            else:  # stderr is /dev/null by now: a progress bar's open line ends here
+                os.write(fd, (("\n" if _take_open_line() else "") + line).encode())
 
 
 def claim_last_line() -> bool:
