@@ -212,6 +212,33 @@ def test_existing_geopackage_is_replaced_not_given_another_layer(tmp_path):
     assert layers == {"o", "extra"} and len(geo.read_file(out, layer="extra")) == 1
 
 
+def test_a_geopackage_of_several_layers_is_not_replaced_by_one(tmp_path):
+    # `smooth lakes.geojson -o project.gpkg` deleted every other layer of project.gpkg
+    # without a word (a copy of QGIS's world_map.gpkg lost its four)
+    out = tmp_path / "project.gpkg"
+    geo.write_file(_frame(), out, layer="roads")
+    geo.write_file(_frame(), out, layer="lakes")
+    before = out.read_bytes()
+    with pytest.raises(CurveFormatError, match=r"holds 2 layers \(roads, lakes\), which writ"):
+        geo.write_file(_frame().iloc[:2], out)
+    assert out.read_bytes() == before
+    src = tmp_path / "zones.geojson"
+    geo.write_file(_frame(), src)
+    for cmd in (["smooth"], ["batch", "smooth", "--workers", "1", "--no-progress"]):
+        res = CliRunner().invoke(main, [*cmd, str(src), "-o", str(out)])
+        assert res.exit_code == 1 and res.output.count("\n") == 1, res.output
+        assert res.output.startswith(f"Error: {str(out)!r} holds 2 layers (roads, lakes)")
+        assert out.read_bytes() == before and _listing(tmp_path) == [
+            "project.gpkg",
+            "zones.geojson",
+        ]
+    # a layer of its own, smoothed in place, replaces that layer and keeps the other
+    res = CliRunner().invoke(main, ["smooth", str(out), "--layer", "lakes", "-o", str(out)])
+    assert res.exit_code == 0, res.output
+    assert sorted(str(n) for n in pyogrio.list_layers(out)[:, 0]) == ["lakes", "roads"]
+    assert len(geo.read_file(out, layer="roads")) == len(_frame())
+
+
 # ----------------------------------------------------------------------------------------------
 # a real full disk (tmpfs)
 

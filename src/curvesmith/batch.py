@@ -605,6 +605,7 @@ def smooth_file(
     from . import geo
     from .geo._io import (
         GeographicCRSWarning,
+        check_layers_kept,
         check_network_back,
         clamp_to_domain,
         domain_fixed,
@@ -622,6 +623,8 @@ def smooth_file(
     if errors_path is None:
         errors_path = Path(str(out_path) + ".errors.json")
     check_destination(errors_path)  # before the work: a report that cannot be written
+    out_layer = input_layer_name(in_path, layer)
+    check_layers_kept(out_path, out_layer)  # nor a GeoPackage whose other layers would go
     budget = {k: v for k, v in (("max_shift", max_shift), ("min_segment", min_segment)) if v}
     if network and (coverage or make_valid or snap is not None):
         what = "coverage" if coverage else ("make_valid" if make_valid else "snap")
@@ -730,7 +733,7 @@ def smooth_file(
         out.geometry = clamp_to_domain(out.geometry, str(in_path), df.geometry)
     out = put_points_back(out, kept, untouched)
     del kept
-    geo.write_file(out, out_path, layer=input_layer_name(in_path, layer))
+    geo.write_file(out, out_path, layer=out_layer)
     Path(errors_path).write_text(
         json.dumps([{"index": e.index, "reason": e.reason} for e in errors], indent=1) + "\n"
     )

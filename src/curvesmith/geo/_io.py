@@ -663,6 +663,31 @@ def input_layer_name(path: str | Path, layer: str | int | None) -> str | None:
     return names[int(layer)] if 0 <= int(layer) < len(names) else None
 
 
+def check_layers_kept(path: str | Path, layer: str | None) -> None:
+    """Refuse to replace an existing GeoPackage of several layers by a file of one.
+
+    Written without a ``layer``, an existing file is replaced as a whole: a GeoPackage that
+    holds other layers (a project's database: a copy of QGIS's ``world_map.gpkg``, say)
+    would lose them without a word. With ``layer``, that layer alone is replaced and the
+    others are kept. A file that GDAL cannot list is replaced as before.
+    """
+    path = Path(path)
+    if layer is not None or _driver_for(path) != "GPKG" or not path.is_file():
+        return
+    pyogrio = require("pyogrio", "geo", "writing GIS files")
+    try:
+        names = [str(n) for n, _ in pyogrio.list_layers(path)]
+    except Exception:  # not a GeoPackage GDAL can read: nothing in it to keep
+        return
+    if len(names) > 1:
+        shown = ", ".join(names[:6]) + (", ..." if len(names) > 6 else "")
+        raise CurveFormatError(
+            f"{str(path)!r} holds {len(names)} layers ({shown}), which writing it would "
+            f"delete: write to a new file or remove it first (one of its own layers smoothed in "
+            f"place: --layer NAME)"
+        )
+
+
 def write_file(df: Any, path: str | Path, *, layer: str | None = None) -> None:
     """Write a GeoDataFrame; the format follows the suffix (see :data:`DRIVERS`).
 
@@ -671,7 +696,8 @@ def write_file(df: Any, path: str | Path, *, layer: str | None = None) -> None:
     LineStrings and MultiLineStrings) are written as the Multi type; other mixes raise
     :class:`CurveFormatError`. An existing file is replaced as a whole; only an existing
     GeoPackage written with an explicit ``layer`` keeps its other layers (that layer is
-    replaced, or added). The new file is written completely to a temporary file in the same
+    replaced, or added), and one of several layers written without is refused
+    (:func:`check_layers_kept`). The new file is written completely to a temporary file in the same
     folder and read back before it replaces anything: a failed write (a full disk) leaves
     the previous file untouched and no partial file. Shapefile and FlatGeobuf have no
     empty geometry: an empty one is written as NULL (no geometry).
@@ -680,6 +706,7 @@ def write_file(df: Any, path: str | Path, *, layer: str | None = None) -> None:
     shapely = require("shapely", "geo", "writing GIS files")
     path = Path(path)
     driver = _driver_for(path)
+    check_layers_kept(path, layer)
     kwargs: dict[str, Any] = {}
     if driver == "ESRI Shapefile":
         geoms = np.asarray(df.geometry.values, dtype=object)
@@ -1334,6 +1361,9 @@ def smooth_file(
     from ._coverage import smooth_coverage
     from ._smooth import smooth
 
+    if out_layer is None:
+        out_layer = input_layer_name(in_path, layer)
+    check_layers_kept(out_path, out_layer)  # before the work, not after it
     df = read_file(in_path, layer=layer)
     n_null, n_empty = check_null_geometries(df, in_path, allow_null=allow_null)
     crs = df.crs
@@ -1403,8 +1433,6 @@ def smooth_file(
         out = out.copy()
         out.geometry = clamp_to_domain(out.geometry, str(in_path), df.geometry)
     out = put_points_back(out, kept, points)
-    if out_layer is None:
-        out_layer = input_layer_name(in_path, layer)
     del df, kept  # the input's geometries are not needed while the output is written
     write_file(out, out_path, layer=out_layer)
     return FileSmoothReport(
