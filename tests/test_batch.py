@@ -1,6 +1,7 @@
 """curvesmith.batch: Dask partitions, order, errors report, coverage mode, scheduler address."""
 
 import json
+from pathlib import Path
 
 import distributed
 import numpy as np
@@ -380,3 +381,26 @@ def test_empty_multipolygon_written_back_as_read(cluster, tmp_path, coverage):
     geo.smooth_file(src, ref, **kw)
     assert _gpkg_blobs(out) == _gpkg_blobs(ref)
     assert _gpkg_blobs(out)[2] == read
+
+
+def test_coverage_in_lon_lat_keeps_the_antimeridian_as_smooth_file(cluster, tmp_path):
+    # batch --coverage of Natural Earth failed ('feature 159: smoothing moved a vertex to
+    # (180.15..., -86.81...), outside the longitude/latitude domain') where smooth_file
+    # keeps the arcs on +-180 degrees and the poles in place
+    import pyogrio
+
+    src = (
+        Path(pyogrio.__file__).parent / "tests/fixtures/naturalearth_lowres/naturalearth_lowres.shp"
+    )
+    out, ref = tmp_path / "b.gpkg", tmp_path / "r.gpkg"
+    with pytest.warns(geo.GeographicCRSWarning):
+        rep = batch.smooth_file(
+            src, out, coverage=True, scheduler=cluster.scheduler_address, progress=False
+        )
+    with pytest.warns(geo.GeographicCRSWarning):
+        geo.smooth_file(src, ref, coverage=True)
+    assert rep.errors == () and rep.geographic and rep.coverage_valid is True
+    assert rep.n_partitions == 0  # the fixed vertices: smooth_coverage on the client
+    assert _gpkg_blobs(out) == _gpkg_blobs(ref)
+    xy = shapely.get_coordinates(geo.read_file(out).geometry.values)
+    assert np.abs(xy[:, 0]).max() == 180.0 and np.abs(xy[:, 1]).max() <= 90.0

@@ -173,6 +173,16 @@ def test_geographic_warning_and_summary_as_in_smooth(tmp_path):
     assert lines[1].startswith(
         "5 features on the client (--coverage with --keep-angle, --max-shift or --min-segment)"
     )
+    # a coverage in degrees is smoothed on the client too (its +-180 and poles kept), and
+    # its validity said as smooth says it
+    args = ["batch", "smooth", str(src), "-o", str(tmp_path / "c.gpkg"), "--coverage"]
+    res = CliRunner().invoke(main, [*args, "--workers", "1", "--no-progress"])
+    assert res.exit_code == 0, res.output
+    lines = res.stderr.splitlines()
+    assert lines[1].startswith(
+        "5 features on the client (--coverage in longitude/latitude: ±180° and the poles kept)"
+    )
+    assert lines[1].endswith("; coverage valid")
 
 
 def _footprint_layer(path, n, seed=0):

@@ -69,6 +69,9 @@ class BatchReport:
         Wall-clock time of the smoothing (reading and writing excluded).
     coverage_valid : bool or None
         Coverage mode: :func:`shapely.coverage_is_valid` on the output.
+    geographic : bool
+        The input is in longitude/latitude (then, in coverage mode, the arcs are smoothed
+        on the client: those on the antimeridian and the poles stay put).
     """
 
     n_features: int
@@ -78,6 +81,7 @@ class BatchReport:
     n_reductions: int
     seconds: float
     coverage_valid: bool | None
+    geographic: bool = False
 
 
 # ---------------------------------------------------------------------------- tasks
@@ -702,6 +706,9 @@ def smooth_file(
             scheduler=scheduler,
             client=client,
             progress=progress,
+            # lon/lat: the antimeridian and the poles stay put, as in geo's smooth_file
+            # (smooth_coverage then smooths the arcs on the client)
+            fixed=domain_fixed(crs, work.crs) if crs is not None and crs.is_geographic else None,
         )
     else:
         if snap is not None:
@@ -745,6 +752,7 @@ def smooth_file(
         n_reductions=n_red,
         seconds=seconds,
         coverage_valid=valid,
+        geographic=bool(crs is not None and crs.is_geographic),
     )
 
 
@@ -819,6 +827,7 @@ def _coverage_on_dask(
     progress,
     keep_angle=None,
     budget=None,
+    fixed=None,
 ):
     from . import geo
 
@@ -863,6 +872,7 @@ def _coverage_on_dask(
             full_output=True,
             map_arcs=map_arcs,
             keep_angle=keep_angle,
+            fixed=fixed,
             **(budget or {}),
         )
     errors: list[FeatureError] = []

@@ -371,20 +371,21 @@ def batch_smooth_command(
     elif coverage and (keep_angle is not None or max_shift is not None or min_segment is not None):
         # smooth_coverage tries these arc by arc at every strength: not cut into tasks
         where = "on the client (--coverage with --keep-angle, --max-shift or --min-segment)"
+    elif coverage and report.geographic:
+        where = "on the client (--coverage in longitude/latitude: ±180° and the poles kept)"
     else:
         where = "on the client"
-    click.echo(
-        f"{report.n_features} features {where}, "
-        f"{report.seconds:.2f} s; {len(report.errors)} failed "
-        f"(written unchanged, see {report.errors_path})"
-        + (f"; {n_null} without geometry (NULL) and {n_empty} empty" if n_null or n_empty else "")
-        + (
-            f"; {report.n_reductions} piece(s) smoothed less to stay valid"
-            if report.n_reductions
-            else ""
-        ),
-        err=True,
-    )
+    parts = [
+        f"{report.n_features} features {where}, {report.seconds:.2f} s",
+        f"{len(report.errors)} failed (written unchanged, see {report.errors_path})",
+    ]
+    if n_null or n_empty:
+        parts.append(f"{n_null} without geometry (NULL) and {n_empty} empty")
+    if report.n_reductions:
+        parts.append(f"{report.n_reductions} piece(s) smoothed less to stay valid")
+    if report.coverage_valid is not None:  # as smooth says it
+        parts.append("coverage valid" if report.coverage_valid else "coverage NOT valid")
+    click.echo("; ".join(parts), err=True)
     if report.errors:
         first = report.errors[0]
         raise CurveError(

@@ -581,7 +581,7 @@ def clamp_to_domain(geoms: Any, where: str, originals: Any = None) -> Any:
         k = int(np.argmax(over))
         raise CurveError(
             f"{where}: feature {int(index[k])}: smoothing moved a vertex to "
-            f"({xy[k, 0]!r}, {xy[k, 1]!r}), outside the longitude/latitude domain"
+            f"({float(xy[k, 0])!r}, {float(xy[k, 1])!r}), outside the longitude/latitude domain"
         )
     snap = None
     if originals is not None:
