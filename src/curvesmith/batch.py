@@ -72,6 +72,9 @@ class BatchReport:
     geographic : bool
         The input is in longitude/latitude (then, in coverage mode, the arcs are smoothed
         on the client: those on the antimeridian and the poles stay put).
+    not_equal_area : tuple of int
+        With ``equal_area``: the features smoothed in the file's CRS instead, as in
+        :class:`curvesmith.geo.FileSmoothReport` (the projection would fold them).
     """
 
     n_features: int
@@ -82,6 +85,7 @@ class BatchReport:
     seconds: float
     coverage_valid: bool | None
     geographic: bool = False
+    not_equal_area: tuple[int, ...] = ()
 
 
 # ---------------------------------------------------------------------------- tasks
@@ -660,10 +664,11 @@ def smooth_file(
     if equal_area and not regional:  # one projection for the whole coverage or network
         work = to_one_equal_area(df, mode="network" if network else "coverage", name=str(in_path))
     t0 = time.perf_counter()
+    not_equal_area: tuple[int, ...] = ()
     if regional:
         if snap is not None:
             raise CurveError("snap applies to coverage mode only (coverage=True)")
-        out, errors, n_tasks, n_red = _equal_area_on_dask(
+        out, errors, n_tasks, n_red, not_equal_area = _equal_area_on_dask(
             df,
             options={"method": method, "iterations": iterations, "alpha": alpha}
             | ({} if keep_angle is None else {"keep_angle": keep_angle})
@@ -753,6 +758,7 @@ def smooth_file(
         seconds=seconds,
         coverage_valid=valid,
         geographic=bool(crs is not None and crs.is_geographic),
+        not_equal_area=not_equal_area,
     )
 
 
@@ -766,7 +772,7 @@ def _equal_area_on_dask(
     scheduler: str | None,
     client: Any,
     progress: bool,
-) -> tuple[Any, tuple[FeatureError, ...], int, int]:
+) -> tuple[Any, tuple[FeatureError, ...], int, int, tuple[int, ...]]:
     """Per-region equal-area smoothing (geo's) with each region's features smoothed on Dask.
 
     The regions, projections and the checks back home are geo's (the same result as
@@ -806,10 +812,11 @@ def _equal_area_on_dask(
         return [(out, n_red, sorted(errs)) for out, n_red, errs in outs]
 
     with pool:
-        out, n_red, _, _ = _smooth_equal_area(
+        out, n_red, _, planar = _smooth_equal_area(
             df, make_valid=make_valid, smoother=smoother, errors=errors, **options
         )
-    return out, tuple(FeatureError(i, r) for i, r in sorted(errors)), n_tasks, n_red
+    errs = tuple(FeatureError(i, r) for i, r in sorted(errors))
+    return out, errs, n_tasks, n_red, tuple(planar)
 
 
 def _coverage_on_dask(

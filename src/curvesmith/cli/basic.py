@@ -268,7 +268,8 @@ def _where(feature: int, ident, kind: str, part: int, ring: int, member: int | N
 @click.option(
     "--allow-null",
     is_flag=True,
-    help="GIS: write features without geometry through (default: an error, a damaged file).",
+    help="GIS: write features without geometry through (default: an error, a damaged "
+    "file; GeoJSON's null geometries, which RFC 7946 allows, always pass).",
 )
 @click.option(
     "--network", is_flag=True, help="GIS lines: junctions fixed, shared pieces once, no contacts."

@@ -197,6 +197,14 @@ def smooth_geofile(
     return report
 
 
+def _not_equal_area(features) -> str:
+    shown = ", ".join(map(str, features[:5]))
+    return (
+        f"{len(features)} feature(s) smoothed in the file's CRS, not equal-area "
+        f"(the projection would fold them: feature {shown})"
+    )
+
+
 def _summary(report) -> None:
     through = report.n_null + report.n_empty + report.n_points + report.n_unchanged
     parts = [f"{report.n_features - through} of {report.n_features} feature(s) smoothed"]
@@ -215,11 +223,7 @@ def _summary(report) -> None:
     if report.n_reductions:
         parts.append(f"{report.n_reductions} piece(s) smoothed less to stay valid")
     if report.not_equal_area:
-        shown = ", ".join(map(str, report.not_equal_area[:5]))
-        parts.append(
-            f"{len(report.not_equal_area)} feature(s) smoothed in the file's CRS, not equal-area "
-            f"(the projection would fold them: feature {shown})"
-        )
+        parts.append(_not_equal_area(report.not_equal_area))
     if report.invalid_edges:
         parts.append(
             f"{len(report.invalid_edges)} feature(s) with invalid coverage edges left unchanged "
@@ -292,7 +296,9 @@ def batch_group() -> None:
 )
 @click.option("--progress/--no-progress", default=True, show_default=True, help="Progress bar.")
 @click.option(
-    "--allow-null", is_flag=True, help="Write features without geometry through unchanged."
+    "--allow-null",
+    is_flag=True,
+    help="Write features without geometry through unchanged (GeoJSON's always pass).",
 )
 @KEEP_ANGLE_OPTION
 @MAX_SHIFT_OPTION
@@ -323,7 +329,8 @@ def batch_smooth_command(
 
     A feature that fails is written unchanged and listed with its reason in the
     errors report (JSON); the exit status is then 1. Features without geometry
-    (NULL: the file may be damaged) are an error unless --allow-null.
+    (NULL: the file may be damaged) are an error unless --allow-null (GeoJSON's
+    null geometries, which RFC 7946 allows, pass).
     """
     from .. import batch
 
@@ -383,6 +390,8 @@ def batch_smooth_command(
         parts.append(f"{n_null} without geometry (NULL) and {n_empty} empty")
     if report.n_reductions:
         parts.append(f"{report.n_reductions} piece(s) smoothed less to stay valid")
+    if report.not_equal_area:
+        parts.append(_not_equal_area(report.not_equal_area))
     if report.coverage_valid is not None:  # as smooth says it
         parts.append("coverage valid" if report.coverage_valid else "coverage NOT valid")
     click.echo("; ".join(parts), err=True)
