@@ -53,6 +53,20 @@ def test_round_trip_every_format(tmp_path, suffix):
         )
 
 
+@pytest.mark.parametrize("suffix", [".gpkg", ".shp", ".geojson", ".fgb"])
+def test_coordinates_read_back_bit_for_bit(tmp_path, suffix):
+    # GDAL's GeoJSON writer rounded to 15 decimals: 1/3 degree came back 3e-17 off
+    rng = np.random.default_rng(3)
+    t = np.sort(rng.uniform(0, 2 * np.pi, 40))
+    for scale, shift in ((1 / 3, 0.0), (1e-3, 7 / 9), (170.0, 0.0), (3e5, 5e6)):
+        ring = np.c_[np.cos(t), np.sin(t)] * scale + shift
+        df = gpd.GeoDataFrame(geometry=[shapely.Polygon(ring)], crs="EPSG:4326")
+        path = tmp_path / f"p{suffix}"
+        geo.write_file(df, path)
+        back = shapely.get_coordinates(geo.read_file(path).geometry.values)
+        np.testing.assert_array_equal(np.unique(back, axis=0), np.unique(ring, axis=0))
+
+
 def test_layers_select_and_unknown(tmp_path):
     path = tmp_path / "two.gpkg"
     geo.write_file(sample_frame(), path, layer="first")

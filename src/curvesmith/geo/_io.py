@@ -721,6 +721,11 @@ def write_file(df: Any, path: str | Path, *, layer: str | None = None) -> None:
     if driver == "FlatGeobuf":
         # the packed R-tree would reorder the features; the output keeps the input order
         kwargs["layer_options"] = {"SPATIAL_INDEX": "NO"}
+    if driver == "GeoJSON":
+        # GDAL writes 15 decimals by default (1/3 came back as 0.333333333333333, and a
+        # smoothed polygon 3e-14 from touching itself came back invalid); 17 significant
+        # figures read back bit for bit, as curvesmith.io's own GeoJSON writer does
+        kwargs["layer_options"] = {"SIGNIFICANT_FIGURES": 17}
     geoms = np.asarray(df.geometry.values, dtype=object)
     present = ~shapely.is_missing(geoms)
     if present.any() and shapely.has_m(geoms[present]).any():
