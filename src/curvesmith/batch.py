@@ -262,8 +262,11 @@ def _spawn_deaf_to_ctrl_c(cluster: Any, n: int) -> None:
     import threading
     import time
 
-    if threading.current_thread() is not threading.main_thread():
-        cluster.scale(n)  # a library caller's thread: signals are the main thread's
+    if (
+        threading.current_thread() is not threading.main_thread()  # a library caller's thread
+        or signal.getsignal(signal.SIGINT) is None  # a handler not from Python: kept as it is
+    ):
+        cluster.scale(n)
         return
 
     def spawned() -> int:
