@@ -293,3 +293,24 @@ def test_pieces_smoothed_less_are_counted_as_in_smooth(tmp_path):
     )  # fmt: skip
     assert res.exit_code == 0, res.output
     assert res.stderr.strip().endswith(f"; {said}")
+
+
+def test_network_summary_and_warning_as_in_smooth(tmp_path):
+    # batch --network printed its generic line only, and smooth --network its own words
+    # for the geographic-CRS warning
+    from curvesmith.cli import main
+
+    df = geo.us_counties(states=["44"])  # NAD83 degrees
+    src = tmp_path / "ri_lines.gpkg"
+    geo.write_file(df.assign(geometry=df.boundary), src)
+    one = CliRunner().invoke(
+        main, ["smooth", str(src), "-o", str(tmp_path / "a.gpkg"), "--network"]
+    )
+    args = ["batch", "smooth", str(src), "-o", str(tmp_path / "b.gpkg"), "--network"]
+    many = CliRunner().invoke(main, [*args, "--workers", "1", "--no-progress"])
+    assert one.exit_code == many.exit_code == 0, (one.output, many.output)
+    (warning, said), (warning_b, summary) = one.stderr.splitlines(), many.stderr.splitlines()
+    assert warning == warning_b and "--equal-area smooths in an equal-area projection" in warning
+    network = said.split(", ", 1)[1].split("; ")[0]
+    assert network.endswith("fixed nodes)") and " lines smoothed as one network (" in network
+    assert f"; {network}" in summary

@@ -75,6 +75,9 @@ class BatchReport:
     not_equal_area : tuple of int
         With ``equal_area``: the features smoothed in the file's CRS instead, as in
         :class:`curvesmith.geo.FileSmoothReport` (the projection would fold them).
+    network : tuple of int or None
+        Network mode: ``(n_lines, n_arcs, n_nodes, n_inserted)`` of
+        :class:`curvesmith.geo.NetworkResult`.
     """
 
     n_features: int
@@ -86,6 +89,7 @@ class BatchReport:
     coverage_valid: bool | None
     geographic: bool = False
     not_equal_area: tuple[int, ...] = ()
+    network: tuple[int, int, int, int] | None = None
 
 
 # ---------------------------------------------------------------------------- tasks
@@ -668,6 +672,7 @@ def smooth_file(
         work = to_one_equal_area(df, mode="network" if network else "coverage", name=str(in_path))
     t0 = time.perf_counter()
     not_equal_area: tuple[int, ...] = ()
+    network_counts: tuple[int, int, int, int] | None = None
     if regional:
         if snap is not None:
             raise CurveError("snap applies to coverage mode only (coverage=True)")
@@ -685,7 +690,7 @@ def smooth_file(
         )
         valid = None
     elif network:
-        out, n_tasks, n_red = _network_on_dask(
+        out, n_tasks, n_red, network_counts = _network_on_dask(
             work,
             method=method,
             iterations=iterations,
@@ -762,6 +767,7 @@ def smooth_file(
         coverage_valid=valid,
         geographic=bool(crs is not None and crs.is_geographic),
         not_equal_area=not_equal_area,
+        network=network_counts,
     )
 
 
@@ -953,4 +959,5 @@ def _network_on_dask(
             keep_angle=keep_angle,
             **(budget or {}),
         )
-    return res.geometry, n_tasks, len(res.reductions)
+    counts = (res.n_lines, res.n_arcs, res.n_nodes, res.n_inserted)
+    return res.geometry, n_tasks, len(res.reductions), counts

@@ -137,8 +137,9 @@ def smooth_network_geofile(
         equal_area = False  # already in an equal-area projection: smoothed in it
     if crs is not None and crs.is_geographic and not equal_area:
         click.echo(
-            f"Warning: {in_path!r} is in a geographic CRS ({crs.name}): areas are kept in "
-            f"degrees, not on the ground; use --equal-area",
+            f"Warning: {in_path!r} is in a geographic CRS ({crs.name}): smoothing keeps planar "
+            f"areas in degrees, not ground areas; --equal-area smooths in an equal-area "
+            f"projection",
             err=True,
         )
     from ..geo._io import check_network_back, to_one_equal_area
