@@ -60,3 +60,15 @@ def test_affine_command_open_flag_and_errors(inputs, tmp_path):
     assert "Invalid value for '--vertices': 3 is not in the range x>=4" in result.output
     result = CliRunner().invoke(main, ["affine", str(inputs), "-o", str(out)])
     assert result.exit_code == 2  # --vertices is required
+
+
+def test_a_spline_svg_that_cannot_be_written_leaves_no_output(inputs, tmp_path):
+    # the control polygons were written, then --spline-svg failed: exit 1 with a file
+    out = tmp_path / "a.csv"
+    args = ["affine", str(inputs), "-o", str(out), "--vertices", "24"]
+    args += ["--spline-svg", str(tmp_path / "no/s.svg")]
+    res = CliRunner().invoke(main, args)
+    assert (
+        res.exit_code == 1 and res.output.startswith("Error: ") and "does not exist" in res.output
+    )
+    assert res.output.count("\n") == 1 and not out.exists()

@@ -283,3 +283,18 @@ def test_geojson_to_geojson_says_what_the_gis_path_says(runner, tmp_path):
         lines = res.stderr.splitlines()
         assert lines[-1] == "5 of 5 feature(s) smoothed"
         assert (said in lines[0]) if said else len(lines) == 1
+
+
+def test_format_is_the_format_of_standard_input_and_output(runner, tmp_path):
+    # --format applied to both sides: `smooth - -o out.geojson --format csv` wrote CSV text
+    # into out.geojson, and `smooth arc.csv -o - --format geojson` read arc.csv as JSON
+    src = tmp_path / "arc.csv"
+    src.write_text("x,y\n0,0\n1,2\n3,1\n4,4\n")
+    out = tmp_path / "out.geojson"
+    res = runner.invoke(
+        main, ["smooth", "-", "-o", str(out), "--format", "csv"], input=src.read_text()
+    )
+    assert res.exit_code == 0, res.output
+    res = runner.invoke(main, ["smooth", str(src), "-o", "-", "--format", "geojson"])
+    assert res.exit_code == 0, res.output
+    assert json.loads(out.read_text()) == json.loads(res.stdout)  # GeoJSON both times

@@ -655,3 +655,14 @@ def test_interpolate_extreme_tangent_magnitudes():
 def test_interpolate_out_of_range_length_message_is_in_the_callers_units():
     with pytest.raises(CurveError, match=r"\(2e\+200, 2.828427125e\+200\) .* got 3e\+200"):
         derham.interpolate([0, 0], [1, 1], [2e200, 0], [1, -1], length=3e200)
+
+
+def test_cli_level_beyond_the_library_bound_is_a_usage_error(tmp_path):
+    # --level 40 was a data error (exit 1) after the work; --help said only x>=0
+    from click.testing import CliRunner
+
+    out = tmp_path / "c.csv"
+    res = CliRunner().invoke(_cli(), ["derham", *CLI_ARGS, "--level", "17", "-o", str(out)])
+    assert res.exit_code == 2 and "0<=x<=16" in res.output and not out.exists()
+    res = CliRunner().invoke(_cli(), ["derham", *CLI_ARGS, "--level", "16", "-o", str(out)])
+    assert res.exit_code == 0 and len(out.read_text().splitlines()) == 2**17 + 2  # + header

@@ -512,3 +512,34 @@ def test_ttf_table_shows_the_written_area_change(tmp_path):
     assert r.exit_code == 0, r.output
     line = next(ln for ln in r.output.splitlines() if ln.startswith("o "))
     assert f"{row['area_change_written']:.2e}" in line.split()
+
+
+def test_a_piece_ending_on_the_last_arc_is_fitted(tmp_path):
+    # DejaVu Sans' uni03D7 (and a 24 px heart icon at --tolerance 0.01) crashed the fit:
+    # a piece's affine-length search asked for the arcs lo .. lo + 1 with lo the last
+    # vertex, past the end of the cumulative table (IndexError, a traceback)
+    out = tmp_path / "one.ttf"
+    res = CliRunner().invoke(main, ["glyphs", SANS, "-o", str(out), "--glyphs", "uni03D7"])
+    assert res.exit_code == 0, res.output
+    assert res.output.splitlines()[1].split()[0] == "uni03D7" and out.is_file()
+    icon = tmp_path / "heart.svg"
+    icon.write_text(
+        '<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 24 24"><g transform="translate(1'
+        ' 1) scale(0.9)"><path d="M12 21.35l-1.45-1.32C5.4 15.36 2 12.28 2 8.5 2 5.42 4.42 3 '
+        "7.5 3c1.74 0 3.41.81 4.5 2.09C13.09 3.81 14.76 3 16.5 3 19.58 3 22 5.42 22 8.5c0 "
+        '3.78-3.4 6.86-8.55 11.54L12 21.35z"/><path d="M2 22 C 6 14, 10 14, 14 18 S 20 22, '
+        '22 16" fill="none"/><circle cx="12" cy="12" r="5"/></g></svg>'
+    )
+    args = ["smooth", str(icon), "-o", str(tmp_path / "o.svg"), "--curves", "cubic"]
+    res = CliRunner().invoke(main, [*args, "--tolerance", "0.01"])
+    assert res.exit_code == 0, res.output
+    assert res.output.count("(tolerance 0.01)") == 3
+
+
+def test_an_output_in_a_missing_folder_is_named_not_its_temporary_file(tmp_path):
+    out = tmp_path / "no" / "x.ttf"
+    res = CliRunner().invoke(main, ["glyphs", SANS, "-o", str(out), "--glyphs", "o"])
+    assert res.exit_code == 1 and ".part" not in res.output
+    assert res.output == (
+        f"Error: {out}: cannot write the file: the directory {str(out.parent)!r} does not exist\n"
+    )

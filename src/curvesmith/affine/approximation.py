@@ -276,8 +276,9 @@ class _Curve:
             turns = math.floor(s / self.total)
             s = s - turns * self.total
             lo, hi = 0, n
-        elif hi is None:
-            hi = n
+        else:  # a piece's search may ask one arc past the last (lo = n): the last arc
+            hi = n if hi is None else min(hi, n)
+            lo = min(lo, hi - 1)
         cum = self.cum if sign > 0 else self.ncum
         ss = s if sign > 0 else -s
         j = bisect.bisect_right(cum, ss, lo, hi + 1) - 1

@@ -120,7 +120,7 @@ FORMAT_OPTION = click.option(
     "fmt",
     type=click.Choice(list(formats())),
     default=None,
-    help="File format (default: from the suffix; required with - for stdin/stdout).",
+    help="Format of - (stdin/stdout), and of a file whose suffix names none (default: the suffix).",
 )
 
 
@@ -217,7 +217,7 @@ def _say_others(curves, fmt: str) -> None:
 
 def write_curves(curves: list[Curve], dest: str, fmt: str | None = None) -> None:
     """Write curves to a path, or to standard output when `dest` is ``-``."""
-    out_fmt = fmt or (_format_of(dest, None) if dest != "-" else "")
+    out_fmt = _format_of(dest, fmt) if dest != "-" else (fmt or "")
     _warn_lost_crs(curves, dest, out_fmt)
     _say_others(curves, out_fmt)
     if dest == "-":
@@ -260,12 +260,17 @@ def check_output(dest: str, fmt: str | None, *, gis_suffixes: tuple[str, ...] = 
 
 
 def _format_of(path: str, fmt: str | None) -> str:
-    """The format of `path`, from --format or the suffix, with the CLI's wording in errors."""
-    if fmt is not None:
-        return fmt
+    """The format of the named file `path`: its suffix's, else --format's.
+
+    --format is the format of standard input and output (``-``): ``smooth - -o out.geojson
+    --format csv`` reads CSV and writes GeoJSON, ``smooth in.csv -o - --format geojson``
+    the same. A named file with a suffix of no known format takes --format too.
+    """
     try:
         return detect_format(path)
     except CurveFormatError as exc:
+        if fmt is not None:
+            return fmt
         text = str(exc).replace("or pass format= one of", "or give --format with one of")
         raise CurveFormatError(text) from None
 

@@ -85,7 +85,12 @@ def affine_command(
     several curves). Exit status 1 if a curve could not be approximated.
     """
     from .. import affine
+    from ..io import check_destination
 
+    if spline_svg is not None:  # before the work: a second output that cannot be written
+        if dest != "-":  # must not leave the first one written
+            check_destination(dest)
+        check_destination(spline_svg)
     curves = read_curves(source, fmt)
     out, paths = [], []
     lo = hi = None

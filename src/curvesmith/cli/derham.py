@@ -9,7 +9,7 @@ import click
 from .. import derham
 from ..errors import CurveError
 from ..io import Curve
-from ._common import COUNT, FORMAT_OPTION, GAMMA, POSITIVE, parse_floats, write_curves
+from ._common import FORMAT_OPTION, GAMMA, POSITIVE, parse_floats, write_curves
 
 __all__ = ["derham_command"]
 
@@ -41,7 +41,7 @@ __all__ = ["derham_command"]
 )
 @click.option(
     "--level",
-    type=COUNT,
+    type=click.IntRange(0, 16),  # derham.prescribed_length's bounds (2^17 + 1 points)
     default=6,
     show_default=True,
     help="Subdivision level of the written curve (2^(level+1) + 1 points).",

@@ -86,6 +86,9 @@ def glyphs_command(
         raise CurveError(f"{dest} exists: remove it first (a UFO is a directory)")
     if Path(dest).suffix.lower() == ".ufo" and upem is not None:
         raise CurveError("--units-per-em applies to .ttf output (a .ufo keeps floats)")
+    from ..io import check_destination
+
+    check_destination(dest)  # before the work, in the words of the other commands
     if tolerance is None:
         font = open_font(font_path)
         upm = font.units_per_em if hasattr(font, "units_per_em") else font["head"].unitsPerEm
