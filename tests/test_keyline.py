@@ -795,3 +795,18 @@ def test_closed_curve_gets_a_true_message():
     ring = np.column_stack([np.cos(t), 0.6 * np.sin(t), 0.1 * np.cos(t)])
     with pytest.raises(CurveError, match="closed curve .* split the closed curve"):
         keyline.fit(ring, step=0.02)
+
+
+def test_cli_step_nan_is_a_usage_error_before_any_work(tmp_path):
+    # --step nan was a data error per scan: a table written, then two Error lines
+    from click.testing import CliRunner
+
+    from curvesmith.cli import main
+
+    scan = tmp_path / "k.csv"
+    t = np.linspace(0, 1, 50)
+    np.savetxt(scan, np.c_[100 * t, 10 * np.sin(3 * t), 0 * t], delimiter=",", header="x,y,z")
+    out = tmp_path / "out"
+    res = CliRunner().invoke(main, ["keyline", str(scan), "-o", str(out), "--step", "nan"])
+    assert res.exit_code == 2 and res.output.count("Error:") == 1, res.output
+    assert "'nan' is not a finite number" in res.output and not out.exists()

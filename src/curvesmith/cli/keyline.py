@@ -15,6 +15,7 @@ import numpy as np
 from ..errors import CurveError
 from ..io.scan import PLAIN_SUFFIXES, read_scan
 from ..keyline import TABLE_COLUMNS
+from ._common import POSITIVE
 
 __all__ = ["PLAIN_SUFFIXES", "SUMMARY_PARAMS", "TABLE_FIELDS", "keyline_command", "read_scan"]
 
@@ -121,7 +122,7 @@ def _json_value(v):
 )
 @click.option(
     "--step",
-    type=click.FloatRange(min=0.0, min_open=True),
+    type=POSITIVE,  # finite: --step nan is a usage error, as in fair
     default=None,
     help="Chord r of the equilateral resampling, in the scan's units "
     "(default: 1/200 of the keyline's extent).",
