@@ -72,3 +72,25 @@ def test_a_spline_svg_that_cannot_be_written_leaves_no_output(inputs, tmp_path):
         res.exit_code == 1 and res.output.startswith("Error: ") and "does not exist" in res.output
     )
     assert res.output.count("\n") == 1 and not out.exists()
+
+
+@pytest.mark.parametrize("command", [["affine", "--vertices", "10"], ["fair"]])
+def test_geojson_features_without_a_curve_pass_through_as_in_smooth(tmp_path, command):
+    # fair and affine refused a feature with "geometry": null (RFC 7946 allows it), which
+    # smooth and measure write through
+    import json
+
+    t = np.linspace(0, 1, 200)
+    line = np.c_[100 * t, 20 * t**2 + 0.01 * np.sin(40 * t)]
+    doc = {"type": "FeatureCollection", "features": [
+        {"type": "Feature", "properties": {"n": 1},
+         "geometry": {"type": "LineString", "coordinates": line.tolist()}},
+        {"type": "Feature", "properties": {"n": 2}, "geometry": None},
+    ]}  # fmt: skip
+    src, out = tmp_path / "l.geojson", tmp_path / "o.geojson"
+    src.write_text(json.dumps(doc))
+    res = CliRunner().invoke(main, [command[0], str(src), "-o", str(out), *command[1:]])
+    assert res.exit_code == 0, res.output
+    assert "1 feature(s) without a curve geometry" in res.stderr
+    back = json.loads(out.read_text())["features"]
+    assert [(f["properties"]["n"], f["geometry"] is None) for f in back] == [(1, False), (2, True)]

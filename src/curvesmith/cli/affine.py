@@ -91,7 +91,7 @@ def affine_command(
         if dest != "-":  # must not leave the first one written
             check_destination(dest)
         check_destination(spline_svg)
-    curves = read_curves(source, fmt)
+    curves = read_curves(source, fmt, keep_others=True)  # GeoJSON's others: as in smooth
     out, paths = [], []
     lo = hi = None
     for i, curve in enumerate(curves):
@@ -127,7 +127,10 @@ def affine_command(
         lo = pmin if lo is None else lo.clip(max=pmin)
         hi = pmax if hi is None else hi.clip(min=pmax)
         click.echo(f"curve {i}: {res.message}", err=True)
-    write_curves(_with_results(out), dest, fmt)
+    written = _with_results(out)
+    if hasattr(curves, "with_curves"):  # GeoJSON's features without a curve, and crs
+        written = curves.with_curves(written)
+    write_curves(written, dest, fmt)
     if spline_svg is not None:
         with open_destination(Path(spline_svg)) as fh:  # atomic: no partial file on failure
             fh.write(path_document(paths, (lo, hi)))

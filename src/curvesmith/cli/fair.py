@@ -37,7 +37,8 @@ def _read(source: str, fmt: str | None):
             Curve(pts, closed=False, properties={"id": name} if i else {})
             for i, (name, pts) in enumerate(read_scan(source))
         ]
-    return read_curves(source, fmt)
+    # GeoJSON's features without a curve (null, Point) pass through, as in smooth
+    return read_curves(source, fmt, keep_others=True)
 
 
 def _plane_2d(points: np.ndarray, index: int):
@@ -336,6 +337,8 @@ def fair_command(
 
             write_dxf(out, dest)  # 3D polylines for CAD (DXF is written, not read)
         else:
+            if hasattr(curves, "with_curves"):  # GeoJSON's other features and crs go back too
+                out = curves.with_curves(out)
             write_curves(out, dest, fmt)
     if report is not None:
         with open(report, "w", encoding="utf-8") as fh:
