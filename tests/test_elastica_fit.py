@@ -88,6 +88,9 @@ def test_noisy_fit_is_closer_to_the_clean_curve_than_the_data(p, sigma):
     data = clean + rng.normal(scale=sigma, size=clean.shape)
     res = fit(data)
     assert res.success
+    # the starts said in the message are the starts counted (the closed-form line and
+    # circle included: the message said 18 where the field said 16)
+    assert f"best of {res.starts} starts" in res.message and "paired rms" in res.message
     assert rms(res.points, clean) < sigma  # the data are sigma * sqrt(2) away
     assert rms(data, clean) > 1.2 * sigma
     # the noise estimate of the basin check sees the noise (2D rms ~ sigma sqrt 2)

@@ -918,10 +918,12 @@ def _prepare(points, *, resample, spacing_tol, reverse_ok):
 
 def _verdict(rms, noise, extent, *, single, basin_factor) -> str:
     floor = 1e-9 * extent
+    # the index-paired rms (vertex n to point n, what the fit minimises): it can exceed the
+    # geometric max deviation printed beside it, so it is named as what it is
     if rms <= _AT_NOISE * noise + floor:
-        return f"rms {rms:.3g} is at the noise level {noise:.3g} of the data"
+        return f"paired rms {rms:.3g} is at the noise level {noise:.3g} of the data"
     ratio = f"{rms / noise:.3g} x " if noise > 0 else "above "
-    text = f"rms {rms:.3g} is model error, {ratio}the noise level {noise:.3g} of the data"
+    text = f"paired rms {rms:.3g} is model error, {ratio}the noise level {noise:.3g} of the data"
     if single and rms > basin_factor * noise + floor:
         text += (
             " (a single start was tried: this may be a local minimum in a wrong basin; "
@@ -1055,10 +1057,11 @@ def fit(
         first = ElasticaParams(*[pinned.get(i, v) for i, v in enumerate(first)])
         best = search.solve(data, first, pinned, reduced=False)  # the paper's route
         best["stages"] = 1
-        how = ""
+        how, closed_form = "", 0
     else:
         best, levels = _global_search(data, pinned, search, _AT_NOISE * noise + floor)
-        how = f"best of {search.tried + (0 if pinned else 2)} starts" + (
+        closed_form = 0 if pinned else 2  # the line and the circle of closed form, first
+        how = f"best of {search.tried + closed_form} starts" + (
             f", coarse-to-fine over {len(levels)} levels" if len(levels) > 1 else ""
         )
         seg = _segment_index_length(best["params"])
@@ -1118,7 +1121,7 @@ def fit(
         tolerance=tolerance,
         within_tolerance=within,
         total_iterations=search.total,
-        starts=search.tried,
+        starts=search.tried + closed_form,
         deviation=deviation,
     )
 
