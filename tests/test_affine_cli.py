@@ -94,3 +94,21 @@ def test_geojson_features_without_a_curve_pass_through_as_in_smooth(tmp_path, co
     assert "1 feature(s) without a curve geometry" in res.stderr
     back = json.loads(out.read_text())["features"]
     assert [(f["properties"]["n"], f["geometry"] is None) for f in back] == [(1, False), (2, True)]
+
+
+def test_an_error_is_the_runs_only_line(inputs, tmp_path):
+    # the curves' progress lines came before the error: stderr was not one line
+    res = CliRunner().invoke(
+        main, ["affine", str(inputs), "-o", str(tmp_path / "no" / "a.csv"), "--vertices", "24"]
+    )
+    assert res.exit_code == 1 and res.output.count("\n") == 1 and "does not exist" in res.output
+    svg = tmp_path / "two.svg"
+    svg.write_text(
+        '<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 100 100"><circle cx="50" cy="50" '
+        'r="30"/><rect x="10" y="10" width="80" height="50"/></svg>'
+    )
+    res = CliRunner().invoke(
+        main, ["smooth", str(svg), "-o", str(tmp_path / "q.svg"), "--curves", "quadratic"]
+    )
+    assert res.exit_code == 1 and res.output.count("\n") == 1, res.output
+    assert res.output.startswith("Error: curve 1: ") and not (tmp_path / "q.svg").exists()

@@ -87,12 +87,12 @@ def affine_command(
     from .. import affine
     from ..io import check_destination
 
-    if spline_svg is not None:  # before the work: a second output that cannot be written
-        if dest != "-":  # must not leave the first one written
-            check_destination(dest)
+    if dest != "-":  # before the work (and a second output that cannot be written must
+        check_destination(dest)  # not leave the first one written)
+    if spline_svg is not None:
         check_destination(spline_svg)
     curves = read_curves(source, fmt, keep_others=True)  # GeoJSON's others: as in smooth
-    out, paths = [], []
+    out, paths, said = [], [], []
     lo = hi = None
     for i, curve in enumerate(curves):
         if curve.points.shape[1] != 2:
@@ -126,7 +126,9 @@ def affine_command(
         pmin, pmax = res.points.min(axis=0), res.points.max(axis=0)
         lo = pmin if lo is None else lo.clip(max=pmin)
         hi = pmax if hi is None else hi.clip(min=pmax)
-        click.echo(f"curve {i}: {res.message}", err=True)
+        said.append(f"curve {i}: {res.message}")
+    for line in said:  # once every curve is done: an error stays the run's one line
+        click.echo(line, err=True)
     written = _with_results(out)
     if hasattr(curves, "with_curves"):  # GeoJSON's features without a curve, and crs
         written = curves.with_curves(written)

@@ -69,7 +69,7 @@ def write_fitted(
     if tolerance is None:
         tolerance = 1e-3 * float(np.hypot(*(hi - lo)))
     idx = parse_indices(anchors, name="--anchors") if anchors else []
-    fits = []
+    fits, said = [], []
     for i, (orig, c) in enumerate(zip(originals, smoothed, strict=True)):
         where = _anchor_positions(orig.points, c.points, idx) if idx else None
         try:
@@ -80,8 +80,10 @@ def write_fitted(
             raise CurveError(f"curve {i}: {exc}") from None
         if not f.success:
             raise CurveError(f"curve {i}: {f.message}")
-        click.echo(f"curve {i}: {f.message}", err=True)
-        fits.append(f)
+        said.append(f"curve {i}: {f.message}")  # said once every curve is fitted: an
+        fits.append(f)  # error stays the run's one line
+    for line in said:
+        click.echo(line, err=True)
     out_fmt = (
         "svg" if dest == "-" and fmt == "svg" else (fmt if dest == "-" else _format_of(dest, fmt))
     )
@@ -92,7 +94,10 @@ def write_fitted(
         if dest == "-":
             click.echo(doc, nl=False)
         else:
-            Path(dest).write_text(doc, encoding="utf-8")
+            from ..io import open_destination
+
+            with open_destination(Path(dest)) as fh:  # atomic: no partial file on failure
+                fh.write(doc)
         return
     out = []
     for c, f in zip(smoothed, fits, strict=True):
