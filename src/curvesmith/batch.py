@@ -624,6 +624,7 @@ def smooth_file(
         check_network_back,
         clamp_to_domain,
         domain_fixed,
+        geographic_message,
         input_layer_name,
         is_equal_area_crs,
         put_points_back,
@@ -657,13 +658,8 @@ def smooth_file(
     if equal_area and is_equal_area_crs(crs):
         equal_area = False  # already in an equal-area projection: smoothed in it
     if crs is not None and crs.is_geographic and not equal_area:
-        warnings.warn(
-            f"{str(in_path)!r} is in a geographic CRS ({crs.name}): smoothing keeps planar "
-            f"areas in degrees, not ground areas; smooth_file(..., equal_area=True) "
-            f"(--equal-area) smooths in an equal-area projection",
-            GeographicCRSWarning,
-            stacklevel=2,
-        )
+        message = geographic_message(str(in_path), crs.name)
+        warnings.warn(message, GeographicCRSWarning, stacklevel=2)
     # feature by feature, equal-area smoothing is per region (geo's smooth_file): one
     # projection for the world folds some features and distorts ground areas far away
     regional = equal_area and not (coverage or network)

@@ -183,13 +183,13 @@ def _warn_lost_crs(curves, dest: str, fmt: str) -> None:
     crs = getattr(curves, "crs", None)
     if crs is None or fmt in ("geojson", "json"):
         return
-    props = crs.get("properties") if isinstance(crs, dict) else None
-    label = props.get("name") if isinstance(props, dict) else None
-    if isinstance(label, str) and label.endswith("CRS84"):
+    from ..io.geojson import crs_label, is_crs84
+
+    if is_crs84(crs):
         return
     click.echo(
-        f"Warning: {dest}: the 'crs' member ({label or crs!r}) is not kept: a {fmt.upper()} "
-        "file has no place for it (write GeoJSON to keep it)",
+        f"Warning: {dest}: the 'crs' member ({crs_label(crs) or crs!r}) is not kept: a "
+        f"{fmt.upper()} file has no place for it (write GeoJSON to keep it)",
         err=True,
     )
 

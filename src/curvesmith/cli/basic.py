@@ -448,17 +448,17 @@ def _warn_geographic(curves, source: str) -> None:
     (a projected file written without its CRS: nothing is said of it); one with a ``crs``
     member is looked up with pyproj when it is installed.
     """
-    crs = curves.crs
-    props = crs.get("properties") if isinstance(crs, dict) else None
-    label = props.get("name") if isinstance(props, dict) else None
+    from ..io.geojson import crs_label, is_crs84
+
+    crs, label = curves.crs, crs_label(curves.crs)
     name = None
-    if crs is None or (isinstance(label, str) and label.endswith("CRS84")):
+    if crs is None or is_crs84(crs):
         degrees = all(
             (np.abs(c.points[:, 0]) <= 180).all() and (np.abs(c.points[:, 1]) <= 90).all()
             for c in curves
         )
         name = "WGS 84" if degrees else None
-    elif isinstance(label, str):
+    elif label is not None:
         try:
             from pyproj import CRS
 
@@ -467,12 +467,10 @@ def _warn_geographic(curves, source: str) -> None:
             found = None
         name = found.name if found is not None and found.is_geographic else None
     if name is not None:
-        click.echo(
-            f"Warning: {source!r} is in a geographic CRS ({name}): smoothing keeps "
-            "planar areas in degrees, not ground areas; --equal-area smooths in an equal-area "
-            "projection",
-            err=True,
-        )
+        from ..geo._io import geographic_message
+        from .geo import _in_cli_words
+
+        click.echo(f"Warning: {_in_cli_words(geographic_message(source, name))}", err=True)
 
 
 # the options of `smooth` that belong to some methods only: (parameter, flag)

@@ -136,12 +136,10 @@ def smooth_network_geofile(
     if equal_area and is_equal_area_crs(crs):
         equal_area = False  # already in an equal-area projection: smoothed in it
     if crs is not None and crs.is_geographic and not equal_area:
-        click.echo(
-            f"Warning: {in_path!r} is in a geographic CRS ({crs.name}): smoothing keeps planar "
-            f"areas in degrees, not ground areas; --equal-area smooths in an equal-area "
-            f"projection",
-            err=True,
-        )
+        from ..geo._io import geographic_message
+        from .geo import _in_cli_words
+
+        click.echo(f"Warning: {_in_cli_words(geographic_message(in_path, crs.name))}", err=True)
     from ..geo._io import check_network_back, to_one_equal_area
 
     work = to_one_equal_area(df, mode="network", name=in_path) if equal_area else df
@@ -159,21 +157,28 @@ def smooth_network_geofile(
     if equal_area:
         check_network_back(df.geometry, out.geometry, name=in_path)
     _write(out, out_path)
-    parts = [
-        f"{len(out)} features, {res.n_lines} lines smoothed as one network "
-        f"({res.n_arcs} arcs between {res.n_nodes} fixed nodes)"
-    ]
-    if res.n_inserted:
-        parts.append(f"{res.n_inserted} crossing/junction vertices inserted")
-    if res.reductions:
-        why = (
-            "to stay within the bounds or avoid new contacts"
-            if (max_shift is not None or min_segment is not None)
-            else "to avoid new contacts"
-        )
-        parts.append(f"{len(res.reductions)} piece(s) smoothed less {why}")
-    click.echo("; ".join(parts), err=True)
+    counts = (res.n_lines, res.n_arcs, res.n_nodes, res.n_inserted)
+    bounded = max_shift is not None or min_segment is not None
+    parts = network_parts(counts, len(res.reductions), bounded)
+    click.echo(f"{len(out)} features, " + "; ".join(parts), err=True)
     return res
+
+
+def network_parts(counts: tuple[int, int, int, int], n_reductions: int, bounded: bool) -> list:
+    """The summary of a network's smoothing (``smooth --network``, ``batch --network``).
+
+    `counts`: ``(n_lines, n_arcs, n_nodes, n_inserted)`` of a NetworkResult; `bounded`:
+    --max-shift or --min-segment was given.
+    """
+    lines, arcs, nodes, inserted = counts
+    parts = [f"{lines} lines smoothed as one network ({arcs} arcs between {nodes} fixed nodes)"]
+    if inserted:
+        parts.append(f"{inserted} crossing/junction vertices inserted")
+    if n_reductions:
+        why = "to stay within the bounds or avoid" if bounded else "to avoid"
+        why += " new contacts"
+        parts.append(f"{n_reductions} piece(s) smoothed less {why}")
+    return parts
 
 
 def _levels(text: str | None) -> list[float] | None:

@@ -387,19 +387,14 @@ def batch_smooth_command(
         f"{len(report.errors)} failed (written unchanged, see {report.errors_path})",
     ]
     if report.network is not None:  # as smooth --network says it
-        lines, arcs, nodes, inserted = report.network
-        parts.append(
-            f"{lines} lines smoothed as one network ({arcs} arcs between {nodes} fixed nodes)"
-        )
-        if inserted:
-            parts.append(f"{inserted} crossing/junction vertices inserted")
+        from .contours import network_parts
+
+        bounded = max_shift is not None or min_segment is not None
+        parts += network_parts(report.network, report.n_reductions, bounded)
     if n_null or n_empty:
         parts.append(f"{n_null} without geometry (NULL) and {n_empty} empty")
-    if report.n_reductions:
-        why = "to stay valid" if report.network is None else "to avoid new contacts"
-        if report.network is not None and (max_shift is not None or min_segment is not None):
-            why = "to stay within the bounds or avoid new contacts"
-        parts.append(f"{report.n_reductions} piece(s) smoothed less {why}")
+    if report.n_reductions and report.network is None:
+        parts.append(f"{report.n_reductions} piece(s) smoothed less to stay valid")
     if report.not_equal_area:
         parts.append(_not_equal_area(report.not_equal_area))
     if report.coverage_valid is not None:  # as smooth says it

@@ -663,6 +663,18 @@ def input_layer_name(path: str | Path, layer: str | int | None) -> str | None:
     return names[int(layer)] if 0 <= int(layer) < len(names) else None
 
 
+def geographic_message(name: str, crs_name: str) -> str:
+    """The warning for data smoothed in longitude/latitude degrees (one text everywhere).
+
+    The command line shows it in its own words (``cli.geo._in_cli_words``: the flag).
+    """
+    return (
+        f"{name!r} is in a geographic CRS ({crs_name}): smoothing keeps planar areas in "
+        f"degrees, not ground areas; smooth_file(..., equal_area=True) (--equal-area) smooths "
+        f"in an equal-area projection"
+    )
+
+
 def check_layers_kept(path: str | Path, layer: str | None) -> None:
     """Refuse to replace an existing GeoPackage of several layers by a file of one.
 
@@ -1382,13 +1394,8 @@ def smooth_file(
     if in_equal_area:
         equal_area = False
     if geographic and not equal_area:
-        warnings.warn(
-            f"{str(in_path)!r} is in a geographic CRS ({crs.name}): smoothing keeps planar "
-            f"areas in degrees, not ground areas; smooth_file(..., equal_area=True) "
-            f"(--equal-area) smooths in an equal-area projection",
-            GeographicCRSWarning,
-            stacklevel=2,
-        )
+        message = geographic_message(str(in_path), crs.name)
+        warnings.warn(message, GeographicCRSWarning, stacklevel=2)
     df, kept, points = set_points_aside(df)
     planar: list[int] = []
     n_unchanged = 0

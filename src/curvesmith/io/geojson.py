@@ -49,6 +49,22 @@ def _reject_constant(token: str):
     raise CurveFormatError(f"{token} is not valid JSON (numbers must be finite)")
 
 
+def crs_label(crs: Any) -> str | None:
+    """The name in a (2008 GeoJSON) ``crs`` member, or None.
+
+    The member is ``{"type": "name", "properties": {"name": ...}}``.
+    """
+    props = crs.get("properties") if isinstance(crs, dict) else None
+    label = props.get("name") if isinstance(props, dict) else None
+    return label if isinstance(label, str) else None
+
+
+def is_crs84(crs: Any) -> bool:
+    """Whether a ``crs`` member names OGC's CRS84: RFC 7946's longitude/latitude."""
+    label = crs_label(crs)
+    return label is not None and label.endswith("CRS84")
+
+
 class GeoJSONCurves(list):
     """The curves of a GeoJSON file read with ``others="keep"``, and what is not a curve.
 
@@ -100,18 +116,12 @@ class _GeoJSONReader:
             )
         kind = obj["type"]
         crs = obj.get("crs")
-        props = crs.get("properties") if isinstance(crs, dict) else None
-        label = props.get("name") if isinstance(props, dict) else None
         self.crs = crs
-        if (
-            crs is not None
-            and not self.keep
-            and not (isinstance(label, str) and label.endswith("CRS84"))
-        ):
+        if crs is not None and not self.keep and not is_crs84(crs):
             warnings.warn(
-                f"{self.name}: the 'crs' member ({label or crs!r}) is not kept; files written "
-                "from these curves have none, and RFC 7946 readers will take the coordinates as "
-                "WGS 84 longitude/latitude",
+                f"{self.name}: the 'crs' member ({crs_label(crs) or crs!r}) is not kept; files "
+                "written from these curves have none, and RFC 7946 readers will take the "
+                "coordinates as WGS 84 longitude/latitude",
                 UserWarning,
                 stacklevel=4,
             )
