@@ -100,28 +100,32 @@ def _smooth_partition(
     start: int,
     options: dict[str, Any],
     labels: np.ndarray | None = None,
+    handover: Any = None,
 ) -> tuple[Any, list[tuple[int, str]], int]:
     """Smooth one partition; a failing feature is kept unchanged and reported.
 
     Geometries travel both ways as packets (:mod:`curvesmith.geo._packets`: the ragged
-    coordinate arrays of a layer of polygons or lines, WKB or the objects for others).
-    Errors are reported at ``start + k``; their messages name the file's feature,
-    ``start + k`` or, when given, ``labels[k]``.
+    coordinate arrays of a layer of polygons or lines, WKB or the objects for others),
+    their coordinates through shared memory where the client's `handover` folder is on
+    this machine (:mod:`curvesmith.geo._handover`). Errors are reported at ``start + k``;
+    their messages name the file's feature, ``start + k`` or, when given, ``labels[k]``.
     """
     from . import geo
+    from .geo._handover import land, ship
     from .geo._packets import pack, unpack
     from .geo._smooth import smooth_to_packet
 
-    geoms = unpack(packet)
+    geoms = unpack(land(packet, remove=False))
+    del packet  # a shipped input's mapping
     try:
         if set(options) <= {"method", "iterations", "alpha", "make_valid"}:
             # a layer of Polygons without holes (footprints, parcels): the packet of the
             # output straight from the smoothed rings, without building the polygons
             done = smooth_to_packet(geoms, **options)
             if done is not None:
-                return done[0], [], len(done[1])
+                return ship(done[0], handover, f"out-{start}"), [], len(done[1])
         res = geo.smooth(geoms, full_output=True, **options)
-        return pack(res.geometry), [], len(res.reductions)
+        return ship(pack(res.geometry), handover, f"out-{start}"), [], len(res.reductions)
     except Exception:  # retried feature by feature below, to isolate the failing ones
         pass
     out = np.array(geoms, dtype=object, copy=True)
@@ -136,7 +140,7 @@ def _smooth_partition(
             feature = start + k if labels is None else int(labels[k])  # the file's index
             reason = str(exc).replace("geometry[0]", f"feature {feature}", 1)
             errors.append((start + k, f"{type(exc).__name__}: {reason}"))
-    return pack(out), errors, n_red
+    return ship(pack(out), handover, f"out-{start}"), errors, n_red
 
 
 def _smooth_arc_chunk(
@@ -174,6 +178,7 @@ class _Cluster:
         distributed = require("distributed", "dask", "batch smoothing")
         self.cluster: Any = None
         self.client: Any = None
+        self._environ: _Environ | None = None
         if scheduler is not None:
             try:
                 self.client = distributed.Client(scheduler, timeout="20s")
@@ -182,8 +187,12 @@ class _Cluster:
                     f"cannot connect to the Dask scheduler at {scheduler!r}: {exc}"
                 ) from exc
         else:
+            import dask
+
             n = 2 if workers is None else workers
             _quiet_resource_tracker()
+            # the Nanny sets its workers' environment in this process's (see _Environ)
+            self._environ = _Environ(dask.config.get("distributed.nanny.pre-spawn-environ"))
             self.cluster = distributed.LocalCluster(
                 n_workers=0,
                 threads_per_worker=1,
@@ -205,6 +214,8 @@ class _Cluster:
             except BaseException:
                 self.close(quiet=True)
                 raise
+            finally:
+                self._environ.restore()
 
     def close(self, *, quiet: bool = False) -> None:
         """Close the client and the cluster this started.
@@ -228,6 +239,34 @@ class _Cluster:
                 self.cluster.close()
         finally:
             logging.disable(level)
+            if self._environ is not None:  # a worker that its Nanny restarted
+                self._environ.restore()
+
+
+class _Environ:
+    """The caller's values of the variables a Nanny sets in its own process.
+
+    A Nanny sets ``distributed.nanny.pre-spawn-environ`` (``OMP_NUM_THREADS=1``, malloc
+    settings) in the ``os.environ`` of the process it runs in before it spawns its worker:
+    with a local cluster, the caller's. :func:`curvesmith.cca.default_threads` reads
+    ``OMP_NUM_THREADS``, so everything the caller smoothed after a batch run (the arcs of a
+    longitude/latitude coverage, the next call) ran in one thread. :meth:`restore` puts
+    the caller's values back.
+    """
+
+    def __init__(self, names: Any) -> None:
+        import os
+
+        self._saved = {k: os.environ.get(k) for k in names}
+
+    def restore(self) -> None:
+        import os
+
+        for k, v in self._saved.items():
+            if v is None:
+                os.environ.pop(k, None)
+            else:
+                os.environ[k] = v
 
 
 def _quiet_resource_tracker() -> None:
@@ -321,6 +360,9 @@ class _Workers:
     def __init__(self, client: Any, workers: int | None, scheduler: str | None):
         self._client, self._workers, self._scheduler = client, workers, scheduler
         self._own: _Cluster | None = None
+        self._handover: Any = None
+        self._ship_inputs = False
+        self._stack = contextlib.ExitStack()
 
     @property
     def client(self) -> Any:
@@ -329,12 +371,35 @@ class _Workers:
             self._client = self._own.client
         return self._client
 
+    def handover(self) -> tuple[Any, bool]:
+        """The run's shared-memory folder (:mod:`curvesmith.geo._handover`), made at first use.
+
+        Returns the folder (None where there is no shared memory) and whether the inputs
+        may travel through it too: only when every worker proves, at the start, that it
+        sees the folder (a local cluster). Each worker decides for its results itself.
+        """
+        from .geo import _handover
+        from .io._core import in_flight
+
+        client = self.client
+        if self._handover is None:
+            self._handover = _handover.open_handover()
+            if self._handover is not None:
+                self._stack.callback(_handover.close, self._handover)
+                self._stack.enter_context(in_flight(self._handover.folder))
+                seen = client.run(_handover.reachable, self._handover)
+                self._ship_inputs = bool(seen) and all(seen.values())
+        return self._handover, self._ship_inputs
+
     def __enter__(self) -> _Workers:
         return self
 
     def __exit__(self, *exc) -> None:
-        if self._own is not None:
-            self._own.close(quiet=exc[0] is not None)
+        try:
+            if self._own is not None:
+                self._own.close(quiet=exc[0] is not None)
+        finally:  # after the workers: none writes into the folder any more
+            self._stack.close()
 
 
 def _run(
@@ -519,24 +584,37 @@ def smooth_partitioned(
     ):
         if value is not None:
             options[key] = value
+    from .geo._handover import discard, land, ship
     from .geo._packets import pack, unpack
 
     starts = list(range(0, len(geoms), partition_size))
-    args = ((pack(geoms[s : s + partition_size]), s, options) for s in starts)  # as submitted
     out = np.array(geoms, dtype=object, copy=True)
     errors: list[FeatureError] = []
     n_red = 0
+    inputs: dict[int, Any] = {}
 
     def take(k: int, result) -> None:
         nonlocal n_red
         packet, errs, nr = result
-        out[starts[k] : starts[k] + len(packet)] = unpack(packet)
+        out[starts[k] : starts[k] + len(packet)] = unpack(land(packet, remove=True))
+        discard(inputs.pop(k))
         errors.extend(FeatureError(i, r) for i, r in errs)
         n_red += nr
 
     with _Workers(client, workers, scheduler) as pool:
         if starts:
-            _run(pool.client, _smooth_partition, args, progress, on_result=take, total=len(starts))
+            handover, ship_inputs = pool.handover()
+
+            def submitted():  # packed as submitted, while the workers start on the first
+                for k, s in enumerate(starts):
+                    packet = pack(geoms[s : s + partition_size])
+                    inputs[k] = ship(packet, handover if ship_inputs else None, f"in-{s}")
+                    yield inputs[k], s, options, None, handover
+
+            _run(
+                pool.client, _smooth_partition, submitted(), progress, on_result=take,
+                total=len(starts),
+            )  # fmt: skip
     errors.sort(key=lambda e: e.index)
     return wrap(out), tuple(errors), len(starts), n_red
 
@@ -784,6 +862,7 @@ def _equal_area_on_dask(
     :func:`curvesmith.geo.smooth_file` with ``equal_area=True``, feature for feature);
     the projected features of every region go to the workers in partitions.
     """
+    from .geo._handover import discard, land, ship
     from .geo._io import _smooth_equal_area
     from .geo._packets import pack, unpack
     from .geo._smooth import check_method
@@ -795,20 +874,23 @@ def _equal_area_on_dask(
 
     def smoother(jobs):
         nonlocal n_tasks
+        # the client and the handover folder only when there is something to send
+        handover, ship_inputs = pool.handover() if any(len(j[0]) for j in jobs) else (None, False)
         args, where = [], []
         for k, (geoms, labels, extra) in enumerate(jobs):
             size = features_per_task(partition_size, len(geoms))
             for s in range(0, len(geoms), size):
                 opts = {**options, "make_valid": make_valid, **extra}
-                part = pack(geoms[s : s + size])
-                args.append((part, s, opts, labels[s : s + size]))
+                part = ship(pack(geoms[s : s + size]), handover if ship_inputs else None, "in")
+                args.append((part, s, opts, labels[s : s + size], handover))
                 where.append((k, s))
         n_tasks += len(args)
         outs = [[np.array(g, dtype=object, copy=True), 0, []] for g, _, _ in jobs]
 
         def take(t: int, result) -> None:
             (k, s), (packet, errs, nr) = where[t], result
-            outs[k][0][s : s + len(packet)] = unpack(packet)
+            outs[k][0][s : s + len(packet)] = unpack(land(packet, remove=True))
+            discard(args[t][0])
             outs[k][1] += nr
             outs[k][2] += errs
 
