@@ -600,6 +600,43 @@ def test_cli_keyline_bundled_scan_and_multi_curve_csv(tmp_path):
     assert rows[1]["z"] == pytest.approx(0.016, rel=0.1)
 
 
+def test_cli_keyline_summary_leaves_circles_out_of_the_means(tmp_path):
+    """A circular arc fits as the degenerate circle (k = 1e8 stands for infinity): it is
+    counted, and the means and deviations of the side are over the elasticae alone."""
+    import json
+
+    from click.testing import CliRunner
+
+    from curvesmith import data
+    from curvesmith.cli.keyline import keyline_command
+
+    rng = np.random.default_rng(4)
+    t = np.linspace(0.3, 2.2, 300)  # an 80 mm arc, scanned with 0.02 mm noise
+    arc = np.c_[80 * np.cos(t), 80 * np.sin(t), np.zeros_like(t)] + rng.normal(0, 0.02, (300, 3))
+    with (tmp_path / "arc.csv").open("w") as fh:
+        fh.write("x,y,z\n")
+        fh.writelines(f"{x!r},{y!r},{z!r}\n" for x, y, z in arc.tolist())
+    out = tmp_path / "o"
+    args = [str(data.path("keyline_scan_b.csv")), str(tmp_path / "arc.csv"), "-o", str(out)]
+    result = CliRunner().invoke(keyline_command, args)
+    assert result.exit_code == 0, result.output
+    table = json.loads((out / "keyline_table.json").read_text())
+    rows = table["rows"]
+    assert [(r["curve"], r["side"], r["case"]) for r in rows] == [
+        ("keyline_scan_b", "left", "ii"),
+        ("keyline_scan_b", "right", "ii"),
+        ("arc", "whole", "circle"),
+    ]
+    assert rows[2]["k"] == 1e8 and rows[2]["success"]
+    assert table["summary"]["whole"] == {"count": 0, "degenerate": {"circle": 1}}
+    for side, row in zip(("left", "right"), rows, strict=False):
+        assert table["summary"][side]["count"] == 1 and "degenerate" not in table["summary"][side]
+        assert table["summary"][side]["mean"]["k"] == row["k"]
+    with (out / "keyline_table.csv").open() as fh:
+        header = fh.readline().strip().split(",")
+    assert header[header.index("success") + 1] == "case"
+
+
 @pytest.mark.parametrize(
     ("args", "code", "text"),
     [

@@ -682,6 +682,7 @@ TABLE_COLUMNS = (
     "k",
     "rms",
     "success",
+    "case",
 )
 
 #: Default number of steps across the keyline's extent when no step is given.
@@ -810,7 +811,10 @@ class KeylineFit(RichRepr):
             Two rows (``side`` = ``"left"``, ``"right"``) with the keys of
             :data:`TABLE_COLUMNS`; the parameters in the canonical form of
             :func:`canonical_params`, ``phi`` in radians and ``phi_deg`` in
-            degrees (the paper's "grad" column), ``rms`` the fit residual.
+            degrees (the paper's "grad" column), ``rms`` the fit residual and
+            ``case`` that of :attr:`curvesmith.elastica.FitResult.case`: for the
+            degenerate ``"circle"`` and ``"line"``, ``k`` is a stand-in (``1e8`` for
+            infinity; any value draws the line) and ``z`` follows from it.
         """
         rows = []
         for side, res in self.sides:
@@ -827,6 +831,7 @@ class KeylineFit(RichRepr):
                     "k": k,
                     "rms": float(res.rms),
                     "success": bool(res.success),
+                    "case": res.case,
                 }
             )
         return rows

@@ -83,17 +83,30 @@ def _write_fit(res, dest: Path) -> Path:
     return transform
 
 
+#: Fits whose ``k`` and ``z`` are stand-ins (``curvesmith.elastica.FitResult.case``).
+DEGENERATE = ("circle", "line")
+
+
 def _summary(rows: list[dict]) -> dict:
-    """Mean and standard deviation per side over the converged fits, like Table 1."""
+    """Mean and standard deviation per side over the converged fits, like Table 1.
+
+    A converged circle or straight line has no modulus of its own (``k`` is a stand-in:
+    1e8 for infinity, or any value for a line), so it is counted under ``degenerate``
+    and left out of the means, which it would swamp.
+    """
     out = {}
     extra = sorted(
         {r["side"] for r in rows if str(r["side"]).startswith("middle")}, key=lambda s: int(s[6:])
     )
     for side in ("left", *extra, "right", "whole"):
-        good = [r for r in rows if r["side"] == side and r["success"] is True]
+        converged = [r for r in rows if r["side"] == side and r["success"] is True]
         if side == "whole" and not any(r["side"] == "whole" for r in rows):
             continue
+        good = [r for r in converged if r["case"] not in DEGENERATE]
         entry: dict = {"count": len(good)}
+        degenerate = {c: sum(r["case"] == c for r in converged) for c in DEGENERATE}
+        if any(degenerate.values()):
+            entry["degenerate"] = {c: n for c, n in degenerate.items() if n}
         if good:
             vals = np.array([[r[c] for c in SUMMARY_PARAMS] for r in good], dtype=float)
             entry["mean"] = dict(zip(SUMMARY_PARAMS, vals.mean(axis=0).tolist(), strict=True))
