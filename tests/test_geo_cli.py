@@ -1,6 +1,7 @@
 """smooth_geofile: the GIS-file path of ``curvesmith smooth``."""
 
 import numpy as np
+import pandas as pd
 import pytest
 import shapely
 
@@ -165,3 +166,40 @@ def test_layer_by_index_or_name_writes_the_same_output_layer(tmp_path, command):
             shapely.area(back.geometry.values), shapely.area(df.geometry.values[2:]), rtol=1e-9
         )
     assert names == [["two"], ["two"]]
+
+
+@pytest.mark.parametrize("command", [["smooth"], ["batch", "smooth", "--workers", "1"]])
+def test_layer_replaced_in_place_keeps_its_place_in_the_list(tmp_path, command):
+    # GDAL replaces a layer by deleting and creating it, which listed it last: the next
+    # `--layer 1` then named another layer (and smoothed the smoothed one again)
+    import pyogrio
+    from click.testing import CliRunner
+
+    from curvesmith.cli import main
+
+    df = geo.us_counties(states=["44"]).to_crs("EPSG:32619")  # Rhode Island, 5 counties
+    gpkg = tmp_path / "project.gpkg"
+    for k, name in enumerate(["roads", "Parcels", "lakes"]):
+        geo.write_file(df.iloc[k : k + 2], gpkg, layer=name)
+    pyogrio.write_dataframe(pd.DataFrame({"owner": ["a", "b"]}), gpkg, layer="owners")
+    before = [str(n) for n in pyogrio.list_layers(gpkg)[:, 0]]
+    assert before == ["roads", "Parcels", "lakes", "owners"]
+    for _ in range(2):  # the same index twice: the same layer, smoothed twice
+        res = CliRunner().invoke(
+            main, [*command, str(gpkg), "-o", str(gpkg), "--layer", "1", "--iterations", "1"]
+        )
+        assert res.exit_code == 0, res.output
+        assert [str(n) for n in pyogrio.list_layers(gpkg)[:, 0]] == before
+    twice = geo.smooth(geo.smooth(df.iloc[1:3], iterations=1), iterations=1)
+    back = geo.read_file(gpkg, layer="Parcels")  # (a GeoPackage layer of one type: Multi)
+    assert np.array_equal(
+        shapely.get_coordinates(back.geometry.values),
+        shapely.get_coordinates(twice.geometry.values),
+    )
+    for k, name in [(0, "roads"), (2, "lakes")]:  # the others as they were
+        other = geo.read_file(gpkg, layer=name)
+        assert np.array_equal(
+            shapely.get_coordinates(other.geometry.values),
+            shapely.get_coordinates(df.geometry.values[k : k + 2]),
+        )
+    assert list(pyogrio.read_dataframe(gpkg, layer="owners")["owner"]) == ["a", "b"]

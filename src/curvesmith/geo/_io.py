@@ -776,9 +776,11 @@ def write_file(df: Any, path: str | Path, *, layer: str | None = None) -> None:
     slices = _slices(geoms) if driver == "GPKG" and not kwargs else [slice(0, len(df))]
     if len(slices) > 1:
         kwargs["geometry_type"], kwargs["promote_to_multi"] = _layer_type(geoms)
+    order: list[str] = []  # the layers of a GeoPackage that a named layer goes into
     with atomic_path(path, stale=_SHAPEFILE_PARTS if driver == "ESRI Shapefile" else ()) as tmp:
         if driver == "GPKG" and layer is not None and path.is_file():
             shutil.copy2(path, tmp)  # a named layer replaces that layer only: keep the others
+            order = _gpkg_order(tmp)
         try:
             # a GeoPackage keeps the geometry column's name it was read with (GDAL: "geom")
             name = df.attrs.get(GEOMETRY_NAME) if driver == "GPKG" else None
@@ -790,11 +792,53 @@ def write_file(df: Any, path: str | Path, *, layer: str | None = None) -> None:
                         piece, tmp, layer=layer, driver=driver, append=k > 0, **kwargs, **named
                     )
                     del piece
+            if order:
+                _restore_gpkg_order(tmp, order)
         except Exception as exc:
             raise CurveFormatError(f"cannot write {str(path)!r}: {exc}") from exc
         _verify_written(tmp, path, len(df), n_null, layer if driver == "GPKG" else None, slices)
         if driver == "GPKG":
             fsync_path(tmp)  # on disk before it replaces anything (SQLite did not sync it)
+
+
+#: The GeoPackage tables that list its layers, in the order GDAL lists them (rowid order).
+_GPKG_LISTS = ("gpkg_contents", "gpkg_geometry_columns", "gpkg_ogr_contents")
+
+
+def _gpkg_order(path: Path) -> list[str]:
+    """The table names of a GeoPackage's ``gpkg_contents``, in rowid order (GDAL's order)."""
+    import sqlite3
+
+    with contextlib.closing(sqlite3.connect(path)) as db:
+        return [r[0] for r in db.execute("SELECT table_name FROM gpkg_contents ORDER BY rowid")]
+
+
+def _restore_gpkg_order(path: Path, order: list[str]) -> None:
+    """Put the layers of a GeoPackage back in `order` (new ones after them).
+
+    GDAL replaces a layer by deleting it and creating it anew, which lists it last: the
+    layer that ``--layer 1`` named would be another one on the next run. GDAL lists the
+    layers in the rowid order of the tables in :data:`_GPKG_LISTS` (no other table refers
+    to their rowids), so those are renumbered in the layers' old order.
+    """
+    import sqlite3
+
+    rank = {name.lower(): k for k, name in enumerate(order)}
+    with contextlib.closing(sqlite3.connect(path)) as db, db:
+        for table in _GPKG_LISTS:
+            if not db.execute(
+                "SELECT 1 FROM sqlite_master WHERE type = 'table' AND name = ?", (table,)
+            ).fetchone():
+                continue
+            rows = db.execute(f"SELECT rowid, table_name FROM {table} ORDER BY rowid").fetchall()
+            ranked = sorted(rows, key=lambda r: (rank.get(r[1].lower(), len(rank)), r[0]))
+            if ranked == rows:
+                continue
+            top = max(r[0] for r in rows) + 1  # out of the way first, then 1, 2, ...
+            for k, (rowid, _) in enumerate(ranked):
+                db.execute(f"UPDATE {table} SET rowid = ? WHERE rowid = ?", (top + k, rowid))
+            for k in range(len(ranked)):
+                db.execute(f"UPDATE {table} SET rowid = ? WHERE rowid = ?", (k + 1, top + k))
 
 
 #: SQLite settings for writing a GeoPackage under its temporary name: no rollback
