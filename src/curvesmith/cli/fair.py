@@ -189,7 +189,8 @@ def _plot(path: str, fits: list[tuple[int, Any, np.ndarray]]) -> None:
 @click.option(
     "--resample/--no-resample",
     default=None,
-    help="Resample to equal chords before fitting (default: only when spacing is uneven).",
+    help="Resample to equal chords before fitting (default: when the vertices drift from "
+    "equal chords by more than the data's noise explains).",
 )
 @click.option(
     "--step",
@@ -242,18 +243,19 @@ def fair_command(
     search, and writes the fitted vertices to OUT in the same format. IN may be
     a 2D or 3D curve file or a scan table (.xyz/.txt/.dat, x y z per line); a
     3D curve is fitted in its least-squares (PCA) plane and written back in the
-    input's coordinates (the report gives the plane). Curves with grossly
-    uneven spacing are first resampled to equal chords (or always with
-    --resample, never with --no-resample). Exits with status 1, writing no OUT,
-    if a fit does not converge or misses --tolerance; the report and plot are
-    still written.
+    input's coordinates (the report gives the plane). Curves whose vertices
+    drift from equal chords by more than their noise explains are first
+    resampled to equal chords (or always with --resample, never with
+    --no-resample): the fit pairs data and model vertices by index. Exits with
+    status 1, writing no OUT, if a fit does not converge or misses --tolerance;
+    the report and plot are still written.
 
     With --tolerance T --max-segments M, each curve is faired by the fewest
     discrete elastica segments (at most M) whose union is within T of every input
     point, consecutive segments sharing the joint vertex and its tangent (G1); the
     report lists the segments and the G1 defect and curvature jump at each joint.
     """
-    from ..elastica import SPACING_TOL, fit, fit_segments, spacing_spread
+    from ..elastica import fit, fit_segments, needs_resampling
     from ..io import check_destination
 
     if step is not None and resample is False:
@@ -287,11 +289,8 @@ def fair_command(
                 if warning:
                     click.echo(f"Warning: {warning}", err=True)
             do_resample = bool(resample) or step is not None
-            if resample is None and step is None:
-                distinct = pts[np.r_[True, np.any(pts[1:] != pts[:-1], axis=1)]]
-                do_resample = distinct.shape[0] != pts.shape[0] or (
-                    distinct.shape[0] >= 2 and spacing_spread(distinct) > SPACING_TOL
-                )
+            if resample is None and step is None:  # vertices off equal chords (or repeated)
+                do_resample = needs_resampling(pts)
             option = (step if step is not None else True) if do_resample else False
             res: Any  # a SegmentFit or a FitResult
             if max_segments is not None:

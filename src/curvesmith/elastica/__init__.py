@@ -11,7 +11,7 @@ by integrable discrete analogue of Euler's elasticae", sections 3-4:
   modulus ``1/k``), its curvature (3.20) and constants ``alpha``, ``C`` (3.9, 3.18);
 * :func:`initial_guess` - the pseudo code of section 4.3;
 * :func:`fit` - the closest discrete elastica to data (section 4.2), with
-  :func:`spacing_spread` telling whether data need resampling first;
+  :func:`needs_resampling` telling whether data need resampling first;
 * :func:`fit_segments` - the fewest discrete elasticae, joined G1, within a tolerance.
 
 Examples
@@ -37,7 +37,7 @@ from .exact import (
     segment_length,
     tangent_angles,
 )
-from .fit import PARAM_NAMES, SPACING_TOL, FitResult, fit, spacing_spread
+from .fit import PARAM_NAMES, SPACING_TOL, FitResult, fit, needs_resampling, spacing_spread
 from .guess import initial_guess
 from .segments import Joint, Segment, SegmentFit, fit_segments
 
@@ -57,6 +57,7 @@ __all__ = [
     "fit_segments",
     "initial_guess",
     "invariants",
+    "needs_resampling",
     "sample",
     "segment_length",
     "spacing_spread",
