@@ -496,9 +496,9 @@ def bench_dask(polys: np.ndarray, repeats: int = 3) -> None:
     )
     print(
         f"{'workers':>7} {'polygons/s':>11} {'x 1 worker':>10} {'cores used':>10} "
-        f"{'client':>7} {'affinity':>9} {'x ceiling':>10}"
+        f"{'client':>7} {'affinity':>9} {'x ceiling':>10} {'per core':>9} {'x 1 worker':>10}"
     )
-    base = None
+    base = base_core = None
     for w in (1, 2):
         with (
             distributed.LocalCluster(
@@ -528,15 +528,18 @@ def bench_dask(polys: np.ndarray, repeats: int = 3) -> None:
                     used = sum(cpu1[k] - cpu0[k] for k in cpu1) / wall
             rate = len(polys) / wall
             base = base or rate
+            per_core = rate / used  # polygons per CPU second the workers got
+            base_core = base_core or per_core
             cores = ",".join(str(v) for v in sorted({c for a in aff.values() for c in a}))
             print(
                 f"{w:>7} {rate:>11.0f} {rate / base:>10.2f} {used:>10.2f} {mine / wall:>7.2f} "
-                f"{cores:>9} {rate / top[w]:>10.2f}"
+                f"{cores:>9} {rate / top[w]:>10.2f} {per_core:>9.0f} {per_core / base_core:>10.2f}"
             )
     print(
         "(cores used: the workers' CPU seconds per wall second; client: the caller's, which "
         "packs the partitions and builds the output geometries as the results arrive; "
-        "x ceiling: the throughput against k processes smoothing alone)"
+        "x ceiling: the throughput against k processes smoothing alone; per core: polygons "
+        "per CPU second of the workers, which is linear in workers when it stays the same)"
     )
 
 
