@@ -243,23 +243,6 @@ def test_a_geopackage_of_several_layers_is_not_replaced_by_one(tmp_path):
 # a real full disk (tmpfs)
 
 
-@pytest.fixture
-def tiny_disk(tmp_path):
-    mnt = tmp_path / "disk"
-    mnt.mkdir()
-    if shutil.which("mount") is None or os.geteuid() != 0:
-        pytest.skip("needs root and mount(8) to mount a 512 KiB tmpfs")
-    res = subprocess.run(
-        ["mount", "-t", "tmpfs", "-o", "size=512k", "tmpfs", str(mnt)], capture_output=True
-    )
-    if res.returncode != 0:
-        pytest.skip(f"cannot mount a tmpfs here: {res.stderr.decode().strip()}")
-    try:
-        yield mnt
-    finally:
-        subprocess.run(["umount", str(mnt)], check=False)
-
-
 @pytest.mark.parametrize("suffix", [".csv", ".geojson", ".svg", ".fgb", ".gpkg", ".shp"])
 def test_real_full_disk_keeps_the_previous_output(tiny_disk, suffix):
     out = tiny_disk / f"out{suffix}"

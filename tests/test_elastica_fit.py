@@ -532,3 +532,36 @@ def test_a_glitch_does_not_pass_for_noise():
     noisy = base + rng.normal(scale=0.01, size=base.shape)
     assert glitch_free_noise(noisy) == _noise_level(noisy)
     assert abs(_noise_level(noisy) / (0.01 * np.sqrt(2)) - 1) < 0.15
+
+
+@pytest.mark.parametrize("seed", range(3))
+@pytest.mark.parametrize(("n", "noise"), [(400, 0.05), (400, 0.15), (2000, 0.15), (10000, 0.1)])
+def test_needs_resampling_leaves_noisy_equal_steps_alone(n, noise, seed):
+    # noise across the curve lengthens every chord (d^2 / 2h): on 2000 steps with
+    # sigma = 0.1 h that random walk alone drifted the vertices past 5 noise levels in
+    # half the runs. (Up to sigma = 0.17 h: beyond, the spacing spread passes fit's 0.25.)
+    from curvesmith.elastica import needs_resampling
+
+    rng = np.random.default_rng(seed)
+    u = np.linspace(0.0, 3.0, n)
+    for clean in (np.c_[u * n / 3, 0 * u], np.c_[np.cos(u), np.sin(u)] * n / 3):
+        assert not needs_resampling(clean + rng.normal(0.0, noise, clean.shape))
+
+
+def test_needs_resampling_finds_drift_spread_and_repeats():
+    from curvesmith.elastica import needs_resampling, spacing_spread
+
+    u = np.linspace(0.0, 1.0, 400)
+    arc = (u + 0.02 / (6 * np.pi) * np.sin(6 * np.pi * u)) * 400  # speed +-2 %: 0.4 steps
+    rng = np.random.default_rng(5)
+    curve = np.c_[np.cos(arc / 400 * 3), np.sin(arc / 400 * 3)] * 400 / 3
+    assert spacing_spread(curve) < 0.02
+    assert needs_resampling(curve) and needs_resampling(curve + rng.normal(0, 0.02, curve.shape))
+    # a clean coarse circle, edges alternating 1 and 3 (spread 0.49): fit refuses it as
+    # given, and the bends between neighbours read as noise, so the drift alone would not
+    ang = np.cumsum(np.tile([1.0, 3.0], 20)) / 10.0
+    coarse = np.c_[np.cos(ang), np.sin(ang)] * 10.0
+    assert spacing_spread(coarse) > 0.25 and needs_resampling(coarse)
+    with pytest.raises(CurveError, match="unevenly spaced"):
+        fit(coarse)
+    assert needs_resampling(np.r_[curve[:10], curve[9:]])  # a repeated point

@@ -203,3 +203,20 @@ def test_layer_replaced_in_place_keeps_its_place_in_the_list(tmp_path, command):
             shapely.get_coordinates(df.geometry.values[k : k + 2]),
         )
     assert list(pyogrio.read_dataframe(gpkg, layer="owners")["owner"]) == ["a", "b"]
+
+
+def test_a_named_layer_into_a_damaged_or_empty_geopackage(tmp_path):
+    # the layer order is read from the existing file: a damaged one is geo's error (the
+    # CLI's one line), not sqlite's traceback; an empty file is a new GeoPackage
+    from curvesmith.errors import CurveFormatError
+
+    df = geo.us_counties(states=["44"]).to_crs("EPSG:32619")
+    bad = tmp_path / "bad.gpkg"
+    bad.write_bytes(b"not a database " * 100)
+    with pytest.raises(CurveFormatError, match=r"cannot write .*bad\.gpkg.*not a database"):
+        geo.write_file(df, bad, layer="x")
+    assert bad.read_bytes() == b"not a database " * 100
+    empty = tmp_path / "empty.gpkg"
+    empty.touch()
+    geo.write_file(df, empty, layer="x")
+    assert len(geo.read_file(empty, layer="x")) == len(df)

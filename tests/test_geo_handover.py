@@ -98,26 +98,104 @@ def test_what_stays_inline(handover, monkeypatch):
 
 
 def test_a_full_shared_memory_falls_back_inline_and_leaves_no_file(handover, monkeypatch):
-    real_open = open
+    def full(fd, offset, length):
+        raise OSError(errno.ENOSPC, "No space left on device")
 
-    class Full:
-        def __init__(self, path, mode):
-            self.f = real_open(path, mode)
-
-        def __enter__(self):
-            return self
-
-        def __exit__(self, *exc):
-            self.f.close()
-
-        def write(self, data):
-            self.f.write(bytes(data)[:4096])
-            raise OSError(errno.ENOSPC, "No space left on device")
-
-    monkeypatch.setattr(geo_handover, "open", Full, raising=False)
+    monkeypatch.setattr(geo_handover.os, "posix_fallocate", full)
     big = geo_packets.pack(_footprints(600))
     assert geo_handover.ship(big, handover, "out-0") is big
     assert os.listdir(handover.folder) == ["token"]
+
+
+def test_a_really_full_shared_memory(tiny_disk, monkeypatch):
+    # a 512 KiB tmpfs for /dev/shm, no margin: a packet that fits is shipped, one that
+    # does not fails at once (posix_fallocate) and travels inline, leaving no file
+    monkeypatch.setattr(geo_handover, "SHARED_MEMORY", str(tiny_disk))
+    monkeypatch.setattr(geo_handover, "FREE_BYTES", -(1 << 30))  # a margin that lets all try
+    monkeypatch.setattr(geo_handover, "FREE_FRACTION", 0.0)
+    h = geo_handover.open_handover()
+    assert h is not None and Path(h.folder).parent == tiny_disk
+    try:
+        fits = geo_packets.pack(_footprints(600))
+        big = geo_packets.pack(_footprints(6000))
+        assert fits.coords.nbytes < (256 << 10) < (512 << 10) < big.coords.nbytes
+        assert isinstance(geo_handover.ship(fits, h, "out-0"), geo_handover.Shipped)
+        assert geo_handover.ship(big, h, "out-1") is big
+        assert sorted(p.name.split("-")[0] for p in Path(h.folder).iterdir()) == ["out", "token"]
+    finally:
+        geo_handover.close(h)
+
+
+def test_a_nearly_full_shared_memory_keeps_its_margin(handover, monkeypatch):
+    big = geo_packets.pack(_footprints(600))
+    real = os.statvfs(handover.folder)
+
+    class Nearly:  # 1,000 pages of 4 KiB in all, the packet's size plus 16 MiB free
+        f_frsize, f_blocks = 4096, 1000
+        f_bavail = (big.coords.nbytes + (16 << 20)) // 4096
+
+    monkeypatch.setattr(geo_handover.os, "statvfs", lambda path: Nearly)
+    assert geo_handover.ship(big, handover, "out-0") is big  # 64 MiB stay free
+    monkeypatch.setattr(geo_handover.os, "statvfs", lambda path: real)
+    assert isinstance(geo_handover.ship(big, handover, "out-0"), geo_handover.Shipped)
+
+
+def test_a_taken_name_is_not_overwritten_nor_removed(handover, monkeypatch):
+    big = geo_packets.pack(_footprints(600))
+    monkeypatch.setattr(geo_handover.secrets, "token_hex", lambda n: "same")
+    first = geo_handover.ship(big, handover, "in")
+    assert isinstance(first, geo_handover.Shipped)
+    assert geo_handover.ship(big, handover, "in") is big  # the same name: inline
+    back = geo_handover.land(first, remove=True)  # the first file is still there, whole
+    assert back.coords.tobytes() == big.coords.tobytes()
+
+
+def test_a_closed_handover_takes_no_more_files(monkeypatch):
+    h = geo_handover.open_handover()
+    big = geo_packets.pack(_footprints(600))
+    assert geo_handover.reachable(h)  # seen before the run ended
+    geo_handover.close(h)
+    assert not Path(h.folder).exists()
+    assert geo_handover.ship(big, h, "out-0") is big
+    # a worker that wrote its file while the folder was being removed takes it back
+    os.makedirs(h.folder)
+    try:
+        assert geo_handover.ship(big, h, "out-0") is big
+        assert os.listdir(h.folder) == []
+    finally:
+        os.rmdir(h.folder)
+
+
+def test_folders_of_killed_runs_are_swept(monkeypatch):
+    import subprocess
+    import time
+
+    dead = subprocess.Popen(["true"])
+    dead.wait()
+    old = time.time() - 2 * geo_handover.STALE_AFTER
+    made = []
+    for name, pid, started, age in [
+        ("dead", dead.pid, "1", old),  # its maker is gone: swept
+        ("alive", os.getpid(), geo_handover.process_started(os.getpid()), old),
+        ("recent", dead.pid, "1", time.time()),  # changed lately: another namespace's, kept
+        ("tokenless", None, None, old),  # a folder never opened or half closed: swept
+    ]:
+        folder = Path(geo_handover.SHARED_MEMORY) / f"curvesmith-test-{name}-{os.getpid()}"
+        folder.mkdir()
+        if pid is not None:
+            (folder / "token").write_text(f"{'0' * 32}\n{pid} {started}\n")
+        os.utime(folder, (age, age))
+        made.append(folder)
+    try:
+        h = geo_handover.open_handover()
+        geo_handover.close(h)
+        assert [f.exists() for f in made] == [False, True, True, False]
+    finally:
+        for f in made:
+            if f.exists():
+                for child in f.iterdir():
+                    child.unlink()
+                f.rmdir()
 
 
 def test_a_damaged_file_is_an_error_naming_it(handover):
@@ -172,6 +250,8 @@ def _folders():
 
 
 def test_partitioned_run_hands_over_and_cleans_up(client, monkeypatch):
+    # a caller's own local cluster: the results come back through shared memory (each
+    # worker reads the token), and so do the inputs (the scheduler is on 127.0.0.1)
     polys = _footprints(3000)
     seen = []
     land = geo_handover.land
@@ -210,11 +290,29 @@ def test_a_failed_run_removes_its_folder(client):
 
 
 def test_batch_leaves_the_callers_environment_as_it_was(monkeypatch):
-    """A local cluster's Nanny sets OMP_NUM_THREADS=1 in the process that starts it."""
-    monkeypatch.delenv("OMP_NUM_THREADS", raising=False)
-    monkeypatch.setenv("MALLOC_TRIM_THRESHOLD_", "131072")
+    """A local cluster's Nanny sets OMP_NUM_THREADS=1, MALLOC_TRIM_THRESHOLD_ and
+    PYTHONHASHSEED in the process that starts it."""
+    for name in ("OMP_NUM_THREADS", "MALLOC_TRIM_THRESHOLD_"):
+        monkeypatch.delenv(name, raising=False)
+    monkeypatch.setenv("PYTHONHASHSEED", "random")
     polys = _footprints(200)
     out, errors, _, _ = batch.smooth_partitioned(polys, workers=1, iterations=1)
     assert errors == () and _wkb(out) == _wkb(geo.smooth(polys, iterations=1))
-    assert "OMP_NUM_THREADS" not in os.environ
-    assert os.environ["MALLOC_TRIM_THRESHOLD_"] == "131072"
+    assert "OMP_NUM_THREADS" not in os.environ and "MALLOC_TRIM_THRESHOLD_" not in os.environ
+    assert os.environ["PYTHONHASHSEED"] == "random"
+
+
+def test_inputs_go_through_shared_memory_only_from_a_loopback_scheduler(client):
+    from curvesmith.internals import batch_local_scheduler
+
+    assert batch_local_scheduler(client)  # tcp://127.0.0.1:...
+
+    class Remote:
+        class scheduler:
+            address = "tcp://10.0.0.5:8786"  # only a string: nothing is sent there
+
+    assert not batch_local_scheduler(Remote)
+    Remote.scheduler.address = "tls://scheduler.example.org:8786"
+    assert not batch_local_scheduler(Remote)
+    Remote.scheduler.address = "inproc://192.168.1.5/123/1"
+    assert batch_local_scheduler(Remote)

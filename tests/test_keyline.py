@@ -616,17 +616,22 @@ def test_cli_keyline_summary_leaves_circles_out_of_the_means(tmp_path):
     with (tmp_path / "arc.csv").open("w") as fh:
         fh.write("x,y,z\n")
         fh.writelines(f"{x!r},{y!r},{z!r}\n" for x, y, z in arc.tolist())
+    (tmp_path / "short.csv").write_text("x,y,z\n0,0,0\n1,0,0\n2,1,0\n")  # an error row
     out = tmp_path / "o"
-    args = [str(data.path("keyline_scan_b.csv")), str(tmp_path / "arc.csv"), "-o", str(out)]
+    names = [str(data.path("keyline_scan_b.csv")), str(tmp_path / "arc.csv")]
+    args = [*names, str(tmp_path / "short.csv"), "-o", str(out)]
     result = CliRunner().invoke(keyline_command, args)
-    assert result.exit_code == 0, result.output
+    assert result.exit_code == 1, result.output  # the short scan failed, the others not
     table = json.loads((out / "keyline_table.json").read_text())
     rows = table["rows"]
     assert [(r["curve"], r["side"], r["case"]) for r in rows] == [
         ("keyline_scan_b", "left", "ii"),
         ("keyline_scan_b", "right", "ii"),
         ("arc", "whole", "circle"),
+        ("short", "", ""),
     ]
+    assert rows[3]["success"] is False and rows[3]["error"]
+    rows = rows[:3]
     assert rows[2]["k"] == 1e8 and rows[2]["success"]
     assert table["summary"]["whole"] == {"count": 0, "degenerate": {"circle": 1}}
     for side, row in zip(("left", "right"), rows, strict=False):

@@ -192,7 +192,8 @@ class _Cluster:
             n = 2 if workers is None else workers
             _quiet_resource_tracker()
             # the Nanny sets its workers' environment in this process's (see _Environ)
-            self._environ = _Environ(dask.config.get("distributed.nanny.pre-spawn-environ"))
+            names = [*dask.config.get("distributed.nanny.pre-spawn-environ"), "PYTHONHASHSEED"]
+            self._environ = _Environ(names)
             self.cluster = distributed.LocalCluster(
                 n_workers=0,
                 threads_per_worker=1,
@@ -247,11 +248,12 @@ class _Environ:
     """The caller's values of the variables a Nanny sets in its own process.
 
     A Nanny sets ``distributed.nanny.pre-spawn-environ`` (``OMP_NUM_THREADS=1``, malloc
-    settings) in the ``os.environ`` of the process it runs in before it spawns its worker:
-    with a local cluster, the caller's. :func:`curvesmith.cca.default_threads` reads
-    ``OMP_NUM_THREADS``, so everything the caller smoothed after a batch run (the arcs of a
-    longitude/latitude coverage, the next call) ran in one thread. :meth:`restore` puts
-    the caller's values back.
+    settings) and ``PYTHONHASHSEED`` in the ``os.environ`` of the process it runs in before
+    it spawns its worker: with a local cluster, the caller's. ``default_threads`` of
+    :mod:`curvesmith.cca` reads ``OMP_NUM_THREADS``, so everything the caller smoothed after
+    a batch run (the arcs of a longitude/latitude coverage, the next call) ran in one
+    thread, and the caller's later child processes had a fixed hash seed. :meth:`restore`
+    puts the caller's values back.
     """
 
     def __init__(self, names: Any) -> None:
@@ -349,6 +351,26 @@ def dask_setup(worker: Any) -> None:
         signal.signal(signal.SIGINT, signal.SIG_IGN)
 
 
+def _local_scheduler(client: Any) -> bool:
+    """Whether `client`'s scheduler listens on a loopback address (or in this process)."""
+    import ipaddress
+    from urllib.parse import urlsplit
+
+    try:
+        address = str(client.scheduler.address)
+    except AttributeError:
+        return False
+    if address.startswith("inproc://"):
+        return True
+    host = urlsplit(address).hostname or ""
+    if host == "localhost":
+        return True
+    try:
+        return ipaddress.ip_address(host).is_loopback
+    except ValueError:
+        return False
+
+
 class _Workers:
     """The Dask client of one batch run: the caller's, or a cluster started when first needed.
 
@@ -375,8 +397,10 @@ class _Workers:
         """The run's shared-memory folder (:mod:`curvesmith.geo._handover`), made at first use.
 
         Returns the folder (None where there is no shared memory) and whether the inputs
-        may travel through it too: only when every worker proves, at the start, that it
-        sees the folder (a local cluster). Each worker decides for its results itself.
+        may travel through it too: only when every worker, also one that joins later, is
+        on this machine, which a scheduler on a loopback address proves (a local
+        cluster: remote workers cannot reach it). Each worker decides for its results
+        itself (the folder's token).
         """
         from .geo import _handover
         from .io._core import in_flight
@@ -387,8 +411,7 @@ class _Workers:
             if self._handover is not None:
                 self._stack.callback(_handover.close, self._handover)
                 self._stack.enter_context(in_flight(self._handover.folder))
-                seen = client.run(_handover.reachable, self._handover)
-                self._ship_inputs = bool(seen) and all(seen.values())
+                self._ship_inputs = _local_scheduler(client)
         return self._handover, self._ship_inputs
 
     def __enter__(self) -> _Workers:

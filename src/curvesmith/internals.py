@@ -156,6 +156,7 @@ _ON_DEMAND: dict[str, tuple[str, str | None]] = {
     "BatchProgressBar": (".batch", "_ProgressBar"),
     "batch_smooth_partition": (".batch", "_smooth_partition"),
     "BatchWorkers": (".batch", "_Workers"),
+    "batch_local_scheduler": (".batch", "_local_scheduler"),
     "lon_arc": (".geo._io", "_lon_arc"),
     "slices": (".geo._io", "_slices"),
     "coverage_ragged": (".geo._coverage", "_ragged"),

@@ -30,6 +30,8 @@ import os
 import secrets
 import shutil
 import tempfile
+import threading
+import time
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -44,6 +46,7 @@ __all__ = [
     "discard",
     "land",
     "open_handover",
+    "process_started",
     "reachable",
     "ship",
 ]
@@ -95,17 +98,58 @@ class Shipped:
         return len(self.packet)
 
 
+#: A folder whose maker is gone is removed by the next run once it has not changed for
+#: this long (seconds): a run in another PID namespace that shares ``/dev/shm`` (where its
+#: maker's pid means nothing here) writes a file per task, so its folder stays newer.
+STALE_AFTER = 600.0
+
+#: Free room a handover leaves in ``/dev/shm`` (bytes, and the fraction of its size, the
+#: larger): other programs (multiprocessing's semaphores, Dask's restarts) need it too.
+FREE_BYTES, FREE_FRACTION = 64 << 20, 0.05
+
+
+def process_started(pid: int) -> str | None:
+    """The start time of process `pid` (``/proc/PID/stat``), or None if there is none."""
+    try:
+        stat = Path(f"/proc/{pid}/stat").read_text()
+    except OSError:
+        return None
+    return stat.rsplit(")", 1)[-1].split()[19]  # field 22, after the command's parentheses
+
+
+def _sweep() -> None:
+    """Remove the handover folders that a killed run left (SIGKILL, the OOM killer)."""
+    now = time.time()
+    for folder in Path(SHARED_MEMORY).glob("curvesmith-*"):
+        try:
+            info = folder.stat()
+            if info.st_uid != os.getuid() or now - info.st_mtime < STALE_AFTER:
+                continue
+            lines = (folder / _TOKEN).read_text().split()
+        except (OSError, UnicodeDecodeError):
+            lines = []  # no token: a folder being closed, or never opened
+        if len(lines) == 3 and process_started(int(lines[1])) == lines[2]:
+            continue  # its maker still runs
+        shutil.rmtree(folder, ignore_errors=True)
+
+
 def open_handover() -> Handover | None:
-    """A new handover folder, or None where there is no usable shared memory."""
+    """A new handover folder, or None where there is no usable shared memory.
+
+    The folder's file ``token`` holds the token, the maker's pid and its start time, so
+    that a folder left by a killed run is known as such and removed (:func:`_sweep`).
+    """
     if not os.path.isdir(SHARED_MEMORY):
         return None
+    with contextlib.suppress(OSError, ValueError, IndexError):
+        _sweep()
     try:
         folder = tempfile.mkdtemp(prefix="curvesmith-", dir=SHARED_MEMORY)
     except OSError:
         return None
     token = secrets.token_hex(16)
     try:
-        Path(folder, _TOKEN).write_text(token)
+        Path(folder, _TOKEN).write_text(f"{token}\n{os.getpid()} {process_started(os.getpid())}\n")
     except OSError:
         shutil.rmtree(folder, ignore_errors=True)
         return None
@@ -113,46 +157,82 @@ def open_handover() -> Handover | None:
 
 
 def close(handover: Handover | None) -> None:
-    """Remove the folder and every file left in it."""
+    """Remove the folder and every file left in it.
+
+    The token goes first: a worker still writing (a caller's cluster runs on after a
+    failed run) then finds it gone and removes its own file (:func:`ship`).
+    """
     if handover is not None:
+        with contextlib.suppress(OSError):
+            os.unlink(os.path.join(handover.folder, _TOKEN))
         shutil.rmtree(handover.folder, ignore_errors=True)
 
 
+def _token_of(folder: str) -> str | None:
+    try:
+        return Path(folder, _TOKEN).read_text().split("\n", 1)[0]
+    except (OSError, UnicodeDecodeError):
+        return None
+
+
 _seen: dict[Handover, bool] = {}
+_seen_lock = threading.Lock()
 
 
 def reachable(handover: Handover | None) -> bool:
     """Whether this process sees `handover`'s folder (the same machine as its maker)."""
     if handover is None:
         return False
-    if handover not in _seen:
-        try:
-            _seen[handover] = Path(handover.folder, _TOKEN).read_text() == handover.token
-        except (OSError, UnicodeDecodeError):
-            _seen[handover] = False
-        if len(_seen) > 64:  # a long-lived worker serves many runs
-            _seen.pop(next(iter(_seen)))
-    return _seen[handover]
+    with _seen_lock:
+        seen = _seen.get(handover)
+        if seen is None:
+            seen = _seen[handover] = _token_of(handover.folder) == handover.token
+            if len(_seen) > 64:  # a long-lived worker serves many runs
+                _seen.pop(next(iter(_seen)))
+    return seen
+
+
+def _room(folder: str, nbytes: int) -> bool:
+    """Whether `nbytes` fit in the file system of `folder` and leave its free margin."""
+    try:
+        fs = os.statvfs(folder)
+    except OSError:
+        return False
+    free, size = fs.f_bavail * fs.f_frsize, fs.f_blocks * fs.f_frsize
+    return free - nbytes >= max(FREE_BYTES, FREE_FRACTION * size)
 
 
 def ship(packet: GeometryPacket, handover: Handover | None, name: str) -> GeometryPacket | Shipped:
-    """`packet` with its coordinates left in the file `name` of `handover`, where worthwhile.
+    """`packet` with its coordinates left in a file of `handover`, where worthwhile.
 
-    Returns `packet` itself when `handover` is None or not :func:`reachable`, when the
-    coordinates are small, or when the file cannot be written (a full ``/dev/shm``).
+    The file's name starts with `name`. Returns `packet` itself when `handover` is None
+    or not :func:`reachable`, when the coordinates are small, when ``/dev/shm`` has no
+    room for them beside its free margin (:data:`FREE_BYTES`), or when the file cannot
+    be written; the space is reserved before the write (``posix_fallocate``), so a full
+    file system fails at once and leaves no partial file.
     """
     coords = packet.coords
     if coords.nbytes < MIN_BYTES or not reachable(handover):
         return packet
     assert handover is not None
-    path = os.path.join(handover.folder, f"{name}-{secrets.token_hex(4)}")
+    if not _room(handover.folder, coords.nbytes):
+        return packet
     data = np.ascontiguousarray(coords, dtype=np.float64)
+    path = os.path.join(handover.folder, f"{name}-{secrets.token_hex(8)}")
     try:
-        with open(path, "xb") as f:
+        fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600)
+    except OSError:  # gone (the run ended), or (never seen) a name taken
+        return packet
+    try:
+        with open(fd, "wb", closefd=True) as f:
+            if hasattr(os, "posix_fallocate"):
+                os.posix_fallocate(f.fileno(), 0, data.nbytes)
             f.write(data.data.cast("B"))
+        if _token_of(handover.folder) != handover.token:  # closed meanwhile
+            raise FileNotFoundError(path)
     except OSError:  # full or gone: the usual way
         with contextlib.suppress(OSError):
-            os.unlink(path)
+            os.unlink(path)  # this call's own file (O_EXCL)
         return packet
     empty = dataclasses.replace(packet, coords=np.empty((0, 2)))
     return Shipped(empty, path, tuple(data.shape))

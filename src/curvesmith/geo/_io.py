@@ -780,8 +780,9 @@ def write_file(df: Any, path: str | Path, *, layer: str | None = None) -> None:
     with atomic_path(path, stale=_SHAPEFILE_PARTS if driver == "ESRI Shapefile" else ()) as tmp:
         if driver == "GPKG" and layer is not None and path.is_file():
             shutil.copy2(path, tmp)  # a named layer replaces that layer only: keep the others
-            order = _gpkg_order(tmp)
         try:
+            if driver == "GPKG" and layer is not None and tmp.is_file() and tmp.stat().st_size:
+                order = _gpkg_order(tmp)  # (a damaged file: sqlite's error, as GDAL's below)
             # a GeoPackage keeps the geometry column's name it was read with (GDAL: "geom")
             name = df.attrs.get(GEOMETRY_NAME) if driver == "GPKG" else None
             with _fast_sqlite(pyogrio, driver == "GPKG"):
