@@ -9,7 +9,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.integrate import quad
 
-from curvesmith import affine, cca, curves
+from curvesmith import affine, cca, curves, signed_area
 from curvesmith.cli import main
 from curvesmith.errors import CurveError
 from curvesmith.internals import CurvePiece, distance_to_polyline
@@ -205,6 +205,63 @@ STAR = (
     '<polygon id="star" points="100,10 120,70 190,75 135,115 155,185 100,145 45,185 65,115 '
     '10,75 80,70"/></svg>'
 )
+
+
+LOGO = """<?xml version="1.0" encoding="UTF-8"?>
+<svg xmlns="http://www.w3.org/2000/svg" width="200" height="120" viewBox="0 0 200 120">
+  <title>logo</title>
+  <defs><linearGradient id="g"><stop offset="0" stop-color="red"/></linearGradient></defs>
+  <g id="shapes" transform="translate(10,5) scale(2)">
+    <polygon id="star" class="brand" fill="url(#g)" stroke="navy" points="20,2 26,18 44,18
+      30,28 35,45 20,35 5,45 10,28 -4,18 14,18"/>
+    <path id="wave" fill="none" stroke="green" d="M 50 10 L 60 20 L 70 8 L 80 22 L 90 6"/>
+  </g>
+  <text x="10" y="110" font-family="sans-serif">Curvesmith</text>
+</svg>
+"""
+
+
+@pytest.mark.parametrize("kind", ["quadratic", "cubic"])
+def test_cli_smooth_curves_keeps_the_svg_document(tmp_path, kind):
+    # --curves wrote a new document of bare paths: ids, classes, paint, the group's
+    # transform, text and defs were lost, where plain smooth keeps them
+    import xml.etree.ElementTree as ET
+
+    from curvesmith.io import read_curves
+
+    src, out = tmp_path / "logo.svg", tmp_path / "out.svg"
+    src.write_text(LOGO)
+    args = ["smooth", str(src), "-o", str(out), "--curves", kind, "--iterations", "5"]
+    r = CliRunner().invoke(main, args)
+    assert r.exit_code == 0, r.output
+    ns = {"s": "http://www.w3.org/2000/svg"}
+    root = ET.parse(out).getroot()
+    assert root.get("viewBox") == "0 0 200 120" and root.find("s:title", ns).text == "logo"
+    assert root.find("s:defs/s:linearGradient", ns).get("id") == "g"
+    assert root.find("s:text", ns).text == "Curvesmith"
+    group = root.find("s:g", ns)
+    assert group.get("id") == "shapes" and group.get("transform") == "translate(10,5) scale(2)"
+    star, wave = group.findall("s:path", ns)
+    assert (star.get("id"), star.get("class"), star.get("fill"), star.get("stroke")) == (
+        "star",
+        "brand",
+        "url(#g)",
+        "navy",
+    )
+    assert (wave.get("id"), wave.get("fill"), wave.get("stroke")) == ("wave", "none", "green")
+    cmd = "Q" if kind == "quadratic" else "C"
+    assert cmd in star.get("d") and " L" not in star.get("d") and star.get("d").endswith("Z")
+    # in the elements' own coordinates: read back through the transform, each path is the
+    # smoothed curve within the tolerance (default 1/1000 of the diagonal), area exact
+    smoothed = [cca.smooth(c.points, closed=c.closed, iterations=5) for c in read_curves(src)]
+    tol = 1e-3 * float(np.hypot(*np.ptp(np.vstack(smoothed), axis=0)))
+    back = read_curves(out)
+    assert [c.closed for c in back] == [True, False]
+    for b, ref in zip(back, smoothed, strict=True):
+        # the paths are flattened again on reading (to SVG's default tolerance)
+        assert distance_to_polyline(b.points, ref, b.closed) <= 1.05 * tol
+    area = signed_area(smoothed[0])
+    assert abs(signed_area(back[0].points)) == pytest.approx(abs(area), rel=1e-3)
 
 
 @pytest.mark.slow

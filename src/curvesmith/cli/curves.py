@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import sys
 from pathlib import Path
+from typing import Any
 
 import click
 import numpy as np
@@ -37,8 +39,10 @@ def write_fitted(
     """Fit every smoothed curve and write the Bézier paths to `dest`.
 
     SVG gets one ``<path>`` of ``Q`` (quadratic) or ``C`` (cubic) segments per
-    curve; CSV and GeoJSON get the Bézier control polygon of each path (on- and
-    off-curve points in order, every ``degree``-th on the curve) with the
+    curve: an SVG input's document is written back as it was, each smoothed element a
+    path with its own attributes (:func:`curvesmith.io.svg.write_bezier_document`);
+    other inputs give a new drawing. CSV and GeoJSON get the Bézier control polygon of
+    each path (on- and off-curve points in order, every ``degree``-th on the curve) with the
     properties ``degree``, ``segments``, ``deviation``, ``tolerance`` and
     ``g2_defect``. One report line per curve goes to standard error.
 
@@ -88,6 +92,15 @@ def write_fitted(
         "svg" if dest == "-" and fmt == "svg" else (fmt if dest == "-" else _format_of(dest, fmt))
     )
     if out_fmt == "svg":
+        from ..io.svg import SVGCurves, write_bezier_document
+
+        if isinstance(originals, SVGCurves) and originals.document is not None:
+            # an SVG document is written back as it was, each smoothed shape a path of
+            # Béziers with its own attributes (ids, styles, transforms, text kept)
+            target: Any = sys.stdout if dest == "-" else Path(dest)
+            beziers = [(f.segments, f.closed) for f in fits]
+            write_bezier_document(originals.with_curves(smoothed), beziers, target)
+            return
         doc = path_document(
             [bezier_path_data(f.segments, closed=f.closed) for f in fits], (tuple(lo), tuple(hi))
         )

@@ -42,6 +42,7 @@ __all__ = [
     "read_bezier_paths",
     "read_quadratic_path",
     "read_svg",
+    "write_bezier_document",
     "write_svg",
 ]
 
@@ -824,8 +825,40 @@ FORMAT = register(Format("svg", "SVG", (".svg",), read_svg, write_svg))
 # quadratic B-spline paths (affine control polygons)
 
 
-def _write_document(curves: list[Curve], document, dest: Source) -> None:
-    """Write the source document with each element's curves in place (see SVGCurves)."""
+def write_bezier_document(curves: SVGCurves, beziers, dest: Source) -> None:
+    """Write an SVG document with each element's curves as Bézier paths, in place.
+
+    As :func:`write_svg` writes an :class:`SVGCurves` back (the document as it was, each
+    element that gave curves replaced by a ``<path>`` with its other attributes, in the
+    element's own coordinates), with the path data of curve ``i`` the quadratic (``Q``)
+    or cubic (``C``) segments ``beziers[i]`` instead of a polyline. The element's
+    transform is affine, so its inverse maps the control points exactly.
+
+    Parameters
+    ----------
+    curves : SVGCurves
+        The curves (what :func:`read_svg` returns, or its ``with_curves``).
+    beziers : sequence of (segments, closed)
+        Per curve, in order: ``(S, 3, 2)`` or ``(S, 4, 2)`` segments (as
+        :attr:`curvesmith.curves.CurveFit.segments`) and whether the path closes.
+    dest : str or path-like or text file object
+        The file.
+    """
+    document = getattr(curves, "document", None)
+    if document is None:
+        raise CurveFormatError("write_bezier_document needs the curves of an SVG document")
+    beziers = list(beziers)
+    if len(beziers) != len(curves):
+        raise CurveFormatError(f"beziers has {len(beziers)} entries for {len(curves)} curves")
+    _write_document(_check_curves(curves), document, dest, beziers=beziers)
+
+
+def _write_document(curves: list[Curve], document, dest: Source, *, beziers=None) -> None:
+    """Write the source document with each element's curves in place (see SVGCurves).
+
+    With `beziers` (one ``(segments, closed)`` per curve), the path data are Bézier
+    segments (:func:`write_bezier_document`).
+    """
     import copy
     import warnings
     import xml.etree.ElementTree as ET
@@ -833,9 +866,9 @@ def _write_document(curves: list[Curve], document, dest: Source) -> None:
     root, nodes, fixed = document
     root = copy.deepcopy(root)
     by_node = {el.get(_NODE): el for el in root.iter() if el.get(_NODE) is not None}
-    groups: dict[int, list[Curve]] = {}
-    for c in curves:
-        groups.setdefault(c.feature, []).append(c)
+    groups: dict[int, list[tuple[int, Curve]]] = {}
+    for i, c in enumerate(curves):
+        groups.setdefault(c.feature, []).append((i, c))
     kept = []
     for feature, group in groups.items():
         node, linear, offset = nodes.get(feature, (None, None, None))
@@ -848,7 +881,17 @@ def _write_document(curves: list[Curve], document, dest: Source) -> None:
         else:
             inverse = np.linalg.inv(linear)
         data: list[str] = []
-        for c in group:
+        for i, c in group:
+            if beziers is not None:
+                seg, closed = beziers[i]
+                seg = np.asarray(seg, dtype=float)
+                local = seg if inverse is None else (seg - offset) @ inverse.T
+                if not np.isfinite(local).all():
+                    raise CurveFormatError(
+                        f"element {feature}: its transform cannot be inverted for the new curve"
+                    )
+                data.append((" " if data else "") + bezier_path_data(local, closed=closed))
+                continue
             pts = c.points if inverse is None else (c.points - offset) @ inverse.T
             if not np.isfinite(pts).all():
                 raise CurveFormatError(
@@ -872,7 +915,7 @@ def _write_document(curves: list[Curve], document, dest: Source) -> None:
             for part in element.get("style", "").split(";")
             if ":" in part
         }
-        for key, value in (group[0].style or {}).items():
+        for key, value in (group[0][1].style or {}).items():
             if key == "opacity" and key not in own_css:
                 continue
             if key in STYLE_ATTRIBUTES and key not in element.attrib:
