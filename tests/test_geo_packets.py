@@ -204,3 +204,74 @@ def test_smooth_to_packet_refuses_invalid_input_as_smooth_does():
         geo.smooth(polys)
     with pytest.raises(CurveError, match=r"\[5\] is not valid"):
         geo_smooth.smooth_to_packet(polys)
+
+
+def _doubtful(rng) -> shapely.Polygon:
+    """A valid ring that is not star-shaped (a comb): the compiled proof leaves it to GEOS."""
+    x0, y0 = rng.uniform([4e5, 5e6], [5e5, 5.1e6])
+    teeth = int(rng.integers(2, 6))
+    pts = [(0.0, 0.0), (2.0 * teeth, 0.0)]
+    for k in range(teeth, 0, -1):
+        pts += [(2.0 * k, 6.0), (2.0 * k - 1, 6.0), (2.0 * k - 1, 1.0), (2.0 * k - 2, 1.0)]
+    return shapely.Polygon(np.array(pts[:-1]) * rng.uniform(1, 5) + (x0, y0))
+
+
+@pytest.mark.parametrize("method", ["cca", "chaikin"])
+@pytest.mark.parametrize("iterations", [1, 2, 3])
+def test_smooth_packet_is_smooth_to_packet_of_its_polygons(method, iterations):
+    # the worker's way, from the packet's rings: the same bits as building the polygons
+    from curvesmith.internals import geo_smooth
+
+    rng = np.random.default_rng(iterations)
+    polys = _footprints(3000, iterations + 10)
+    combs = np.array([_doubtful(rng) for _ in range(40)], dtype=object)
+    assert shapely.is_valid(combs).all()
+    polys = np.concatenate([polys, combs])[rng.permutation(3040)]
+    packet = pack(polys)
+    ref = geo_smooth.smooth_to_packet(unpack(packet), method=method, iterations=iterations)
+    got = geo_smooth.smooth_packet(packet, method=method, iterations=iterations)
+    assert ref is not None and got is not None
+    assert _packets_equal(got[0], ref[0]) and got[1] == ref[1]
+    # from a read-only view (a mapped file of the handover) as well
+    coords = packet.coords.copy()
+    coords.flags.writeable = False
+    again = geo_smooth.smooth_packet(
+        geo_packets.GeometryPacket(
+            packet.kind, packet.types, packet.filled, coords, packet.offsets
+        ),
+        method=method,
+        iterations=iterations,
+    )
+    assert _packets_equal(again[0], ref[0])
+
+
+def test_smooth_packet_in_chunks(monkeypatch):
+    from curvesmith.internals import geo_smooth
+
+    polys = pack(_footprints(2000, 7))
+    monkeypatch.setattr(geo_smooth, "CHUNK_VERTICES", 1000)
+    ref = geo_smooth.smooth_to_packet(unpack(polys), iterations=2)
+    got = geo_smooth.smooth_packet(polys, iterations=2)
+    assert _packets_equal(got[0], ref[0]) and got[1] == ref[1]
+
+
+@pytest.mark.parametrize(
+    "odd",
+    [
+        None,
+        shapely.Polygon(),
+        shapely.MultiPolygon([shapely.box(0, 0, 1, 1)]),
+        shapely.box(0, 0, 9, 9).difference(shapely.box(3, 3, 4, 4)),  # a hole
+        shapely.Polygon([(0, 0, 1), (1, 0, 1), (0, 1, 1)]),  # Z (a WKB packet)
+        shapely.Polygon([(0, 0), (1, 0), (1, 0), (1, 1), (0, 1)]),  # a repeated vertex
+        shapely.Polygon([(0, 0), (2, 2), (2, 0), (0, 2)]),  # invalid: smooth's error
+        shapely.LineString([(0, 0), (1, 1), (2, 0)]),
+    ],
+    ids=["none", "empty", "multi", "hole", "z", "repeated", "bowtie", "line"],
+)
+def test_smooth_packet_declines_what_smooth_does_more_with(odd):
+    # the usual way then says why (an invalid polygon) or repairs first (repeated vertex)
+    from curvesmith.internals import geo_smooth
+
+    polys = np.append(_footprints(20, 1), np.array([odd], dtype=object)[:1])
+    assert geo_smooth.smooth_packet(pack(polys), iterations=2) is None

@@ -113,14 +113,21 @@ def _smooth_partition(
     from . import geo
     from .geo._handover import land, ship
     from .geo._packets import pack, unpack
-    from .geo._smooth import smooth_to_packet
+    from .geo._smooth import smooth_packet, smooth_to_packet
 
-    geoms = unpack(land(packet, remove=False))
+    packet = land(packet, remove=False)
+    plain = set(options) <= {"method", "iterations", "alpha", "make_valid"}
+    if plain:
+        # a layer of Polygons without holes (footprints, parcels): smoothed from the
+        # packet's rings to the output's packet, building no polygons on either side
+        with contextlib.suppress(Exception):  # (else the usual way, which says why)
+            done = smooth_packet(packet, **options)
+            if done is not None:
+                return ship(done[0], handover, f"out-{start}"), [], len(done[1])
+    geoms = unpack(packet)
     del packet  # a shipped input's mapping
     try:
-        if set(options) <= {"method", "iterations", "alpha", "make_valid"}:
-            # a layer of Polygons without holes (footprints, parcels): the packet of the
-            # output straight from the smoothed rings, without building the polygons
+        if plain:
             done = smooth_to_packet(geoms, **options)
             if done is not None:
                 return ship(done[0], handover, f"out-{start}"), [], len(done[1])

@@ -1293,8 +1293,6 @@ def smooth_to_packet(
     Returns None when `geoms` is not such a layer (None, empty, holes, other types, Z/M,
     repaired or repeated vertices): the caller then smooths and packs as usual.
     """
-    from ._packets import POLYGONS, GeometryPacket
-
     shapely = _shapely()
     iterations = check_method(method, iterations, alpha)
     geoms = np.asarray(geoms, dtype=object)
@@ -1313,6 +1311,72 @@ def smooth_to_packet(
     )
     if not single:
         return None
+    return _rings_to_packet(geoms, facts, method, iterations, alpha)
+
+
+def smooth_packet(
+    packet: Any,
+    *,
+    method: GisMethod = "cca",
+    iterations: int = 1,
+    alpha: Any = "regular",
+    make_valid: bool = False,
+) -> tuple[Any, tuple[GeometryReduction, ...]] | None:
+    """:func:`smooth_to_packet` of the geometries of a packet, without building them.
+
+    For a packet of Polygons without holes (footprints, parcels) the input's facts are
+    read off the packet: its coordinates and ring offsets are ``get_coordinates``' of the
+    polygons, and the compiled proof of :func:`_prepare` runs on them. GEOS builds only
+    the polygons that the proof leaves in doubt, to check them. The same bits as
+    ``smooth_to_packet(unpack(packet))``; a Dask worker saves building the partition's
+    polygons and reading their coordinates back. Returns None where that call would do
+    more than smooth (an invalid polygon: an error or a repair; a repeated vertex; any
+    other layer): the caller then takes the usual way.
+    """
+    from ._packets import POLYGONS
+    from ._simple import rings_certainly_simple
+
+    shapely = _shapely()
+    iterations = check_method(method, iterations, alpha)
+    n = len(packet)
+    T = shapely.GeometryType
+    if packet.kind != POLYGONS or n == 0 or not packet.filled.all():
+        return None
+    if np.any(packet.types != T.POLYGON):
+        return None
+    rings, polys, feats = packet.offsets
+    ids = np.arange(n + 1)
+    if len(rings) != n + 1 or not (np.array_equal(polys, ids) and np.array_equal(feats, ids)):
+        return None  # holes
+    xy = np.ascontiguousarray(packet.coords, dtype=np.float64)
+    if not xy.flags.writeable:  # (a mapped file of the handover)
+        xy = xy.copy()
+    off = np.ascontiguousarray(rings, dtype=np.int64)
+    types = np.full(n, T.POLYGON, dtype=np.int32)
+    holes = np.zeros(n, dtype=np.int32)
+    centres = np.full((n, 2), np.nan)
+    proof = rings_certainly_simple(xy, off, True, centres)
+    proven = _certainly_valid_polygons(types, holes, xy, off, centres, proof)
+    doubt = np.flatnonzero(~proven)
+    if doubt.size:
+        d_xy, d_off = _take(xy, off, doubt)
+        d_ids = np.arange(doubt.size + 1)
+        d_geoms = shapely.from_ragged_array(T.POLYGON, d_xy, (d_off, d_ids))
+        if not shapely.is_valid(d_geoms).all():
+            return None  # smooth's error, or its repair with make_valid
+        d_owner = np.repeat(np.arange(doubt.size), np.diff(d_off))
+        if _repeating(d_xy, d_owner).size:
+            return None  # smooth removes repeated vertices first
+    facts = _Facts(np.ones(n, dtype=bool), types, np.zeros(n, dtype=bool), holes, xy, off, centres)
+    placeholders = np.full(n, None, dtype=object)  # the rings alone are smoothed
+    return _rings_to_packet(placeholders, facts, method, iterations, alpha)
+
+
+def _rings_to_packet(geoms, facts, method, iterations, alpha):
+    """The packet and reductions of a layer of Polygons without holes (``facts.xy``)."""
+    from ._packets import POLYGONS, GeometryPacket
+
+    shapely = _shapely()
     parts: list[dict] = []
     _, reductions, _, _ = _smooth_feature_array(
         geoms, method=method, iterations=iterations, alpha=alpha, facts=facts, ragged_out=parts
@@ -1325,11 +1389,12 @@ def smooth_to_packet(
         rings = np.concatenate(
             [[0]] + [q["offsets"][1:] + b for q, b in zip(parts, base, strict=True)]
         ).astype(np.int64)
-    ids = np.arange(len(geoms) + 1, dtype=np.int64)
+    n = len(geoms)
+    ids = np.arange(n + 1, dtype=np.int64)
     packet = GeometryPacket(
         POLYGONS,
-        types.astype(np.int8),
-        np.ones(len(geoms), dtype=bool),
+        np.full(n, shapely.GeometryType.POLYGON, dtype=np.int8),
+        np.ones(n, dtype=bool),
         np.ascontiguousarray(xy, dtype=np.float64),
         (np.asarray(rings, dtype=np.int64), ids, ids),
     )
