@@ -172,19 +172,19 @@ def test_smooth_to_packet_in_chunks(monkeypatch):
     assert reductions == res.reductions
 
 
-@pytest.mark.parametrize(
-    "odd",
-    [
-        None,
-        shapely.Polygon(),
-        shapely.MultiPolygon([shapely.box(0, 0, 1, 1)]),
-        shapely.box(0, 0, 9, 9).difference(shapely.box(3, 3, 4, 4)),  # a hole
-        shapely.Polygon([(0, 0, 1), (1, 0, 1), (0, 1, 1)]),  # Z
-        shapely.Polygon([(0, 0), (1, 0), (1, 0), (1, 1), (0, 1)]),  # a repeated vertex
-        shapely.LineString([(0, 0), (1, 1), (2, 0)]),
-    ],
-    ids=["none", "empty", "multi", "hole", "z", "repeated", "line"],
-)
+#: Features that make a layer other than Polygons without holes (Z: a WKB packet).
+ODD = {
+    "none": None,
+    "empty": shapely.Polygon(),
+    "multi": shapely.MultiPolygon([shapely.box(0, 0, 1, 1)]),
+    "hole": shapely.box(0, 0, 9, 9).difference(shapely.box(3, 3, 4, 4)),
+    "z": shapely.Polygon([(0, 0, 1), (1, 0, 1), (0, 1, 1)]),
+    "repeated": shapely.Polygon([(0, 0), (1, 0), (1, 0), (1, 1), (0, 1)]),
+    "line": shapely.LineString([(0, 0), (1, 1), (2, 0)]),
+}
+
+
+@pytest.mark.parametrize("odd", ODD.values(), ids=ODD.keys())
 def test_smooth_to_packet_declines_other_layers(odd):
     from curvesmith.internals import geo_smooth
 
@@ -257,17 +257,8 @@ def test_smooth_packet_in_chunks(monkeypatch):
 
 @pytest.mark.parametrize(
     "odd",
-    [
-        None,
-        shapely.Polygon(),
-        shapely.MultiPolygon([shapely.box(0, 0, 1, 1)]),
-        shapely.box(0, 0, 9, 9).difference(shapely.box(3, 3, 4, 4)),  # a hole
-        shapely.Polygon([(0, 0, 1), (1, 0, 1), (0, 1, 1)]),  # Z (a WKB packet)
-        shapely.Polygon([(0, 0), (1, 0), (1, 0), (1, 1), (0, 1)]),  # a repeated vertex
-        shapely.Polygon([(0, 0), (2, 2), (2, 0), (0, 2)]),  # invalid: smooth's error
-        shapely.LineString([(0, 0), (1, 1), (2, 0)]),
-    ],
-    ids=["none", "empty", "multi", "hole", "z", "repeated", "bowtie", "line"],
+    [*ODD.values(), shapely.Polygon([(0, 0), (2, 2), (2, 0), (0, 2)])],  # + invalid: an error
+    ids=[*ODD.keys(), "bowtie"],
 )
 def test_smooth_packet_declines_what_smooth_does_more_with(odd):
     # the usual way then says why (an invalid polygon) or repairs first (repeated vertex)
