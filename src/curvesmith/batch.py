@@ -113,7 +113,7 @@ def _smooth_partition(
     from . import geo
     from .geo._handover import land, ship
     from .geo._packets import pack, unpack
-    from .geo._smooth import smooth_packet, smooth_to_packet
+    from .geo._smooth import smooth_packet
 
     packet = land(packet, remove=False)
     plain = set(options) <= {"method", "iterations", "alpha", "make_valid"}
@@ -124,13 +124,9 @@ def _smooth_partition(
             done = smooth_packet(packet, **options)
             if done is not None:
                 return ship(done[0], handover, f"out-{start}"), [], len(done[1])
-    geoms = unpack(packet)
+    geoms = unpack(packet)  # any other layer (smooth_packet declines what it cannot do)
     del packet  # a shipped input's mapping
     try:
-        if plain:
-            done = smooth_to_packet(geoms, **options)
-            if done is not None:
-                return ship(done[0], handover, f"out-{start}"), [], len(done[1])
         res = geo.smooth(geoms, full_output=True, **options)
         return ship(pack(res.geometry), handover, f"out-{start}"), [], len(res.reductions)
     except Exception:  # retried feature by feature below, to isolate the failing ones

@@ -1292,6 +1292,8 @@ def smooth_to_packet(
 
     Returns None when `geoms` is not such a layer (None, empty, holes, other types, Z/M,
     repaired or repeated vertices): the caller then smooths and packs as usual.
+    :func:`smooth_packet` does the same from a packet (what a Dask worker receives)
+    and is tested against this.
     """
     shapely = _shapely()
     iterations = check_method(method, iterations, alpha)
