@@ -115,6 +115,19 @@ def test_fair_errors_exit_nonzero(tmp_path):
     assert not out.exists()
 
 
+def test_fair_all_points_at_one_place_is_said_so(tmp_path):
+    # the CSV reader calls a curve that ends where it starts closed; the error was that
+    # the curve is closed, not that it has no extent
+    src, out = tmp_path / "one.csv", tmp_path / "out.csv"
+    write_csv(src, np.full((50, 2), 5.0))
+    result = CliRunner().invoke(cli(), ["fair", str(src), "-o", str(out)])
+    assert result.exit_code == 1
+    assert result.output.strip() == (
+        "Error: curve 0: points must not all coincide, got every point at [5.0, 5.0]"
+    )
+    assert not out.exists()
+
+
 def test_fair_straight_line_is_an_exact_elastica(tmp_path):
     """Issue 11: a line is an elastica (z = 0), not an error."""
     src, out, rep = tmp_path / "line.csv", tmp_path / "out.csv", tmp_path / "r.json"

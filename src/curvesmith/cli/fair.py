@@ -276,6 +276,13 @@ def fair_command(
     rows: list[dict[str, Any]] = []
     fits: list[tuple[int, Any, np.ndarray]] = []
     for index, curve in enumerate(curves):
+        start = np.asarray(curve.points[:1], dtype=float)
+        if len(curve.points) > 1 and np.all(np.asarray(curve.points) == start):
+            # the reader calls a curve that ends where it starts closed: say what is wrong
+            raise CurveError(
+                f"curve {index}: points must not all coincide, got every point at "
+                f"{start[0].tolist()}"
+            )
         if curve.closed:
             raise CurveError(
                 f"curve {index} is closed; fair fits open curves (a discrete elastica of "
