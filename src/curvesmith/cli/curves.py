@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import sys
+import warnings
 from pathlib import Path
 from typing import Any
 
@@ -73,8 +74,23 @@ def write_fitted(
     if tolerance is None:
         tolerance = 1e-3 * float(np.hypot(*(hi - lo)))
     idx = parse_indices(anchors, name="--anchors") if anchors else []
-    fits, said = [], []
+    from ..io.svg import SVGCurves
+
+    out_fmt = (
+        "svg" if dest == "-" and fmt == "svg" else (fmt if dest == "-" else _format_of(dest, fmt))
+    )
+    # an SVG document written back: the shapes it keeps as they were are not fitted
+    svg_doc = originals if isinstance(originals, SVGCurves) and out_fmt == "svg" else None
+    if svg_doc is not None and svg_doc.document is None:
+        svg_doc = None
+    kept = svg_doc.kept() if svg_doc is not None else frozenset()
+    fits: list[Any] = []
+    said = []
     for i, (orig, c) in enumerate(zip(originals, smoothed, strict=True)):
+        if c.feature in kept:  # written back as it was: nothing to fit, nothing to claim
+            said.append(f"curve {i}: written back as it was (drawn by reference; see the warning)")
+            fits.append(None)
+            continue
         where = _anchor_positions(orig.points, c.points, idx) if idx else None
         try:
             f = curves.fit(
@@ -88,18 +104,22 @@ def write_fitted(
         fits.append(f)  # error stays the run's one line
     for line in said:
         click.echo(line, err=True)
-    out_fmt = (
-        "svg" if dest == "-" and fmt == "svg" else (fmt if dest == "-" else _format_of(dest, fmt))
-    )
     if out_fmt == "svg":
-        from ..io.svg import SVGCurves, write_bezier_document
+        from ..io.svg import SVGKeptWarning, write_bezier_document
 
-        if isinstance(originals, SVGCurves) and originals.document is not None:
+        if svg_doc is not None:
             # an SVG document is written back as it was, each smoothed shape a path of
             # Béziers with its own attributes (ids, styles, transforms, text kept)
             target: Any = sys.stdout if dest == "-" else Path(dest)
-            beziers = [(f.segments, f.closed) for f in fits]
-            write_bezier_document(originals.with_curves(smoothed), beziers, target)
+            beziers = [None if f is None else (f.segments, f.closed) for f in fits]
+            with warnings.catch_warnings(record=True) as caught:
+                warnings.simplefilter("always", SVGKeptWarning)
+                write_bezier_document(svg_doc.with_curves(smoothed), beziers, target)
+            for w in caught:  # one line, as the other writers say it
+                if issubclass(w.category, SVGKeptWarning):
+                    click.echo(f"Warning: {dest}: {w.message}", err=True)
+                else:
+                    warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
             return
         doc = path_document(
             [bezier_path_data(f.segments, closed=f.closed) for f in fits], (tuple(lo), tuple(hi))

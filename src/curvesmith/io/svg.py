@@ -220,12 +220,61 @@ class SVGCurves(list):
         super().__init__(curves)
         self.page: dict[str, str] = dict(page or {})
         #: (root element with node marks, {feature: (node, 2x2 linear part, offset)}, nodes
-        #: that cannot be rewritten: drawn through <use> or inside defs/symbol/clipPath ...)
+        #: that cannot be rewritten: drawn more than once, or under a clipPath, mask ...)
         self.document = document
 
     def with_curves(self, curves) -> SVGCurves:
         """The same page and document with other curves (e.g. the smoothed ones)."""
         return SVGCurves(curves, self.page, self.document)
+
+    def kept(self) -> frozenset[int]:
+        """The features whose elements a rewrite writes back as they were.
+
+        Shapes drawn more than once (through several ``<use>``) or not drawn on their own
+        (under a ``clipPath``, ``mask``, ``marker`` or ``pattern``): :class:`SVGKeptWarning`.
+        """
+        if self.document is None:
+            return frozenset()
+        _, nodes, fixed = self.document
+        return frozenset(f for f, (node, *_) in nodes.items() if node is None or node in fixed)
+
+
+def _fixed_nodes(root, nodes: dict[int, tuple]) -> frozenset:
+    """The shapes that a rewrite must leave as they are: drawn other than once, in place.
+
+    A shape drawn more than once (through several ``<use>``) would need one path per
+    drawing, and one under a ``clipPath``, ``mask``, ``marker`` or ``pattern`` is not a
+    drawing of its own. A shape inside ``defs`` or a ``symbol`` that exactly one reference
+    draws (the way Figma and Illustrator export: every path in ``defs``, drawn by one
+    ``<use>``) is rewritten in its own coordinates, as any other: the feature's transform
+    is the ``<use>``'s composed with the shape's. Any other reference to it or to a
+    containing element (a second ``<use>``, a ``textPath``) keeps it.
+    """
+    drawn = [entry[0] for entry in nodes.values()]
+    fixed = {n for n in drawn if n is None or drawn.count(n) > 1}  # used more than once
+    refs: dict[str, int] = {}
+    for element in root.iter():
+        href = element.get("href") or element.get("{http://www.w3.org/1999/xlink}href")
+        if href and href.startswith("#"):
+            refs[href[1:]] = refs.get(href[1:], 0) + 1
+    parents = {child: parent for parent in root.iter() for child in parent}
+    for element in root.iter():
+        if _local(element.tag) not in _SHAPES:
+            continue
+        chain, hidden = [element], set()
+        up = parents.get(element)
+        while up is not None:
+            chain.append(up)
+            if _local(up.tag) in _NOT_DRAWN:
+                hidden.add(_local(up.tag))
+            up = parents.get(up)
+        if not hidden:
+            continue
+        node = element.get(_NODE)
+        references = sum(refs.get(el.get("id"), 0) for el in chain if el.get("id"))
+        if hidden - {"defs", "symbol"} or references != 1 or drawn.count(node) != 1:
+            fixed.add(node)
+    return frozenset(fixed)
 
 
 class SVGKeptWarning(UserWarning):
@@ -473,18 +522,7 @@ def read_svg(source: Source, *, tolerance: float | None = None) -> list[Curve]:
         page = {}  # without a viewBox the user coordinates are the page's: refit on writing
     document = None
     if root is not None:
-        drawn = [entry[0] for entry in nodes.values()]
-        fixed = {n for n in drawn if n is None or drawn.count(n) > 1}  # used more than once
-        parents = {child: parent for parent in root.iter() for child in parent}
-        for element in root.iter():
-            if _local(element.tag) in _SHAPES:
-                up = parents.get(element)
-                while up is not None:
-                    if _local(up.tag) in _NOT_DRAWN:
-                        fixed.add(element.get(_NODE))
-                        break
-                    up = parents.get(up)
-        document = (root, nodes, frozenset(fixed))
+        document = (root, nodes, _fixed_nodes(root, nodes))
     return SVGCurves(curves, page, document)
 
 
@@ -925,8 +963,8 @@ def _write_document(curves: list[Curve], document, dest: Source, *, beziers=None
         el.attrib.pop(_NODE, None)
     if kept:
         warnings.warn(
-            f"{len(kept)} SVG element(s) drawn through <use> or inside defs, symbol, clipPath, "
-            f"mask, marker or pattern written back as they were (element "
+            f"{len(kept)} SVG element(s) drawn more than once through <use>, or inside a "
+            f"clipPath, mask, marker or pattern, written back as they were (element "
             f"{', '.join(map(str, kept[:5]))}{', ...' if len(kept) > 5 else ''})",
             SVGKeptWarning,
             stacklevel=3,
