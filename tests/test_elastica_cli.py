@@ -128,6 +128,22 @@ def test_fair_all_points_at_one_place_is_said_so(tmp_path):
     assert not out.exists()
 
 
+def test_fair_reports_no_noise_level_for_a_sparse_curve(tmp_path):
+    # 8 points: no noise level is measured; the report is valid JSON (null, not NaN)
+    src, out, rep = tmp_path / "few.csv", tmp_path / "out.csv", tmp_path / "r.json"
+    pts = sample((0.0, 0.0, 3.0, 0.0, 0.08, 0.3, 0.7), 8)
+    write_csv(src, pts)
+    result = CliRunner().invoke(cli(), ["fair", str(src), "-o", str(out), "--report", str(rep)])
+    assert result.exit_code == 0, result.output
+    assert "8 points are too few to tell the data's noise from its bending" in result.output
+
+    def no_nan(text):
+        raise AssertionError(f"{text} in the JSON report")
+
+    row = json.loads(rep.read_text(), parse_constant=no_nan)["curves"][0]
+    assert row["noise"] is None and row["success"] is True
+
+
 def test_fair_straight_line_is_an_exact_elastica(tmp_path):
     """Issue 11: a line is an elastica (z = 0), not an error."""
     src, out, rep = tmp_path / "line.csv", tmp_path / "out.csv", tmp_path / "r.json"

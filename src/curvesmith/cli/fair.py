@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import math
 from pathlib import Path
 from typing import Any
 
@@ -95,7 +96,7 @@ def _report_row(index: int, res, resampled: bool, plane) -> dict:
         "max_deviation": res.max_deviation,
         "rms_deviation": res.rms_deviation,
         "max_distance": res.max_distance,
-        "noise": res.noise,
+        "noise": None if math.isnan(res.noise) else res.noise,  # too few points: JSON null
         "tolerance": res.tolerance,
         "within_tolerance": res.within_tolerance,
         "iterations": res.iterations,

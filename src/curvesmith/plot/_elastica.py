@@ -184,9 +184,10 @@ def fit_panels(
     else:
         elastica_fit(result, ax=ax)  # the input as fitted, the start, the fit
         title = f"case ({result.case})" + ("" if result.success else " (failed)")
+        noise = "too few points" if result.noise != result.noise else f"{result.noise:.2g}"
         middle = (
             f"max deviation {result.max_deviation:.3g}, rms {result.rms_deviation:.3g} "
-            f"(noise {result.noise:.2g})"
+            f"(noise {noise})"
         )
     ax.set_title(prefix + title, fontsize="medium")
     ax.set_aspect("equal", adjustable="datalim")
