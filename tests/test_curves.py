@@ -398,3 +398,57 @@ def test_deviation_next_to_a_corner_of_a_long_and_a_short_line():
     assert curves.bezier_deviation(seg, dense, closed=True) < 1e-9
     fit = curves.fit(dense, closed=True, tolerance=2.048, anchors=[0, 400, 800, 1200])
     assert fit.success and fit.count == 4 and fit.deviation < 1e-9
+
+
+@pytest.mark.parametrize(
+    ("pts", "closed"),
+    [
+        ([[0, 0], [3, 4]], False),
+        ([[0, 0], [3, 4], [6, 0]], False),
+        ([[0, 0], [3, 4], [6, 0]], True),
+    ],
+)
+def test_a_curve_of_fewer_than_4_vertices_is_its_polyline(pts, closed):
+    # a line or a triangle of a drawing (an SVG <line>, a 3-point <polyline>) failed the
+    # whole `smooth --curves` run with "points must have at least 4 points"
+    p = np.array(pts, float)
+    f = curves.fit(p, closed=closed, tolerance=0.01, degree=3)
+    assert f.success and f.count == len(p) - (0 if closed else 1)
+    assert np.array_equal(f.segments[:, 0], p[: f.count])
+    assert f.deviation < 1e-12
+    if closed:
+        assert f.area == pytest.approx(signed_area(p), rel=1e-12)
+
+
+RECT = (
+    '<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 100 100">'
+    '<rect id="r" x="10" y="10" width="80" height="60" fill="blue"/>'
+    '<line id="l" x1="5" y1="90" x2="95" y2="95" stroke="black"/></svg>'
+)
+
+
+def test_cli_curves_keep_the_corners_that_keep_angle_keeps(tmp_path):
+    # a rectangle (27 of the 33 SVGs that installed packages ship have one) could not be
+    # written as curves: the corners that --keep-angle kept in place were not corners of
+    # the fit, which tried to round them within the tolerance and failed; a <line> (two
+    # points) failed --keep-angle and --curves alike
+    src, out = tmp_path / "rect.svg", tmp_path / "out.svg"
+    src.write_text(RECT)
+    args = ["smooth", str(src), "-o", str(out), "--curves", "cubic"]
+    res = CliRunner().invoke(main, [*args, "--keep-angle", "45"])
+    assert res.exit_code == 0, res.output
+    paths = read_bezier_paths(out)
+    rect = paths[0][0]
+    assert rect.shape == (4, 4, 2)  # four straight sides
+    assert np.array_equal(rect[:, 0], [[10, 10], [90, 10], [90, 70], [10, 70]])
+    side, ctrl = rect[:, 3] - rect[:, 0], rect[:, 1] - rect[:, 0]
+    assert np.allclose(side[:, 0] * ctrl[:, 1] - side[:, 1] * ctrl[:, 0], 0)
+    line = paths[1][0].reshape(-1, 2)  # the line: straight, end to end
+    assert np.array_equal(line[[0, -1]], [[5, 90], [95, 95]])
+    off = line - line[0]
+    assert np.allclose(off[:, 0] * 5 - off[:, 1] * 90, 0, atol=1e-9)
+    # without it, the run fails in one line that says what to do
+    res = CliRunner().invoke(main, args)
+    assert res.exit_code == 1
+    assert len(res.output.strip().splitlines()) == 1
+    assert "turns by 90 degrees at vertex" in res.output and "--keep-angle" in res.output

@@ -779,7 +779,8 @@ def fit(
     anchors : sequence of int, optional
         Indices of vertices that stay corners: the path passes through them and
         the tangents on both sides are free. An open curve always passes through
-        its end points.
+        its end points. A curve of fewer than 4 vertices is its polyline: every
+        vertex a corner, every edge a line.
     max_segments : int, optional
         Upper limit of the search per piece.
     lines : bool, optional
@@ -813,7 +814,7 @@ def fit(
     >>> f.count, f.segments[0, 0].tolist(), bool(f.g2_defect < 1e-6)
     (7, [100.0, 0.0], True)
     """
-    p = as_points(points, closed=closed, min_points=4, distinct=True)
+    p = as_points(points, closed=closed, min_points=3 if closed else 2, distinct=True)
     tolerance = as_float(tolerance, name="tolerance", low=0.0)
     if tolerance <= 0.0:
         raise CurveError(f"tolerance must be > 0, got {tolerance}")
@@ -828,7 +829,11 @@ def fit(
         if bad:
             raise CurveError(f"anchors must be vertex indices in [0, {n}), got {bad[0]}")
         idx = sorted({a % n for a in idx})
-    if lines:
+    if n < 4:
+        # too few vertices for a curve (a segment, a triangle): the polyline itself, every
+        # vertex a corner, every edge a line
+        idx = list(range(n))
+    elif lines:
         # long straight edges (a sparse polygon's sides, a cca-smoothed polygon keeps their
         # middles) have no affine arc length: the construction cannot cross them, so they
         # become line pieces between two corners

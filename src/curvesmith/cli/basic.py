@@ -395,17 +395,21 @@ def smooth_command(
     given["preserve_endpoints"] = preserve_endpoints
     params = {k: v for k, v in given.items() if k in spec.parameters}
 
-    def run(c):
-        if not spec.keeps_vertices:
-            return spec.smooth(c.points, closed=c.closed, iterations=iterations, **params)
+    def fixed_of(c) -> list[int] | None:
+        """The vertices of `c` that stay: --anchors, and the corners of --keep-angle."""
         fixed = anchor_idx
-        if keep_angle is not None:  # corners turning by more than keep_angle stay
+        if keep_angle is not None and len(c.points) >= 3:  # corners turning by more stay
             turn = np.abs(geometry.turning_angles(c.points, closed=c.closed))
             corners = np.flatnonzero(turn > math.radians(keep_angle))
             corners = corners if c.closed else corners + 1  # interior vertices of a line
             fixed = sorted(set(corners.tolist()) | set(anchor_idx or ()))
+        return fixed or None
+
+    def run(c):
+        if not spec.keeps_vertices:
+            return spec.smooth(c.points, closed=c.closed, iterations=iterations, **params)
         return spec.smooth(
-            c.points, closed=c.closed, iterations=iterations, anchors=fixed or None, **params
+            c.points, closed=c.closed, iterations=iterations, anchors=fixed_of(c), **params
         )
 
     curves = read_curves(source, fmt, keep_others=True)
@@ -429,9 +433,12 @@ def smooth_command(
     if curve_kind is not None:
         from .curves import write_fitted
 
+        # the vertices that stayed are the ends of the fitted pieces (corners stay corners)
+        kept = [fixed_of(c) if spec.keeps_vertices else None for c in curves]
         return write_fitted(
-            curves, out, dest, fmt, kind=curve_kind, tolerance=tolerance, anchors=anchors
-        )
+            curves, out, dest, fmt, kind=curve_kind, tolerance=tolerance, corners=kept,
+            keep_angle=keep_angle,
+        )  # fmt: skip
     if hasattr(curves, "with_curves"):  # GeoJSON's NULL/Point features and crs, SVG's document
         out = curves.with_curves(out)
     write_curves(out, dest, fmt)

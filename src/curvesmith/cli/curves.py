@@ -12,7 +12,7 @@ import numpy as np
 
 from ..errors import CurveError
 from ..io import Curve
-from ._common import _format_of, parse_indices, write_curves
+from ._common import _format_of, write_curves
 
 __all__ = ["write_fitted"]
 
@@ -27,6 +27,33 @@ def _anchor_positions(original: np.ndarray, smooth: np.ndarray, anchors: list[in
     return out
 
 
+#: A failed fit of a curve whose input turns by more than this at a vertex suggests
+#: ``--keep-angle``: a G2 curve has no corners.
+_CORNER_ADVICE = 45.0
+
+
+def _corner_advice(curve: Curve, keep_angle: float | None) -> str:
+    """Advice for a failed fit: the input's sharpest corner, and how to keep such."""
+    from ..geometry import turning_angles
+
+    if keep_angle is not None:
+        return (
+            f" (the corners turning by more than {keep_angle:g} degrees were kept: a smaller "
+            "--keep-angle keeps more, more --iterations round the others further)"
+        )
+    if len(curve.points) < 3:
+        return ""
+    turn = np.degrees(np.abs(turning_angles(curve.points, closed=curve.closed)))
+    if not float(turn.max()) > _CORNER_ADVICE:
+        return ""
+    k = int(np.argmax(turn))
+    at = k if curve.closed else k + 1
+    return (
+        f" (its input turns by {turn[k]:.0f} degrees at vertex {at}, and a G2 curve has no "
+        f"corners: keep corners with --keep-angle, e.g. --keep-angle {_CORNER_ADVICE:g})"
+    )
+
+
 def write_fitted(
     originals: list[Curve],
     smoothed: list[Curve],
@@ -35,7 +62,8 @@ def write_fitted(
     *,
     kind: str,
     tolerance: float | None,
-    anchors: str | None,
+    corners: list[list[int] | None] | None = None,
+    keep_angle: float | None = None,
 ) -> None:
     """Fit every smoothed curve and write the Bézier paths to `dest`.
 
@@ -59,8 +87,12 @@ def write_fitted(
     tolerance : float or None
         Largest distance from the smoothed curve; default 1/1000 of the diagonal
         of the bounding box of all curves.
-    anchors : str or None
-        The ``--anchors`` option of ``smooth``: vertices kept as corners.
+    corners : list of (list of int or None), optional
+        Per curve, the input vertices that the smoothing kept in place (``--anchors``,
+        and the corners of ``--keep-angle``): each is the end of a fitted piece, so that
+        corners stay corners and straight sides straight.
+    keep_angle : float or None
+        The ``--keep-angle`` option (degrees), for the advice of a failed fit.
     """
     from .. import curves
     from ..io.svg import bezier_path_data, path_document
@@ -73,7 +105,6 @@ def write_fitted(
     hi = np.max([p.max(axis=0) for p in pts], axis=0)
     if tolerance is None:
         tolerance = 1e-3 * float(np.hypot(*(hi - lo)))
-    idx = parse_indices(anchors, name="--anchors") if anchors else []
     from ..io.svg import SVGCurves
 
     out_fmt = (
@@ -91,15 +122,16 @@ def write_fitted(
             said.append(f"curve {i}: written back as it was (drawn by reference; see the warning)")
             fits.append(None)
             continue
+        idx = corners[i] if corners is not None else None
         where = _anchor_positions(orig.points, c.points, idx) if idx else None
         try:
             f = curves.fit(
                 c.points, closed=c.closed, tolerance=tolerance, degree=degree, anchors=where
             )
         except CurveError as exc:
-            raise CurveError(f"curve {i}: {exc}") from None
+            raise CurveError(f"curve {i}: {exc}{_corner_advice(orig, keep_angle)}") from None
         if not f.success:
-            raise CurveError(f"curve {i}: {f.message}")
+            raise CurveError(f"curve {i}: {f.message}{_corner_advice(orig, keep_angle)}")
         said.append(f"curve {i}: {f.message}")  # said once every curve is fitted: an
         fits.append(f)  # error stays the run's one line
     for line in said:
