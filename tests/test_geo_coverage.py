@@ -16,6 +16,7 @@ from curvesmith.internals import (
     coverage_shells,
     coverage_valid_by_proof,
     geo_coverage,
+    geo_simple,
 )
 
 rebuild = geo_coverage.rebuild
@@ -248,6 +249,41 @@ def test_snapping_cleans_a_sliver_gap():
     assert snapped.coverage_valid is True
     clean = shapely.coverage_clean(polys, snapping_distance=1e-6)
     np.testing.assert_allclose(shapely.area(snapped.geometry), shapely.area(clean), rtol=1e-12)
+
+
+def _wavy_pair(width):
+    """Two polygons in UTM metres sharing a wavy border, `width` and 2.5 x `width` wide."""
+    y = np.linspace(0.0, 300.0, 31)
+    x = 500_000.0 + width + 8.0 * np.sin(y / 25.0)
+    border = np.c_[x, 5_000_000.0 + y]
+    left = shapely.Polygon(
+        np.vstack([[[500_000.0, 5_000_300.0], [500_000.0, 5_000_000.0]], border])
+    )
+    right_x = 500_000.0 + 3.5 * width
+    right = shapely.Polygon(
+        np.vstack([border[::-1], [[right_x, 5_000_000.0], [right_x, 5_000_300.0]]])
+    )
+    return np.array([left, right], dtype=object)
+
+
+@pytest.mark.parametrize(("snap", "gone"), [(200.0, 1), (1000.0, 2)])
+def test_a_snap_as_wide_as_a_feature_is_refused(snap, gone):
+    # a user's two parcels (100 and 250 m wide) with --snap 200: the cleaned coverage had a
+    # feature without rings, which the compiled nesting test read out of bounds (SIGSEGV);
+    # --snap 1000 ended in a traceback. Snapping a feature away is refused in one line.
+    polys = _wavy_pair(100.0)
+    assert shapely.coverage_is_valid(polys)
+    with pytest.raises(CurveError, match=rf"snap {snap:g} removes {gone} feature\(s\) entirely"):
+        geo.smooth_coverage(polys, snap=snap)
+    res = geo.smooth_coverage(polys, snap=1.0, full_output=True)  # a snap well below: fine
+    assert res.coverage_valid and shapely.is_valid(res.geometry).all()
+
+
+def test_nesting_of_a_feature_without_rings_is_not_proven():
+    xy = np.zeros((10, 2))
+    empty = np.zeros(0, dtype=np.int64)
+    got = geo_simple.nesting_certainly_valid_rows(xy, empty, empty, [0, 0], [0, 1])
+    assert got.tolist() == [False]
 
 
 def test_real_imperfect_coverage_adds_no_new_invalid_edges():

@@ -490,7 +490,20 @@ def smooth_coverage(
     geoms_in = geoms
     geoms, idx, g = _coverage_input(geoms_in, make_valid, plain)
     if snap is not None:
-        g = shapely.remove_repeated_points(shapely.coverage_clean(g, snapping_distance=snap), 0.0)
+        cleaned = shapely.remove_repeated_points(
+            shapely.coverage_clean(g, snapping_distance=snap), 0.0
+        )
+        # a snap distance as wide as a feature snaps it away: refused, not written empty
+        # (two polygons 170 m wide, snap 200: one came back empty, the other halved)
+        gone = np.flatnonzero(shapely.is_empty(cleaned) & ~shapely.is_empty(g))
+        if len(gone):
+            k = int(gone[0])
+            raise CurveError(
+                f"snap {snap:g} removes {len(gone)} feature(s) entirely (geometry[{idx[k]}], "
+                f"area {float(shapely.area(g[k])):.6g}); use a snap distance well below the "
+                "features' widths"
+            )
+        g = cleaned
     # the compiled proof (certainly_valid) for the plain case; GEOS decides the rest
     topo, uses, input_valid = None, None, False
     if plain and len(g):
@@ -644,8 +657,9 @@ def _valid_by_proof(topo: Topology, uses, polygons: np.ndarray, rings=None) -> n
     n_rings = np.diff(poly_off[geom_off])  # of every feature
     one_ring = topo.was_polygon & (n_rings == 1)
     valid = one_ring & ~doubt
-    # the other features: rings simple and disjoint, so their nesting decides
-    cand = np.flatnonzero(~one_ring & ~doubt)
+    # the other features: rings simple and disjoint, so their nesting decides (a feature
+    # without rings, which a large snap distance leaves, is GEOS's to judge)
+    cand = np.flatnonzero(~one_ring & ~doubt & (n_rings > 0))
     if len(cand) == 0:
         return valid
     if rings is None:  # the rings as shapely gives them: the topology's order

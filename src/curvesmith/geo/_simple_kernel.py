@@ -366,8 +366,14 @@ def nesting_proven(X, ring_lo, ring_hi, part_off, feat_off, budget):
             rows += ring_hi[r] - ring_lo[r]
         if (r1 - r0) * rows > budget:
             continue
-        ok = True
+        ok = r1 > r0  # a feature without rings (or a part, a ring without any): not proven
         for p in range(feat_off[f], feat_off[f + 1]):
+            if part_off[p + 1] == part_off[p]:
+                ok = False
+        for r in range(r0, r1):
+            if ring_hi[r] <= ring_lo[r]:
+                ok = False
+        for p in range(feat_off[f], feat_off[f + 1] if ok else feat_off[f]):
             shell = part_off[p]
             for a in range(shell + 1, part_off[p + 1]):  # the holes of part p
                 px, py = X[ring_lo[a], 0], X[ring_lo[a], 1]
