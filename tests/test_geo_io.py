@@ -1,5 +1,7 @@
 """curvesmith.geo file I/O and smooth_file: formats, layers, order, attributes, CRS."""
 
+import contextlib
+
 import geopandas as gpd
 import numpy as np
 import pyogrio
@@ -325,6 +327,10 @@ def test_field_types_survive_read_smooth_write(tmp_path, suffix):
         {
             "i32": pd.array([1, None, 3], dtype="Int32"),
             "i64": pd.array([10, 20, None], dtype="Int64"),
+            # beyond float64's integers (2**53): read as float64, 2**53 + 1 was written 2**53
+            "wide": pd.array([2**53 + 1, None, -(2**63)], dtype="Int64"),
+            # 2**63 - 1 (a common sentinel) failed the cast from float64: a TypeError
+            "edge": pd.array([2**63 - 1, None, -(2**63) + 1], dtype="Int64"),
             "i16": pd.array([None, 2, 3], dtype="Int16"),
             "flag": pd.array([True, None, False], dtype="boolean"),
             "ok": np.array([1, 2, 3], dtype=np.int32),
@@ -344,6 +350,9 @@ def test_field_types_survive_read_smooth_write(tmp_path, suffix):
     assert want["day"][0] == ("OFTDate" if suffix == ".gpkg" else "OFTDateTime")  # FGB: no Date
     back = geo.read_file(src)
     assert back["i32"].tolist()[::2] == [1, 3] and back["i32"].isna().tolist() == [0, 1, 0]
+    assert (
+        back["wide"].tolist()[::2] == [2**53 + 1, -(2**63)] and str(back["wide"].dtype) == "Int64"
+    )
     assert str(back["i32"].dtype) == "Int32" and str(back["flag"].dtype) == "boolean"
     assert back["ok"].dtype == np.int32  # no NULL: numpy's type, as before
     res = CliRunner().invoke(main, ["smooth", str(src), "-o", str(out)])
@@ -354,7 +363,7 @@ def test_field_types_survive_read_smooth_write(tmp_path, suffix):
     def values(col):
         return [None if pd.isna(v) else v for v in col]
 
-    for col in ("i32", "i64", "i16", "flag", "ok", "name"):
+    for col in ("i32", "i64", "wide", "edge", "i16", "flag", "ok", "name"):
         assert values(got[col]) == values(df[col]), col
     days = [None if pd.isna(v) else pd.Timestamp(v).date() for v in got["day"]]
     assert days == [dt.date(2020, 1, 31), None, dt.date(1999, 12, 1)]
@@ -530,3 +539,67 @@ def test_nested_geojson_properties_stay_json(tmp_path, suffix):
     assert [json.loads(t) for t in text[:2]] == values[:2]
     assert text[2] is None or text[2] != text[2]  # NULL
     assert text[3] == "plain"
+
+
+def _fids(path):
+    import sqlite3
+
+    with contextlib.closing(sqlite3.connect(path)) as con:
+        layers = [r[0] for r in con.execute("SELECT table_name FROM gpkg_contents")]
+        return {
+            t: [r[0] for r in con.execute(f'SELECT fid FROM "{t}" ORDER BY rowid')] for t in layers
+        }
+
+
+@pytest.mark.parametrize("chunk", [None, 20])
+def test_geopackage_keeps_its_feature_ids_and_layer_name(tmp_path, monkeypatch, chunk):
+    # the features were numbered 1..n again (France went from fid 144 to 35 in QGIS's
+    # world map, breaking joins and relations on fid), and the layer was named after the
+    # output file; ogr2ogr keeps both
+    import pandas as pd
+
+    from curvesmith.internals import geo_io
+
+    if chunk is not None:  # written in slices: the later ones are appended
+        monkeypatch.setattr(geo_io, "WRITE_CHUNK_VERTICES", chunk)
+    boxes = [shapely.box(k * 20, 0, k * 20 + 10, 10) for k in range(6)]
+    df = gpd.GeoDataFrame({"fid": [2, 4, 5, 6, 9, 10], "a": range(6)}, geometry=boxes, crs=32633)
+    src, out = tmp_path / "in.gpkg", tmp_path / "out.gpkg"
+    pyogrio.write_dataframe(df, src, layer="parcels", layer_options={"FID": "fid"})
+    assert _fids(src) == {"parcels": [2, 4, 5, 6, 9, 10]}
+    geo.smooth_file(src, out)
+    assert _fids(out) == {"parcels": [2, 4, 5, 6, 9, 10]}
+    assert list(geo.read_file(out)["a"]) == list(range(6))
+    # a frame of read_file's is a plain frame: combined, sorted, filtered (its attrs held
+    # the ids once, and pandas' concat compared them: "truth value of an array is
+    # ambiguous"); written, its rows are not paired with ids of other rows
+    back = geo.read_file(src)
+    assert "fid" not in back.columns and list(back["a"]) == list(range(6))
+    both = pd.concat([back.iloc[:3], back.iloc[3:]])
+    assert list(both["a"]) == list(range(6))
+    geo.write_file(back.sort_values("a", ascending=False), out)
+    assert list(_fids(out)) == ["parcels"]  # the layer's name
+    assert list(geo.read_file(out)["a"]) == [5, 4, 3, 2, 1, 0]
+
+
+@pytest.mark.parametrize("how", ["smooth", "batch", "in place"])
+def test_cli_keeps_feature_ids(tmp_path, how):
+    from click.testing import CliRunner
+
+    from curvesmith.cli import main
+
+    boxes = [shapely.box(k * 20, 0, k * 20 + 10, 10) for k in range(4)]
+    df = gpd.GeoDataFrame({"fid": [3, 7, 8, 20], "a": range(4)}, geometry=boxes, crs=32633)
+    src = tmp_path / "in.gpkg"
+    pyogrio.write_dataframe(df, src, layer="polys", layer_options={"FID": "fid"})
+    pyogrio.write_dataframe(df.iloc[:1], src, layer="other", append=False)
+    out = src if how == "in place" else tmp_path / "out.gpkg"
+    args = {
+        "smooth": ["smooth", str(src), "-o", str(out), "--layer", "polys"],
+        "batch": ["batch", "smooth", str(src), "-o", str(out), "--layer", "polys",
+                  "--no-progress", "--workers", "1"],
+        "in place": ["smooth", str(src), "-o", str(out), "--layer", "polys"],
+    }[how]  # fmt: skip
+    res = CliRunner().invoke(main, args)
+    assert res.exit_code == 0, res.output
+    assert _fids(out)["polys"] == [3, 7, 8, 20]

@@ -724,10 +724,12 @@ def smooth_file(
     from . import geo
     from .geo._io import (
         GeographicCRSWarning,
+        _write_file,
         check_layers_kept,
         check_network_back,
         clamp_to_domain,
         domain_fixed,
+        feature_ids,
         geographic_message,
         input_layer_name,
         is_equal_area_crs,
@@ -750,6 +752,7 @@ def smooth_file(
         what = "coverage" if coverage else ("make_valid" if make_valid else "snap")
         raise CurveError(f"network mode does not take {what} (it smooths lines, not polygons)")
     df = geo.read_file(in_path, layer=layer)
+    ids = feature_ids(in_path, layer) if str(out_path).lower().endswith(".gpkg") else None
     crs = df.crs
     # points have nothing to smooth: set aside like NULLs, written back unchanged (as geo's
     # smooth_file does; a network's points stay in it, as its nodes)
@@ -853,7 +856,7 @@ def smooth_file(
         out.geometry = clamp_to_domain(out.geometry, str(in_path), df.geometry)
     out = put_points_back(out, kept, untouched)
     del kept
-    geo.write_file(out, out_path, layer=out_layer)
+    _write_file(out, out_path, layer=out_layer, fids=ids)  # the GeoPackage's ids kept
     Path(errors_path).write_text(
         json.dumps([{"index": e.index, "reason": e.reason} for e in errors], indent=1) + "\n"
     )

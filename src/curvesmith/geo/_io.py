@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import contextlib
+import importlib.util
 import itertools
 import math
 import os
@@ -223,7 +224,89 @@ def read_file(
         df = _read_measured(path, layer, columns)
     else:
         _restore_field_types(df, pyogrio.read_info(path, layer=layer))
+        _restore_wide_integers(df, path, layer)
+    if path.suffix.lower() == ".gpkg":
+        _keep_identity(df, path, layer)
     return df
+
+
+def _keep_identity(df: Any, path: Path, layer: Any) -> None:
+    """Note a GeoPackage layer's name in ``df.attrs`` (:data:`LAYER_NAME`) for :func:`write_file`.
+
+    A GeoPackage written from the frame names its layer so (unless a layer is given), as
+    ogr2ogr does; it was named after the output file. The feature ids go with the rows
+    through :func:`feature_ids` instead: ``attrs`` survive sorting and filtering, which
+    would pair the ids with other rows.
+    """
+    df.attrs[LAYER_NAME] = str(layer)
+
+
+def feature_ids(path: str | Path, layer: Any) -> tuple[str, np.ndarray] | None:
+    """A GeoPackage layer's feature ids, in the order :func:`read_file` reads the features.
+
+    ``(fid column, (n,) int64)``, or None for other formats, or a layer without ids.
+    GDAL gives every feature of a GeoPackage an id that joins, relations and QGIS
+    selections refer to; written back without them, the features were numbered 1..n
+    again (France went from fid 144 to 35 in QGIS's world map). The file commands pass
+    them to the writer with the rows in the order read (``_write_file``'s ``fids``).
+    """
+    import pyogrio
+
+    path = Path(path)
+    if path.suffix.lower() != ".gpkg":
+        return None
+    try:
+        with warnings.catch_warnings():  # (an M layer's warning: said when it was read)
+            warnings.filterwarnings("ignore", message="Measured \\(M\\) geometry types")
+            name = pyogrio.read_info(path, layer=layer).get("fid_column") or ""
+            if not name:
+                return None
+            fids = pyogrio.read_dataframe(
+                path, layer=layer, columns=[], read_geometry=False, fid_as_index=True
+            ).index.to_numpy()
+    except Exception:  # ids are a courtesy: the features themselves were read
+        return None
+    return str(name), np.asarray(fids, dtype=np.int64)
+
+
+def _restore_wide_integers(df: Any, path: Path, layer: Any) -> None:
+    """Read again, exactly, the 64-bit integer fields with NULLs that float64 rounded.
+
+    pyogrio's default reader gives an Integer64 field with a NULL as float64, which holds
+    integers up to 2**53 only: 9007199254740993 came back as 9007199254740992, and was
+    written so (GDAL's ogr2ogr keeps it), and 2**63 - 1 failed the cast to Int64.
+    :func:`_restore_field_types` leaves those with a value of 2**53 or more in magnitude as
+    they are and names them (``attrs[_WIDE]``); they are read once more through the Arrow
+    reader (int64 with nulls, the same features in the same order), without geometries.
+    """
+    import pandas as pd
+
+    wide = [
+        n
+        for n in df.columns
+        if n != df.geometry.name
+        and str(df[n].dtype) in ("Int64", "float64")
+        and n in df.attrs.get(_WIDE, ())
+    ]
+    df.attrs.pop(_WIDE, None)
+    if not wide:
+        return
+    try:
+        import pyarrow as pa
+        import pyogrio
+    except ImportError:  # without pyarrow (the 'geo' extra has it) the values stay rounded
+        return
+    try:
+        _, table = pyogrio.read_arrow(path, layer=layer, columns=wide, read_geometry=False)
+    except Exception as exc:
+        raise CurveFormatError(f"cannot read {str(path)!r}: {exc}") from exc
+    exact = {pa.int64(): pd.Int64Dtype()}.get
+    for n in wide:
+        col = table[n]
+        if col.type == pa.int64() and len(col) == len(df):
+            values = col.to_pandas(types_mapper=exact)
+            values.index = df.index
+            df[n] = values
 
 
 #: Where the file keeps its field types (``df.attrs``): the Date fields, which pandas reads
@@ -231,6 +314,10 @@ def read_file(
 DATE_FIELDS = "curvesmith_date_fields"
 #: ... and the name of its geometry column (a GeoPackage's ``geom``, ``WKT``, ``shape``).
 GEOMETRY_NAME = "curvesmith_geometry_name"
+#: ... and a GeoPackage layer's name.
+LAYER_NAME = "curvesmith_layer_name"
+#: Integer64 fields that float64 rounded, read again by _restore_wide_integers (transient).
+_WIDE = "curvesmith_wide_integers"
 
 
 def _restore_field_types(df: Any, info: dict) -> None:
@@ -242,19 +329,25 @@ def _restore_field_types(df: Any, info: dict) -> None:
     ``df.attrs[DATE_FIELDS]`` so that :func:`write_file` writes it as a Date again.
     """
     nullable = {"OFSTBoolean": "boolean", "OFSTInt16": "Int16"}
-    dates = []
+    dates: list[str] = []
+    wide: list[str] = []
     fields = zip(info["fields"], info["ogr_types"], info["ogr_subtypes"], strict=True)
     for name, kind, sub in fields:
         if name not in df.columns:
             continue
         col = df[name]
         if kind in ("OFTInteger", "OFTInteger64") and col.dtype == np.float64:
+            if kind == "OFTInteger64" and bool((col.abs() >= 2**53).any()):
+                wide.append(str(name))  # float64 rounded it: read again exactly
+                continue
             dtype = nullable.get(sub, "Int64" if kind == "OFTInteger64" else "Int32")
             df[name] = col.astype(dtype)
         elif kind == "OFTDate" and str(col.dtype).startswith("datetime64"):
             dates.append(str(name))
     if dates:
         df.attrs[DATE_FIELDS] = dates
+    if wide:
+        df.attrs[_WIDE] = wide  # (taken out again by _restore_wide_integers)
     if info.get("geometry_name"):  # a GeoPackage's geometry column: written with its name
         df.attrs[GEOMETRY_NAME] = str(info["geometry_name"])
 
@@ -709,10 +802,26 @@ def write_file(df: Any, path: str | Path, *, layer: str | None = None) -> None:
     :class:`CurveFormatError`. An existing file is replaced as a whole; only an existing
     GeoPackage written with an explicit ``layer`` keeps its other layers (that layer is
     replaced, or added), and one of several layers written without is refused
-    (:func:`check_layers_kept`). The new file is written completely to a temporary file in the same
-    folder and read back before it replaces anything: a failed write (a full disk) leaves
-    the previous file untouched and no partial file. Shapefile and FlatGeobuf have no
-    empty geometry: an empty one is written as NULL (no geometry).
+    (:func:`check_layers_kept`). A GeoPackage layer read by :func:`read_file` is written
+    under its name unless ``layer`` names another. The new file is written completely to a
+    temporary file in the same folder and read back before it replaces anything: a failed
+    write (a full disk) leaves the previous file untouched and no partial file. Shapefile
+    and FlatGeobuf have no empty geometry: an empty one is written as NULL (no geometry).
+    """
+    _write_file(df, path, layer=layer)
+
+
+def _write_file(
+    df: Any,
+    path: str | Path,
+    *,
+    layer: str | None = None,
+    fids: tuple[str, np.ndarray] | None = None,
+) -> None:
+    """:func:`write_file`, and into a GeoPackage the feature ids `fids` of the rows, in order.
+
+    `fids` (from :func:`feature_ids`, for the rows as read) are written as the layer's ids
+    (GDAL's ``FID`` layer option), when they are as many as the rows.
     """
     pyogrio = require("pyogrio", "geo", "writing GIS files")
     shapely = require("shapely", "geo", "writing GIS files")
@@ -767,6 +876,19 @@ def write_file(df: Any, path: str | Path, *, layer: str | None = None) -> None:
     df, dated = _with_dates(df)
     if dated:
         kwargs["use_arrow"] = True  # pyogrio writes a Date field from Arrow's date32 only
+    # a GeoPackage read from a GeoPackage keeps its layer's name (unless one is given) and
+    # its feature ids, as ogr2ogr does (_keep_identity)
+    name_of_layer = layer
+    fid_option: dict[str, str] = {}
+    if driver == "GPKG":
+        if layer is None and df.attrs.get(LAYER_NAME):
+            name_of_layer = str(df.attrs[LAYER_NAME])
+        if fids is not None and importlib.util.find_spec("pyarrow") is None:
+            fids = None  # (without pyarrow, the 'geo' extra's, a layer of slices cannot)
+        if fids is not None and len(fids[1]) == len(df) and fids[0] not in df.columns:
+            df = df.assign(**{fids[0]: fids[1]})
+            df = df[[fids[0], *[c for c in df.columns if c != fids[0]]]]
+            fid_option = {"FID": fids[0]}
     n_null, n_empty = geometry_counts(df)
     if driver in _NO_EMPTY:
         n_null += n_empty  # written as NULL: that is what reading back must find
@@ -788,16 +910,23 @@ def write_file(df: Any, path: str | Path, *, layer: str | None = None) -> None:
             with _fast_sqlite(pyogrio, driver == "GPKG"):
                 for k, part in enumerate(slices):
                     piece = df if len(slices) == 1 else df.iloc[part]
-                    named = {"layer_options": {"GEOMETRY_NAME": name}} if name and k == 0 else {}
+                    options = dict(kwargs)
+                    if k == 0:  # the layer's creation: its geometry column and fid names
+                        created = {**fid_option, **({"GEOMETRY_NAME": name} if name else {})}
+                        options["layer_options"] = {**options.get("layer_options", {}), **created}
+                    elif fid_option:  # pyogrio appends the ids through Arrow only
+                        options["use_arrow"] = True
                     pyogrio.write_dataframe(
-                        piece, tmp, layer=layer, driver=driver, append=k > 0, **kwargs, **named
+                        piece, tmp, layer=name_of_layer, driver=driver, append=k > 0, **options
                     )
                     del piece
             if order:
                 _restore_gpkg_order(tmp, order)
         except Exception as exc:
             raise CurveFormatError(f"cannot write {str(path)!r}: {exc}") from exc
-        _verify_written(tmp, path, len(df), n_null, layer if driver == "GPKG" else None, slices)
+        _verify_written(
+            tmp, path, len(df), n_null, name_of_layer if driver == "GPKG" else None, slices
+        )
         if driver == "GPKG":
             fsync_path(tmp)  # on disk before it replaces anything (SQLite did not sync it)
 
@@ -1427,6 +1556,7 @@ def smooth_file(
         out_layer = input_layer_name(in_path, layer)
     check_layers_kept(out_path, out_layer)  # before the work, not after it
     df = read_file(in_path, layer=layer)
+    ids = feature_ids(in_path, layer) if _driver_for(Path(out_path)) == "GPKG" else None
     n_null, n_empty = check_null_geometries(df, in_path, allow_null=allow_null)
     crs = df.crs
     geographic = bool(crs is not None and crs.is_geographic)
@@ -1491,7 +1621,7 @@ def smooth_file(
         out.geometry = clamp_to_domain(out.geometry, str(in_path), df.geometry)
     out = put_points_back(out, kept, points)
     del df, kept  # the input's geometries are not needed while the output is written
-    write_file(out, out_path, layer=out_layer)
+    _write_file(out, out_path, layer=out_layer, fids=ids)
     return FileSmoothReport(
         n_features=len(out),
         crs=None if crs is None else crs.to_string(),
