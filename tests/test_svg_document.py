@@ -77,8 +77,9 @@ def test_everything_but_the_smoothed_shapes_is_written_back(tmp_path):
     # the two <use> of a shape in defs: kept as it was, and said so in one line
     lines = [ln for ln in res.stderr.splitlines() if ln.strip()]
     assert lines == [
-        f"Warning: {out}: 2 SVG element(s) drawn more than once through <use>, or inside a "
-        "clipPath, mask, marker or pattern, written back as they were (element 1, 2)"
+        f"Warning: {out}: 2 SVG element(s) drawn more than once through <use>, referenced by "
+        "other elements, or inside a clipPath, mask, marker, pattern or scaled symbol, "
+        "written back as they were (element 1, 2)"
     ]
     before, after = ET.parse(src).getroot(), ET.parse(out).getroot()
     assert _non_shapes(after) == _non_shapes(before)  # text, image, defs, groups, metadata
@@ -176,8 +177,9 @@ def test_a_path_in_defs_drawn_once_is_smoothed_where_it_is_defined(tmp_path):
     res = _smooth(src, out)
     lines = [ln for ln in res.stderr.splitlines() if ln.strip()]
     assert lines == [
-        f"Warning: {out}: 1 SVG element(s) drawn more than once through <use>, or inside a "
-        "clipPath, mask, marker or pattern, written back as they were (element 2)"
+        f"Warning: {out}: 1 SVG element(s) drawn more than once through <use>, referenced by "
+        "other elements, or inside a clipPath, mask, marker, pattern or scaled symbol, "
+        "written back as they were (element 2)"
     ]
     source, smoothed = cio.read_svg(src), cio.read_svg(out)
     assert [len(c.points) for c in source] == [5, len(source[1].points), 4]
@@ -207,14 +209,33 @@ def test_curves_of_a_document_fit_only_what_is_rewritten(tmp_path):
     assert res.exit_code == 0, res.output
     lines = [ln for ln in res.stderr.splitlines() if ln.strip()]
     assert lines[1:3] == [
-        "curve 1: written back as it was (drawn by reference; see the warning)",
-        "curve 2: written back as it was (drawn by reference; see the warning)",
+        "curve 1: written back as it was (see the warning)",
+        "curve 2: written back as it was (see the warning)",
     ]
     assert "cubic segment(s)" in lines[0] and "cubic segment(s)" in lines[3]
     assert lines[-1] == (
-        f"Warning: {out}: 2 SVG element(s) drawn more than once through <use>, or inside a "
-        "clipPath, mask, marker or pattern, written back as they were (element 1, 2)"
+        f"Warning: {out}: 2 SVG element(s) drawn more than once through <use>, referenced by "
+        "other elements, or inside a clipPath, mask, marker, pattern or scaled symbol, "
+        "written back as they were (element 1, 2)"
     )
     assert not any("SVGKeptWarning" in ln for ln in lines)
     arrow = next(el for el in ET.parse(out).getroot().iter() if el.get("id") == "arrow")
     assert arrow.get("d") == "M0 0 L10 0 L10 10 Z"
+
+
+def test_a_scaled_symbol_stays_as_it_was(tmp_path):
+    # a <symbol viewBox> is drawn scaled onto its <use>'s width and height, which the
+    # reader does not apply: rewriting it would smooth it in the wrong units
+    doc = """<svg xmlns="http://www.w3.org/2000/svg" xmlns:xlink="http://www.w3.org/1999/xlink"
+  viewBox="0 0 100 100">
+ <symbol id="s" viewBox="0 0 10 10" preserveAspectRatio="none">
+  <path id="p" d="M1 1 L9 1 L9 9 L5 6 L1 9 Z"/></symbol>
+ <use xlink:href="#s" x="50" y="40" width="40" height="20"/>
+ <polygon id="q" points="0,0 20,0 20,20 3,15"/>
+</svg>"""
+    src, out = tmp_path / "sym.svg", tmp_path / "out.svg"
+    src.write_text(doc)
+    res = _smooth(src, out)
+    assert "scaled symbol" in res.stderr
+    p = next(el for el in ET.parse(out).getroot().iter() if el.get("id") == "p")
+    assert p.get("d") == "M1 1 L9 1 L9 9 L5 6 L1 9 Z"

@@ -119,7 +119,7 @@ def write_fitted(
     said = []
     for i, (orig, c) in enumerate(zip(originals, smoothed, strict=True)):
         if c.feature in kept:  # written back as it was: nothing to fit, nothing to claim
-            said.append(f"curve {i}: written back as it was (drawn by reference; see the warning)")
+            said.append(f"curve {i}: written back as it was (see the warning)")
             fits.append(None)
             continue
         idx = corners[i] if corners is not None else None

@@ -248,10 +248,14 @@ def _fixed_nodes(root, nodes: dict[int, tuple]) -> frozenset:
     draws (the way Figma and Illustrator export: every path in ``defs``, drawn by one
     ``<use>``) is rewritten in its own coordinates, as any other: the feature's transform
     is the ``<use>``'s composed with the shape's. Any other reference to it or to a
-    containing element (a second ``<use>``, a ``textPath``) keeps it.
+    containing element (a second ``<use>``, a ``textPath``) keeps it, and so does a
+    ``symbol`` with a ``viewBox``, whose mapping onto the ``<use>``'s width and height the
+    reader (svgelements) does not apply.
     """
-    drawn = [entry[0] for entry in nodes.values()]
-    fixed = {n for n in drawn if n is None or drawn.count(n) > 1}  # used more than once
+    from collections import Counter
+
+    drawn = Counter(entry[0] for entry in nodes.values())
+    fixed = {n for n, k in drawn.items() if n is None or k > 1}  # used more than once
     refs: dict[str, int] = {}
     for element in root.iter():
         href = element.get("href") or element.get("{http://www.w3.org/1999/xlink}href")
@@ -266,13 +270,16 @@ def _fixed_nodes(root, nodes: dict[int, tuple]) -> frozenset:
         while up is not None:
             chain.append(up)
             if _local(up.tag) in _NOT_DRAWN:
-                hidden.add(_local(up.tag))
+                # a symbol's viewBox maps it onto the <use>'s width and height, which the
+                # reader does not apply: such a shape stays as it was
+                viewbox = _local(up.tag) == "symbol" and up.get("viewBox") is not None
+                hidden.add("scaled symbol" if viewbox else _local(up.tag))
             up = parents.get(up)
         if not hidden:
             continue
         node = element.get(_NODE)
         references = sum(refs.get(el.get("id"), 0) for el in chain if el.get("id"))
-        if hidden - {"defs", "symbol"} or references != 1 or drawn.count(node) != 1:
+        if hidden - {"defs", "symbol"} or references != 1 or drawn[node] != 1:
             fixed.add(node)
     return frozenset(fixed)
 
@@ -963,8 +970,9 @@ def _write_document(curves: list[Curve], document, dest: Source, *, beziers=None
         el.attrib.pop(_NODE, None)
     if kept:
         warnings.warn(
-            f"{len(kept)} SVG element(s) drawn more than once through <use>, or inside a "
-            f"clipPath, mask, marker or pattern, written back as they were (element "
+            f"{len(kept)} SVG element(s) drawn more than once through <use>, referenced by "
+            f"other elements, or inside a clipPath, mask, marker, pattern or scaled symbol, "
+            f"written back as they were (element "
             f"{', '.join(map(str, kept[:5]))}{', ...' if len(kept) > 5 else ''})",
             SVGKeptWarning,
             stacklevel=3,
