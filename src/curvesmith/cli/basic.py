@@ -281,7 +281,14 @@ def _where(feature: int, ident, kind: str, part: int, ring: int, member: int | N
     default=None,
     help="Write G2 Bezier paths (few segments within --tolerance) instead of polylines.",
 )
-@click.option("--tolerance", type=POSITIVE, default=None, help="--curves: max deviation.")
+@click.option(
+    "--tolerance",
+    type=POSITIVE,
+    default=None,
+    help="--curves: max deviation of the Bezier paths from the smoothed curve (the smoothing's "
+    "own change comes on top: --iterations 0 fits the input itself); default 1/1000 of the "
+    "drawing's diagonal.",
+)
 @KEEP_ANGLE_OPTION
 @MAX_SHIFT_OPTION
 @MIN_SEGMENT_OPTION
