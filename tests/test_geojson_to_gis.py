@@ -143,3 +143,43 @@ def test_gis_options_on_geojson_to_geojson_go_through_geo(tmp_path, option):
             shapely.area(after.geometry.values[poly]),
         )
         assert np.max(np.abs(a1 / a0 - 1)) < 1e-9
+
+
+def test_xyz_geojson_gives_the_same_answer_whichever_output(tmp_path):
+    # the ring by ring path smoothed an XYZ GeoJSON in 3D: written as .geojson its XY were
+    # 1.65 m from the .gpkg answer and its Z left the input's range (99.98-140.0066 for
+    # 100-140); now it is smoothed in XY with Z interpolated, as GIS data are
+    t = np.linspace(0, 2 * np.pi, 40)[:-1]
+    r = 50 + 8 * np.sin(5 * t)
+    ring = np.c_[5e5 + r * np.cos(t), 5e6 + r * np.sin(t), 100 + 40 * t / t[-1]]
+    ring = np.vstack([ring, ring[:1]])
+    line = np.c_[
+        np.linspace(5e5, 5e5 + 300, 30),
+        5e6 + 20 * np.sin(np.arange(30.0)),
+        np.linspace(200, 300, 30),
+    ]
+    doc = {
+        "type": "FeatureCollection",
+        "crs": {"type": "name", "properties": {"name": "urn:ogc:def:crs:EPSG::32633"}},
+        "features": [
+            {"type": "Feature", "properties": {"name": "zpoly"},
+             "geometry": {"type": "Polygon", "coordinates": [ring.tolist()]}},
+            {"type": "Feature", "properties": {"name": "zline"},
+             "geometry": {"type": "LineString", "coordinates": line.tolist()}},
+        ],
+    }  # fmt: skip
+    src = tmp_path / "z.geojson"
+    src.write_text(json.dumps(doc))
+    outs = {}
+    for suffix in (".geojson", ".gpkg"):
+        out = tmp_path / f"out{suffix}"
+        res = CliRunner().invoke(main, ["smooth", str(src), "-o", str(out), "--iterations", "2"])
+        assert res.exit_code == 0, res.output
+        outs[suffix] = gpd.read_file(out)
+    a, b = outs[".geojson"], outs[".gpkg"]
+    assert list(a["name"]) == ["zpoly", "zline"]
+    for ga, gb, z in zip(a.geometry, b.geometry, ([100, 140], [200, 300]), strict=True):
+        ca = shapely.get_coordinates(ga, include_z=True)
+        assert np.array_equal(ca, shapely.get_coordinates(gb, include_z=True))
+        assert z[0] <= ca[:, 2].min() and ca[:, 2].max() <= z[1]
+    assert a.geometry[0].area == pytest.approx(shapely.Polygon(ring[:, :2]).area, rel=1e-12)

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import math
+import typing
 import warnings
 from pathlib import Path
 
@@ -357,6 +358,12 @@ def smooth_command(
     # GeoJSON goes through curvesmith.geo for what only it does (GIS output, the map-unit
     # bounds, repair, NULLs, CRS work); otherwise ring by ring, every method, its own writer
     gis_only = budget or make_valid or allow_null or equal_area or layer is not None
+    geojson_out = dest != "-" and Path(dest).suffix.lower() in (".geojson", ".json")
+    if geojson_in and geojson_out and not gis_only and not (anchors or curve_kind):
+        # XYZ GeoJSON too: smoothed in XY with Z interpolated, as GIS data are (the ring by
+        # ring path smooths in 3D, and the same file gave other XY, 1.65 m off, and Z outside
+        # the input's range, as .geojson than as .gpkg); methods geo has (cca, chaikin)
+        gis_only = method in typing.get_args(methods.GisMethod) and _has_z(source)
     if source != "-" and (
         is_geofile(source, coverage=coverage) or (geojson_in and (gis_out or gis_only))
     ):
@@ -495,6 +502,36 @@ _METHOD_OPTIONS = (
     ("degree", "--degree"),
     ("preserve_endpoints", "--preserve-endpoints/--free-endpoints"),
 )
+
+
+def _has_z(source: str) -> bool:
+    """Whether a GeoJSON file has a position with a third (Z) coordinate."""
+    try:
+        with open(source, encoding="utf-8-sig") as fh:
+            doc = json.load(fh)
+    except (OSError, ValueError):
+        return False  # the ring by ring path reads it again and says what is wrong
+
+    def positions(node) -> bool:
+        if isinstance(node, list) and node and not isinstance(node[0], list):
+            return len(node) >= 3  # a position: x, y, z
+        return isinstance(node, list) and any(positions(x) for x in node)
+
+    def geometries(node):
+        if not isinstance(node, dict):
+            return
+        if node.get("type") == "FeatureCollection":
+            for f in node.get("features") or ():
+                yield from geometries(f)
+        elif node.get("type") == "Feature":
+            yield from geometries(node.get("geometry"))
+        elif node.get("type") == "GeometryCollection":
+            for g in node.get("geometries") or ():
+                yield from geometries(g)
+        else:
+            yield node
+
+    return any(positions(g.get("coordinates")) for g in geometries(doc))
 
 
 def _check_method_options(spec: methods.SmoothingMethod, keep_angle: float | None) -> None:
