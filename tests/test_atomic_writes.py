@@ -411,6 +411,9 @@ def test_output_suffix_and_folder_checked_before_the_run(tmp_path, monkeypatch):
     assert res.exit_code == 2 and "a GIS input is written as" in res.output
     res = CliRunner().invoke(main, ["smooth", str(src), "-o", str(tmp_path / "no" / "o.gpkg")])
     _one_line_error(res, "does not exist")
+    # a file where the folder should be was said not to exist
+    res = CliRunner().invoke(main, ["smooth", str(src), "-o", str(src / "o.gpkg")])
+    _one_line_error(res, f"the directory {str(src)!r} is a file, not a directory")
     assert called == []
 
 

@@ -322,8 +322,10 @@ def check_destination(dest: str | os.PathLike) -> Path:
     if path.is_dir():
         raise CurveFormatError(f"{name}: is a directory, not a file")
     if not parent.is_dir():
+        # (a file where the folder should be: -o mixed.geojson/x.gpkg)
+        what = "is a file, not a directory" if parent.exists() else "does not exist"
         raise CurveFormatError(
-            f"{name}: cannot write the file: the directory {os.fspath(parent)!r} does not exist"
+            f"{name}: cannot write the file: the directory {os.fspath(parent)!r} {what}"
         )
     if not os.access(parent, os.W_OK | os.X_OK):
         raise CurveFormatError(
