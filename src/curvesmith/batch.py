@@ -27,7 +27,7 @@ from typing import Any
 import numpy as np
 
 from ._validate import as_int
-from .errors import CurveError, require
+from .errors import CurveError, OutputSizeError, require
 from .methods import GisMethod
 
 __all__ = ["BatchReport", "FeatureError", "smooth_file", "smooth_partitioned"]
@@ -129,6 +129,8 @@ def _smooth_partition(
     try:
         res = geo.smooth(geoms, full_output=True, **options)
         return ship(pack(res.geometry), handover, f"out-{start}"), [], len(res.reductions)
+    except OutputSizeError:  # feature by feature, the same output would be held
+        raise
     except Exception:  # retried feature by feature below, to isolate the failing ones
         pass
     out = np.array(geoms, dtype=object, copy=True)
@@ -592,10 +594,13 @@ def smooth_partitioned(
     n_reductions : int
         Pieces smoothed less to keep features valid.
     """
-    from .geo._smooth import as_geometry_array, check_method
+    from .geo._smooth import as_geometry_array, check_layer_size, check_method
 
     iterations = check_method(method, iterations, alpha)
     geoms, wrap = as_geometry_array(geometry)
+    # the output is gathered here: the whole layer's, as geo.smooth would hold it
+    bounded = max_shift is not None or min_segment is not None
+    check_layer_size(geoms, method, iterations, levels=bounded)
     partition_size = features_per_task(partition_size, len(geoms))
     if workers is not None:
         workers = as_int(workers, name="workers", minimum=1)

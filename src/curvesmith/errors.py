@@ -7,7 +7,7 @@ not know curvesmith. Messages name the argument and the offending value.
 
 from __future__ import annotations
 
-__all__ = ["CurveError", "CurveFormatError", "MissingDependencyError"]
+__all__ = ["CurveError", "CurveFormatError", "MissingDependencyError", "OutputSizeError"]
 
 
 class CurveError(ValueError):
@@ -25,6 +25,16 @@ class CurveError(ValueError):
 
 class CurveFormatError(CurveError):
     """A file or stream could not be read or written in the requested format."""
+
+
+class OutputSizeError(CurveError):
+    """The requested refinement would make more vertices than one call may hold.
+
+    Raised before any work is done (see ``curvesmith._validate.check_growth`` and
+    ``check_layer_growth``); the message names the most iterations that fit. Code that
+    retries a failing layer feature by feature re-raises it instead: smaller calls would
+    hold the same output in all.
+    """
 
 
 class MissingDependencyError(CurveError, ImportError):

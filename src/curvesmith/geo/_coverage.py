@@ -12,7 +12,7 @@ import numpy as np
 from .. import methods
 from .._gc import gc_paused
 from .._rich import RichRepr
-from ..errors import CurveError
+from ..errors import CurveError, OutputSizeError
 from ..methods import GisMethod
 from . import _zm
 from ._corners import for_method, with_corners
@@ -23,6 +23,7 @@ from ._smooth import (
     _take,
     as_geometry_array,
     assemble_polygons,
+    check_layer_size,
     check_method,
     make_smoother,
     prepare,
@@ -466,6 +467,9 @@ def smooth_coverage(
     shapely = _shapely()
     iterations = check_method(method, iterations, alpha)
     geoms, wrap = as_geometry_array(polygons)
+    # with max_shift / min_segment every level is held at once
+    bounded = max_shift is not None or min_segment is not None
+    check_layer_size(geoms, method, iterations, levels=bounded)
     geoms, zm = _zm.split_zm(geoms)  # smoothed in XY; Z/M interpolated back (geo._zm)
     if zm is not None:
         wrap = _zm.restoring(wrap, zm)
@@ -721,6 +725,8 @@ def smooth_arc_blocks(
         new_xy, new_off = smooth_batch(
             method, alpha, xy, off, closed, level, fmask, close_rings=True, threads=ARC_THREADS
         )
+    except OutputSizeError:  # arc by arc, the same output would be held
+        raise
     except Exception:  # isolate the failing arcs, one by one
         smoother = make_smoother(method, alpha, fixed)
         for k in todo:

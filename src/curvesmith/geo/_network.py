@@ -47,7 +47,7 @@ from . import _zm
 from ._corners import with_corners
 from ._coverage import smooth_arcs_bounded
 from ._engine import Level, levels_for, resolve_arcs
-from ._smooth import _shapely, as_geometry_array, check_method, make_smoother
+from ._smooth import _shapely, as_geometry_array, check_layer_size, check_method, make_smoother
 
 __all__ = [
     "NetworkReduction",
@@ -589,6 +589,9 @@ def smooth_network(
     shapely = _shapely()
     iterations = check_method(method, iterations, alpha)
     geoms, wrap = as_geometry_array(geometry)
+    # with max_shift / min_segment every level is held at once
+    bounded = max_shift is not None or min_segment is not None
+    check_layer_size(geoms, method, iterations, levels=bounded)
     geoms, zm = _zm.split_zm(np.asarray(geoms, dtype=object).copy())  # Z/M: geo._zm
     if zm is not None:
         wrap = _zm.restoring(wrap, zm)

@@ -363,6 +363,25 @@ def check_method(method: str, iterations: int, alpha: Any) -> int:
     return iterations
 
 
+def check_layer_size(
+    geoms: Any, method: str, iterations: int, *, levels: bool = False, rows: int | None = None
+) -> None:
+    """Refuse smoothing whose output would not fit in memory (see ``check_layer_growth``).
+
+    `levels`: every level up to `iterations` is held at once. `rows`: the layer's
+    coordinates, where the caller has counted them.
+    """
+    from .._validate import check_layer_growth
+
+    geoms = np.asarray(geoms, dtype=object)
+    if iterations == 0 or len(geoms) == 0:
+        return
+    n = int(_shapely().get_num_coordinates(geoms).sum()) if rows is None else rows
+    growth = methods.get(method, gis=True).growth
+    what = f"vertices of {len(geoms)} feature(s)"
+    check_layer_growth(n, iterations, growth, levels=levels, what=what)
+
+
 # --------------------------------------------------------------------------------------------
 # input / output containers
 
@@ -1264,6 +1283,8 @@ def smooth(
         fixed_spec = FixedVertices(fixed, geoms)
     still = _all_corners(geoms, fixed) if keep_angle is not None else None
     geoms, facts = _prepare(geoms, make_valid=make_valid, planar=True)  # 2D: split_zm
+    rows = None if facts.xy is None else len(facts.xy)  # (counting them again: 1.5 % of a call)
+    check_layer_size(geoms, method, iterations, rows=rows)
     out, reductions, n, change = _smooth_feature_array(
         geoms, method=method, iterations=iterations, alpha=alpha, fixed=fixed_spec, facts=facts
     )
@@ -1399,9 +1420,13 @@ def smooth_packet(
 
 def _rings_to_packet(geoms, facts, method, iterations, alpha):
     """The packet and reductions of a layer of Polygons without holes (``facts.xy``)."""
+    from .._validate import check_layer_growth
     from ._packets import POLYGONS, GeometryPacket
 
     shapely = _shapely()
+    growth = methods.get(method, gis=True).growth
+    what = f"vertices of {len(geoms)} feature(s)"
+    check_layer_growth(len(facts.xy), iterations, growth, what=what)
     parts: list[dict] = []
     _, reductions, _, _ = _smooth_feature_array(
         geoms, method=method, iterations=iterations, alpha=alpha, facts=facts, ragged_out=parts
@@ -1484,6 +1509,8 @@ def _smooth_within_budget(
         min_segment = as_float(min_segment, name="min_segment", low=0.0)
     geoms, wrap = as_geometry_array(geometry)
     geoms = np.asarray(geoms, dtype=object)
+    # the chosen features and the run of the moment: up to 1.5 times the strongest run
+    check_layer_size(geoms, options["method"], int(options["iterations"]), levels=True)
     present = ~(shapely.is_missing(geoms) | shapely.is_empty(geoms))
     chosen = np.array(geoms, dtype=object, copy=True)
     level = np.full(len(geoms), -1, dtype=int)  # index into `steps`; -1: unchanged
