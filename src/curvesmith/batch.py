@@ -733,11 +733,13 @@ def smooth_file(
         check_layers_kept,
         check_network_back,
         clamp_to_domain,
+        densify_tolerance,
         domain_fixed,
         feature_ids,
         geographic_message,
         input_layer_name,
         is_equal_area_crs,
+        projected_budget,
         put_points_back,
         set_points_aside,
         to_one_equal_area,
@@ -777,7 +779,12 @@ def smooth_file(
     regional = equal_area and not (coverage or network)
     work = df
     if equal_area and not regional:  # one projection for the whole coverage or network
-        work = to_one_equal_area(df, mode="network" if network else "coverage", name=str(in_path))
+        tolerance = densify_tolerance(max_shift)  # max_shift in ground metres: as geo's
+        work = to_one_equal_area(
+            df, mode="network" if network else "coverage", name=str(in_path), tolerance=tolerance
+        )
+        if max_shift:
+            budget["max_shift"] = projected_budget(work.geometry.values, max_shift, tolerance)
     t0 = time.perf_counter()
     not_equal_area: tuple[int, ...] = ()
     network_counts: tuple[int, int, int, int] | None = None

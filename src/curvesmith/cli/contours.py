@@ -140,9 +140,18 @@ def smooth_network_geofile(
         from .geo import _in_cli_words
 
         click.echo(f"Warning: {_in_cli_words(geographic_message(in_path, crs.name))}", err=True)
-    from ..geo._io import check_network_back, to_one_equal_area
+    from ..geo._io import (
+        check_network_back,
+        densify_tolerance,
+        projected_budget,
+        to_one_equal_area,
+    )
 
-    work = to_one_equal_area(df, mode="network", name=in_path) if equal_area else df
+    work, budget = df, max_shift
+    if equal_area:  # max_shift in ground metres (geo._io.projected_budget)
+        tolerance = densify_tolerance(max_shift)
+        work = to_one_equal_area(df, mode="network", name=in_path, tolerance=tolerance)
+        budget = projected_budget(work.geometry.values, max_shift, tolerance)
     res = geo.smooth_network(
         work,
         method=gis,
@@ -150,7 +159,7 @@ def smooth_network_geofile(
         alpha=_alpha(alpha),
         full_output=True,
         keep_angle=keep_angle,
-        max_shift=max_shift,
+        max_shift=budget,
         min_segment=min_segment,
     )
     out = res.geometry.to_crs(crs) if equal_area else res.geometry

@@ -1204,7 +1204,62 @@ def equal_area_crs(df: Any) -> str:
     return _laea(lon, lat)
 
 
-def to_one_equal_area(df: Any, *, mode: str, name: str) -> Any:
+#: ``equal_area`` with ``max_shift``: an edge of the data, straight in its CRS as a GIS
+#: draws it, is divided until its image in the projection is within ``max_shift`` over
+#: this of straight (see :mod:`._densify`).
+DENSIFY_FRACTION = 20.0
+
+#: Metres in a degree, at most (of latitude, at the poles): a shift of d degrees is at most
+#: d times this on the ground.
+METRES_PER_DEGREE = 111_700.0
+
+#: The sphere the scale of a Lambert azimuthal equal-area projection is reckoned on.
+EARTH_RADIUS = 6_371_008.8
+
+
+def densify_tolerance(max_shift: float | None) -> float | None:
+    """How straight (metres) an edge's image must be: a twentieth of `max_shift`, or None.
+
+    Without `max_shift` edges are not divided: CCA cuts a corner in proportion to the
+    edges beside it, so dividing long edges finely would smooth coarse data far less.
+    """
+    return None if max_shift is None else max_shift / DENSIFY_FRACTION
+
+
+def densified(geoms: Any, crs: Any, target: Any, tolerance: float | None) -> np.ndarray:
+    """`geoms` (in `crs`) with their edges divided as :func:`._densify.densify_for` does.
+
+    `tolerance` None: as they are.
+    """
+    if tolerance is None:
+        return np.asarray(geoms, dtype=object)
+    import pyproj
+
+    from ._densify import densify_for
+
+    transform = pyproj.Transformer.from_crs(crs, target, always_xy=True).transform
+    return densify_for(np.asarray(geoms, dtype=object), transform, tolerance)
+
+
+def projected_budget(projected: Any, max_shift: float | None, tolerance: float | None):
+    """The `max_shift` to smooth with in a Lambert azimuthal projection, for ground metres.
+
+    Its scale is at most ``1 / cos(c / 2)`` at angular distance c from the centre (a metre
+    there is up to that much on the ground), and the edges of the data and of the output
+    are straight in the data's CRS to within `tolerance` each: the budget is shrunk by both,
+    so that no feature moves farther than `max_shift` on the ground.
+    """
+    if max_shift is None:
+        return None
+    import shapely
+
+    xy = shapely.get_coordinates(np.asarray(projected, dtype=object))
+    rho = float(np.hypot(xy[:, 0], xy[:, 1]).max()) if len(xy) else 0.0
+    scale = math.sqrt(max(1.0 - (rho / (2 * EARTH_RADIUS)) ** 2, 0.0))  # cos(c / 2)
+    return max(max_shift * scale - 2 * (tolerance or 0.0), 0.0)
+
+
+def to_one_equal_area(df: Any, *, mode: str, name: str, tolerance: float | None = None) -> Any:
     """`df` in the one equal-area projection a coverage or a network is smoothed in, checked.
 
     Coverage and network modes cannot be cut into regions as feature-by-feature smoothing
@@ -1232,7 +1287,13 @@ def to_one_equal_area(df: Any, *, mode: str, name: str) -> Any:
     import shapely
 
     laea = equal_area_crs(df)
-    work = df.to_crs(laea)
+    # edges divided first, so that their images are the edges the data draw (see _densify)
+    import geopandas
+
+    straight = densified(df.geometry.values, df.crs, laea, tolerance)
+    work = df.copy()
+    work[df.geometry.name] = geopandas.GeoSeries(straight, index=df.index, crs=df.crs)
+    work = work.to_crs(laea)
     before = np.asarray(df.geometry.values, dtype=object)
     after = np.asarray(work.geometry.values, dtype=object)
     present = ~(shapely.is_missing(before) | shapely.is_empty(before))
@@ -1405,28 +1466,36 @@ def _smooth_equal_area(
     n_red, change = 0, 0.0
     planar: set[int] = set()  # pieces smoothed in the data's own CRS instead
 
-    def smooth_piece(geom_array, name_of, work_crs=None) -> np.ndarray:
+    def smooth_piece(geom_array, name_of, extra) -> np.ndarray:
         nonlocal n_red, change
-        edges = {"fixed": domain_fixed(crs, work_crs)} if geographic else {}
         try:
-            res = smooth(geom_array, make_valid=make_valid, full_output=True, **options, **edges)
+            res = smooth(geom_array, make_valid=make_valid, full_output=True, **options | extra)
         except CurveError as exc:
             raise CurveError(f"{name_of()}: {exc}") from None
         n_red += len(res.reductions)
         change = max(change, float(res.max_area_change))
         return np.asarray(res.geometry, dtype=object)
 
-    jobs = []  # per region: the features it smooths there, projected
+    # the bounds are ground metres: in each projection, max_shift shrunk by its scale and by
+    # how straight the edges are kept (projected_budget); in degrees, a degree's metres
+    tolerance = densify_tolerance(options.get("max_shift"))
+    jobs = []  # per region: the features it smooths there, projected, and its options
     for laea, idx in equal_area_regions(work):
         home = np.asarray(work.geometry.values[idx], dtype=object)
-        there = np.asarray(work.iloc[idx].to_crs(laea).geometry.values, dtype=object)
+        # edges divided first, so that their images are the edges the data draw (_densify)
+        straight = densified(home, crs, laea, tolerance)
+        there = np.asarray(geopandas.GeoSeries(straight, crs=crs).to_crs(laea).values)
         # valid in degrees but folded by the projection (sparse vertices along a narrow
         # neck, Sudan): smoothed in the data's CRS, where it is valid
         folded = shapely.is_valid(home) & ~shapely.is_valid(there)
         planar.update(int(j) for j in idx[folded])
         if (~folded).any():
-            jobs.append((idx[~folded], laea, there[~folded]))
-    labels = [np.array([owners[j][0] for j in idx]) for idx, _, _ in jobs]
+            extra = {"fixed": domain_fixed(crs, laea)} if geographic else {}
+            if "max_shift" in options:
+                budget = projected_budget(there[~folded], options["max_shift"], tolerance)
+                extra["max_shift"] = budget
+            jobs.append((idx[~folded], laea, there[~folded], extra))
+    labels = [np.array([owners[j][0] for j in idx]) for idx, _, _, _ in jobs]
     results: list[Any]
     if smoother is None:
         results = [
@@ -1434,32 +1503,36 @@ def _smooth_equal_area(
                 smooth_piece(
                     g,
                     lambda lab=lab: f"in the equal-area projection, features {lab.tolist()}",
-                    laea,
+                    extra,
                 ),
                 0,  # smooth_piece counts the reductions itself
                 [],
             )
-            for (_, laea, g), lab in zip(jobs, labels, strict=True)
+            for (_, _, g, extra), lab in zip(jobs, labels, strict=True)
         ]
     else:
         results = smoother(
-            [
-                (g, lab, {"fixed": domain_fixed(crs, laea)} if geographic else {})
-                for (_, laea, g), lab in zip(jobs, labels, strict=True)
-            ]
+            [(g, lab, extra) for (_, _, g, extra), lab in zip(jobs, labels, strict=True)]
         )
-    for (idx, laea, _), lab, (out, nr, errs) in zip(jobs, labels, results, strict=True):
+    for (idx, laea, there, _), lab, (out, nr, errs) in zip(jobs, labels, results, strict=True):
         n_red += nr
         if errors is not None:
             errors.extend((int(lab[k]), reason) for k, reason in errs)
         back = geopandas.GeoSeries(out, crs=laea).to_crs(crs).values
-        back = np.array([_unwrap(g) for g in back], dtype=object) if geographic else back
+        back = np.array([_unwrap(g) for g in back] if geographic else back, dtype=object)
+        # a feature left as it was (its bounds allow no smoothing) comes back undivided
+        same = shapely.equals_exact(np.asarray(out, dtype=object), there, 0.0)
+        back[same] = np.asarray(pieces, dtype=object)[idx[same]]
         done[idx] = back
     present = ~(shapely.is_missing(done) | shapely.is_empty(done))
     planar.update(int(j) for j in np.flatnonzero(present & ~shapely.is_valid(done)))
+    in_degrees = {"fixed": domain_fixed(crs)} if geographic else {}
+    for key in ("max_shift", "min_segment"):
+        if geographic and options.get(key) is not None:
+            in_degrees[key] = options[key] / METRES_PER_DEGREE
     for j in sorted(planar):  # folded there, or invalid back home: smooth in the data's CRS
         done[j] = smooth_piece(
-            np.array([pieces[j]], dtype=object), lambda j=j: f"feature {owners[j][0]}"
+            np.array([pieces[j]], dtype=object), lambda j=j: f"feature {owners[j][0]}", in_degrees
         )[0]
     geoms = np.array(source, dtype=object, copy=True)
     halves: dict[int, dict[bool, Any]] = {}
@@ -1578,7 +1651,11 @@ def smooth_file(
     # Antarctica keep meeting there) and the output stays inside the domain
     edges = {"fixed": domain_fixed(crs)} if geographic and not equal_area else {}
     if coverage:
-        work = to_one_equal_area(df, mode="coverage", name=str(in_path)) if equal_area else df
+        work, budget = df, max_shift
+        if equal_area:  # max_shift in ground metres: see projected_budget
+            tolerance = densify_tolerance(max_shift)
+            work = to_one_equal_area(df, mode="coverage", name=str(in_path), tolerance=tolerance)
+            budget = projected_budget(work.geometry.values, max_shift, tolerance)
         if geographic and equal_area:
             edges = {"fixed": domain_fixed(crs, work.crs)}
         res = smooth_coverage(
@@ -1590,7 +1667,7 @@ def smooth_file(
             make_valid=make_valid,
             full_output=True,
             keep_angle=keep_angle,
-            max_shift=max_shift,
+            max_shift=budget,
             min_segment=min_segment,
             **edges,
         )
