@@ -209,3 +209,17 @@ def test_arcs_not_retried_one_by_one(monkeypatch):
         geo_coverage.smooth_arc_blocks(
             arcs, loops, frozen, method="cca", iterations=2, alpha="regular"
         )
+
+
+def test_equal_area_regions_checked_as_one_layer(little_memory, tmp_path):
+    """--equal-area smooths region by region but holds every region's output at the end."""
+    import geopandas as gpd
+
+    # 2 x 100 squares of 0.1 degree, 1000 vertices, in two regions far apart
+    west = [shapely.box(-100 + i * 0.1, 40, -100 + (i + 1) * 0.1, 40.1) for i in range(100)]
+    east = [shapely.box(100 + i * 0.1, 40, 100 + (i + 1) * 0.1, 40.1) for i in range(100)]
+    src = tmp_path / "two.gpkg"
+    gpd.GeoDataFrame(geometry=west + east, crs="EPSG:4326").to_file(src)
+    with pytest.raises(OutputSizeError, match=r"into up to 2.19e\+06"):
+        geo.smooth_file(src, tmp_path / "out.gpkg", equal_area=True, iterations=7)
+    assert not (tmp_path / "out.gpkg").exists()

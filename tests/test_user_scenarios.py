@@ -163,8 +163,11 @@ def test_bad_output_paths(runner, tmp_path):
     res = runner.invoke(main, ["smooth", str(src), "-o", str(missing), "--method", "chaikin"])
     one_line_error(res, str(missing), "does not exist")
     (tmp_path / "d.csv").mkdir()
-    res = runner.invoke(main, ["smooth", str(src), "-o", str(tmp_path / "d.csv")])
-    one_line_error(res, "d.csv", "is a directory")
+    # a folder where the output file should go is a bad option value: a usage error, exit 2
+    for command in (["smooth"], ["batch", "smooth"], ["fair"], ["affine"]):
+        res = runner.invoke(main, [*command, str(src), "-o", str(tmp_path / "d.csv")])
+        assert res.exit_code == 2, res.output
+        assert res.output.strip().count("\n") == 0 and "d.csv' is a directory" in res.output
     res = runner.invoke(main, ["smooth", str(src), "-o", str(tmp_path / "out.xyz")])
     one_line_error(res, "out.xyz", "--format")
     res = runner.invoke(main, ["measure", str(tmp_path / "missing.csv")])

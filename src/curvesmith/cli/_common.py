@@ -78,6 +78,9 @@ class _Alpha(click.ParamType):
 #: iterations, passes: an integer >= 0
 COUNT = click.IntRange(min=0)
 #: sizes, caps: an integer >= 1
+#: An output file (or - for stdout): an existing folder there is a usage error, exit 2
+OUTPUT_FILE = click.Path(dir_okay=False, allow_dash=True)
+
 POSITIVE_INT = click.IntRange(min=1)
 #: tolerances, steps, intervals: a finite number > 0
 POSITIVE = _Number(min=0.0, min_open=True)

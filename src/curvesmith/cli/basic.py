@@ -22,6 +22,7 @@ from ._common import (
     MAX_SHIFT_OPTION,
     MIN_SEGMENT_OPTION,
     NON_NEGATIVE,
+    OUTPUT_FILE,
     POSITIVE,
     OptionError,
     check_input,
@@ -208,7 +209,15 @@ def _where(feature: int, ident, kind: str, part: int, ring: int, member: int | N
 
 @click.command("smooth")
 @click.argument("source", metavar="IN")
-@click.option("-o", "--output", "dest", required=True, metavar="OUT", help="Output file, or -.")
+@click.option(
+    "-o",
+    "--output",
+    "dest",
+    required=True,
+    type=OUTPUT_FILE,
+    metavar="OUT",
+    help="Output file, or -.",
+)
 @FORMAT_OPTION
 @click.option(
     "--method",

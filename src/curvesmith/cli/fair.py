@@ -13,6 +13,7 @@ import numpy as np
 from ..errors import CurveError
 from ._common import (
     FORMAT_OPTION,
+    OUTPUT_FILE,
     POSITIVE,
     check_input,
     check_output,
@@ -178,6 +179,7 @@ def _plot(path: str, fits: list[tuple[int, Any, np.ndarray]]) -> None:
     "--output",
     "dest",
     required=True,
+    type=OUTPUT_FILE,
     help="Output file (- for stdout); .dxf writes 3D polylines for CAD.",
 )
 @click.option("--report", "report", default=None, help="Write a JSON report of every fit.")

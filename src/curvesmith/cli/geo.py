@@ -23,6 +23,7 @@ from ._common import (
     MAX_SHIFT_OPTION,
     MIN_SEGMENT_OPTION,
     NON_NEGATIVE,
+    OUTPUT_FILE,
     OptionError,
     check_input,
     gis_method,
@@ -246,7 +247,15 @@ def batch_group() -> None:
 
 @batch_group.command("smooth")
 @click.argument("source", metavar="IN")
-@click.option("-o", "--output", "dest", required=True, metavar="OUT", help="Output GIS file.")
+@click.option(
+    "-o",
+    "--output",
+    "dest",
+    required=True,
+    type=OUTPUT_FILE,
+    metavar="OUT",
+    help="Output GIS file.",
+)
 @click.option(
     "--method",
     type=click.Choice(list(methods.gis_names())),

@@ -1444,7 +1444,7 @@ def _smooth_equal_area(
     import geopandas
 
     shapely = require("shapely", "geo", "equal-area smoothing")
-    from ._smooth import smooth
+    from ._smooth import check_layer_size, smooth
 
     crs = df.crs
     geographic = bool(crs.is_geographic)
@@ -1463,6 +1463,9 @@ def _smooth_equal_area(
             owners.append((i, (side, sides)))
     work = geopandas.GeoDataFrame(geometry=pieces, crs=crs)
     done = np.array(pieces, dtype=object)
+    # the regions are smoothed one by one, but their outputs are all held at the end
+    bounded = options.get("max_shift") is not None or options.get("min_segment") is not None
+    check_layer_size(done, options["method"], int(options["iterations"]), levels=bounded)
     n_red, change = 0, 0.0
     planar: set[int] = set()  # pieces smoothed in the data's own CRS instead
 
