@@ -293,3 +293,17 @@ def test_geographic_data_moved_off_the_map_is_warned():
     x0, y0, x1, y1 = shapely.total_bounds(fixed.geometry.values)
     a0, b0, a1, _ = shapely.total_bounds(df.geometry.values)  # 180.00000000000006 itself
     assert x0 >= min(-180, a0) and x1 <= max(180, a1) and y0 >= min(-90, b0) and y1 <= 90
+
+
+def test_iterations_zero_gives_the_input_back_as_it_was():
+    """Not cleaned of repeated vertices, not rebuilt from a coverage's arcs: as given."""
+    p = shapely.Polygon([(0, 0), (1, 0), (1, 0), (1, 1), (0, 1)])  # a repeated vertex
+    q = shapely.Polygon([(2, 1), (1, 1), (1, 0), (2, 0)])  # starts elsewhere than GEOS would
+    z = shapely.Polygon([(0, 0, 5), (1, 0, 6), (1, 0, 6), (1, 1, 7)])
+    assert geo.smooth(p, iterations=0).equals_exact(p, 0.0)
+    assert geo.smooth(z, iterations=0).equals_exact(z, 0.0) and geo.smooth(z, iterations=0).has_z
+    out = geo.smooth_coverage([p, q], iterations=0, full_output=True)
+    assert all(a.equals_exact(b, 0.0) for a, b in zip(out.geometry, [p, q], strict=True))
+    assert out.coverage_valid
+    with pytest.raises(CurveError, match="not valid"):  # still checked
+        geo.smooth(shapely.Polygon([(0, 0), (1, 1), (1, 0), (0, 1)]), iterations=0)

@@ -220,3 +220,21 @@ def test_a_named_layer_into_a_damaged_or_empty_geopackage(tmp_path):
     empty.touch()
     geo.write_file(df, empty, layer="x")
     assert len(geo.read_file(empty, layer="x")) == len(df)
+
+
+@pytest.mark.parametrize("coverage", [False, True])
+def test_iterations_zero_says_so_and_writes_the_input(tmp_path, coverage):
+    from click.testing import CliRunner
+
+    from curvesmith.cli import main
+
+    df = geo.us_counties(states=["44"])  # Rhode Island's 5 counties
+    src, out = tmp_path / "ri.gpkg", tmp_path / "ri_out.gpkg"
+    geo.write_file(df, src)
+    args = ["smooth", str(src), "-o", str(out), "--iterations", "0"]
+    res = CliRunner().invoke(main, args + (["--coverage"] if coverage else []))
+    assert res.exit_code == 0, res.output
+    first = res.stderr.strip().split("; ")[0]
+    assert first == f"{len(df)} feature(s) written as they were (--iterations 0)", res.stderr
+    back, given = geo.read_file(out), geo.read_file(src)  # (both MultiPolygon layers)
+    assert shapely.equals_exact(back.geometry.values, given.geometry.values, 0.0).all()

@@ -771,7 +771,7 @@ def smooth_file(
         raise CurveError(f"equal_area needs a CRS, but {str(in_path)!r} has none")
     if equal_area and is_equal_area_crs(crs):
         equal_area = False  # already in an equal-area projection: smoothed in it
-    if crs is not None and crs.is_geographic and not equal_area:
+    if crs is not None and crs.is_geographic and not equal_area and iterations > 0:
         message = geographic_message(str(in_path), crs.name)
         warnings.warn(message, GeographicCRSWarning, stacklevel=2)
     # feature by feature, equal-area smoothing is per region (geo's smooth_file): one

@@ -468,7 +468,11 @@ def smooth_command(
     if isinstance(curves, GeoJSONCurves):  # what the GIS path says (after the run, so
         _warn_geographic(curves, source)  # that an error stays one line)
         smoothed = len({c.feature for c in curves})
-        click.echo(f"{smoothed} of {smoothed + len(curves.others)} feature(s) smoothed", err=True)
+        total = smoothed + len(curves.others)
+        if iterations == 0 and not curve_kind:
+            click.echo(f"{total} feature(s) not smoothed (--iterations 0)", err=True)
+        else:
+            click.echo(f"{smoothed} of {total} feature(s) smoothed", err=True)
 
 
 def _warn_geographic(curves, source: str) -> None:

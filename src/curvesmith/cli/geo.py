@@ -194,7 +194,7 @@ def smooth_geofile(
         )
         if out_path == "-":
             click.echo(Path(target).read_text(encoding="utf-8"), nl=False)
-    _summary(report)
+    _summary(report, iterations)
     return report
 
 
@@ -206,9 +206,11 @@ def _not_equal_area(features) -> str:
     )
 
 
-def _summary(report) -> None:
+def _summary(report, iterations: int) -> None:
     through = report.n_null + report.n_empty + report.n_points + report.n_unchanged
     parts = [f"{report.n_features - through} of {report.n_features} feature(s) smoothed"]
+    if iterations == 0:  # (a check of the input, or a copy through another format)
+        parts = [f"{report.n_features} feature(s) written as they were (--iterations 0)"]
     if report.n_null or report.n_empty:
         parts.append(
             f"{report.n_null} without geometry (NULL) and {report.n_empty} empty, written "

@@ -467,6 +467,7 @@ def smooth_coverage(
     shapely = _shapely()
     iterations = check_method(method, iterations, alpha)
     geoms, wrap = as_geometry_array(polygons)
+    given, wrap_given = geoms, wrap  # what iterations=0 gives back
     # with max_shift / min_segment every level is held at once
     bounded = max_shift is not None or min_segment is not None
     check_layer_size(geoms, method, iterations, levels=bounded)
@@ -569,7 +570,12 @@ def smooth_coverage(
     valid = None
     if validate:
         valid = _output_valid(topo, uses, smoothed, coords, offs, new, ragged, meets)
-    res = wrap(out)
+    if iterations == 0 and snap is None and not make_valid:
+        # nothing smoothed: the input as it was, not rebuilt from its arcs (which would
+        # start rings elsewhere and drop repeated vertices); checked and reported as above
+        res = wrap_given(np.array(given, dtype=object, copy=True))
+    else:
+        res = wrap(out)
     if not full_output:
         return res
     red = tuple(

@@ -1644,7 +1644,7 @@ def smooth_file(
     in_equal_area = bool(equal_area) and is_equal_area_crs(crs)
     if in_equal_area:
         equal_area = False
-    if geographic and not equal_area:
+    if geographic and not equal_area and iterations > 0:  # (a warning about smoothing)
         message = geographic_message(str(in_path), crs.name)
         warnings.warn(message, GeographicCRSWarning, stacklevel=2)
     df, kept, points = set_points_aside(df)

@@ -1273,6 +1273,7 @@ def smooth(
             },
         )
     geoms, wrap = as_geometry_array(geometry)
+    given = geoms
     geoms, zm = split_zm(geoms)  # smoothed in XY; Z/M interpolated back (geo._zm)
     if keep_angle is not None:
         methods.needs("keep_angle", method)
@@ -1283,6 +1284,11 @@ def smooth(
         fixed_spec = FixedVertices(fixed, geoms)
     still = _all_corners(geoms, fixed) if keep_angle is not None else None
     geoms, facts = _prepare(geoms, make_valid=make_valid, planar=True)  # 2D: split_zm
+    if iterations == 0 and not make_valid:
+        # nothing to smooth: the input, checked (an invalid polygon is an error), comes back
+        # as it was, not cleaned of its repeated vertices
+        result = wrap(np.array(given, dtype=object, copy=True))
+        return SmoothResult(result, (), 0, 0.0) if full_output else result
     rows = None if facts.xy is None else len(facts.xy)  # (counting them again: 1.5 % of a call)
     check_layer_size(geoms, method, iterations, rows=rows)
     out, reductions, n, change = _smooth_feature_array(
