@@ -603,3 +603,23 @@ def test_cli_keeps_feature_ids(tmp_path, how):
     res = CliRunner().invoke(main, args)
     assert res.exit_code == 0, res.output
     assert _fids(out)["polys"] == [3, 7, 8, 20]
+
+
+@pytest.mark.parametrize("chunk", [None, 37])
+def test_new_geopackages_are_version_1_2(tmp_path, monkeypatch, chunk):
+    """GDAL 3.6 (Debian's, QGIS 3.22-3.28) warns about GeoPackage 1.4; every GDAL reads 1.2."""
+    import sqlite3
+
+    from curvesmith.internals import geo_io
+
+    if chunk is not None:  # written in slices: the first creates the file
+        monkeypatch.setattr(geo_io, "WRITE_CHUNK_VERTICES", chunk)
+    df = geo.us_counties(states=["44"]).to_crs("EPSG:5070")
+    path = tmp_path / "ri.gpkg"
+    geo.write_file(df, path)
+    version = sqlite3.connect(path).execute("pragma user_version").fetchone()[0]
+    assert version == 10200
+    out = tmp_path / "smoothed.gpkg"
+    geo.smooth_file(path, out, iterations=1)
+    assert sqlite3.connect(out).execute("pragma user_version").fetchone()[0] == 10200
+    assert len(geo.read_file(out)) == len(df)

@@ -914,6 +914,13 @@ def _write_file(
                     if k == 0:  # the layer's creation: its geometry column and fid names
                         created = {**fid_option, **({"GEOMETRY_NAME": name} if name else {})}
                         options["layer_options"] = {**options.get("layer_options", {}), **created}
+                        if driver == "GPKG" and not tmp.is_file():
+                            # a new file as GeoPackage 1.2, which every GDAL reads without a
+                            # warning (GDAL 3.6, Debian's and QGIS 3.22-3.28's, warns about
+                            # the 1.4 that newer GDALs write: 'may only be partially
+                            # supported'); nothing curvesmith writes needs 1.3 or 1.4
+                            given = options.get("dataset_options", {})
+                            options["dataset_options"] = {"VERSION": GPKG_VERSION, **given}
                     elif fid_option:  # pyogrio appends the ids through Arrow only
                         options["use_arrow"] = True
                     pyogrio.write_dataframe(
@@ -929,6 +936,10 @@ def _write_file(
         )
         if driver == "GPKG":
             fsync_path(tmp)  # on disk before it replaces anything (SQLite did not sync it)
+
+
+#: The GeoPackage version a new file is written as (GDAL's VERSION dataset option).
+GPKG_VERSION = "1.2"
 
 
 #: The GeoPackage tables that list its layers, in the order GDAL lists them (rowid order).
