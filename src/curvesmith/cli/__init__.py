@@ -8,6 +8,7 @@ traceback), 2 a usage error.
 
 from __future__ import annotations
 
+import signal
 import sys
 
 import click
@@ -59,10 +60,12 @@ class _Group(click.Group):
             end_open_line()
             click.echo(f"Error: {exc.strerror or exc}{where}", err=True)
             sys.exit(1)
-        except KeyboardInterrupt:  # click says "Aborted!", unless the watchdog spoke first
+        except KeyboardInterrupt:  # "Aborted!", as click says it, unless the watchdog spoke
             if not claim_last_line():
                 wait_if_stopping()
-            raise
+            end_open_line()
+            click.echo("Aborted!", err=True)
+            sys.exit(128 + signal.SIGINT)  # 130, as a shell reports a job stopped by Ctrl-C
 
 
 @click.group(cls=_Group, context_settings={"help_option_names": ["-h", "--help"]})
