@@ -81,6 +81,14 @@ COUNT = click.IntRange(min=0)
 #: An output file (or - for stdout): an existing folder there is a usage error, exit 2
 OUTPUT_FILE = click.Path(dir_okay=False, allow_dash=True)
 
+
+def output_option(help: str, metavar: str | None = None):
+    """The commands' ``-o/--output`` (``dest``): an :data:`OUTPUT_FILE`, required."""
+    return click.option(
+        "-o", "--output", "dest", required=True, type=OUTPUT_FILE, metavar=metavar, help=help
+    )
+
+
 POSITIVE_INT = click.IntRange(min=1)
 #: tolerances, steps, intervals: a finite number > 0
 POSITIVE = _Number(min=0.0, min_open=True)

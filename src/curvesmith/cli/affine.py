@@ -10,7 +10,7 @@ import click
 from ..errors import CurveError
 from ..io import open_destination
 from ..io.svg import path_document, quadratic_path_data
-from ._common import FORMAT_OPTION, OUTPUT_FILE, read_curves, write_curves
+from ._common import FORMAT_OPTION, output_option, read_curves, write_curves
 
 __all__ = ["affine_command"]
 
@@ -38,14 +38,7 @@ def _with_results(pairs: list) -> list:
 
 @click.command("affine")
 @click.argument("source", metavar="IN")
-@click.option(
-    "-o",
-    "--output",
-    "dest",
-    required=True,
-    type=OUTPUT_FILE,
-    help="Output file for the control polygons.",
-)
+@output_option("Output file for the control polygons.")
 @click.option(
     "--vertices",
     type=click.IntRange(min=4),

@@ -22,11 +22,11 @@ from ._common import (
     MAX_SHIFT_OPTION,
     MIN_SEGMENT_OPTION,
     NON_NEGATIVE,
-    OUTPUT_FILE,
     POSITIVE,
     OptionError,
     check_input,
     check_output,
+    output_option,
     parse_indices,
     read_curves,
     write_curves,
@@ -209,15 +209,7 @@ def _where(feature: int, ident, kind: str, part: int, ring: int, member: int | N
 
 @click.command("smooth")
 @click.argument("source", metavar="IN")
-@click.option(
-    "-o",
-    "--output",
-    "dest",
-    required=True,
-    type=OUTPUT_FILE,
-    metavar="OUT",
-    help="Output file, or -.",
-)
+@output_option("Output file, or -.", metavar="OUT")
 @FORMAT_OPTION
 @click.option(
     "--method",

@@ -21,11 +21,11 @@ from ._common import (
     COUNT,
     MAX_SHIFT_OPTION,
     MIN_SEGMENT_OPTION,
-    OUTPUT_FILE,
     POSITIVE,
     POSITIVE_INT,
     check_input,
     gis_method,
+    output_option,
 )
 
 __all__ = ["contours_command", "smooth_network_geofile"]
@@ -202,15 +202,7 @@ def _levels(text: str | None) -> list[float] | None:
 
 @click.command("contours")
 @click.argument("grid", metavar="GRID")
-@click.option(
-    "-o",
-    "--output",
-    "dest",
-    required=True,
-    type=OUTPUT_FILE,
-    metavar="OUT",
-    help="Output GIS file.",
-)
+@output_option("Output GIS file.", metavar="OUT")
 @click.option("--interval", type=POSITIVE, default=None, help="A level at every multiple of D.")
 @click.option("--levels", default=None, help="Explicit levels, e.g. 100,250,500.")
 @click.option("--bands", is_flag=True, help="Isobands (polygons between levels), not lines.")

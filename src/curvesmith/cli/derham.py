@@ -9,7 +9,7 @@ import click
 from .. import derham
 from ..errors import CurveError
 from ..io import Curve
-from ._common import FORMAT_OPTION, GAMMA, OUTPUT_FILE, POSITIVE, parse_floats, write_curves
+from ._common import FORMAT_OPTION, GAMMA, POSITIVE, output_option, parse_floats, write_curves
 
 __all__ = ["derham_command"]
 
@@ -46,9 +46,7 @@ __all__ = ["derham_command"]
     show_default=True,
     help="Subdivision level of the written curve (2^(level+1) + 1 points).",
 )
-@click.option(
-    "-o", "--output", "dest", required=True, type=OUTPUT_FILE, help="Output file, - for stdout."
-)
+@output_option("Output file, - for stdout.")
 @FORMAT_OPTION
 def derham_command(
     start: str,

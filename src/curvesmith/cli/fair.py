@@ -13,10 +13,10 @@ import numpy as np
 from ..errors import CurveError
 from ._common import (
     FORMAT_OPTION,
-    OUTPUT_FILE,
     POSITIVE,
     check_input,
     check_output,
+    output_option,
     read_curves,
     write_curves,
 )
@@ -174,14 +174,7 @@ def _plot(path: str, fits: list[tuple[int, Any, np.ndarray]]) -> None:
 
 @click.command("fair")
 @click.argument("source", metavar="IN")
-@click.option(
-    "-o",
-    "--output",
-    "dest",
-    required=True,
-    type=OUTPUT_FILE,
-    help="Output file (- for stdout); .dxf writes 3D polylines for CAD.",
-)
+@output_option("Output file (- for stdout); .dxf writes 3D polylines for CAD.")
 @click.option("--report", "report", default=None, help="Write a JSON report of every fit.")
 @click.option(
     "--plot",

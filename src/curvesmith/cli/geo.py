@@ -23,10 +23,10 @@ from ._common import (
     MAX_SHIFT_OPTION,
     MIN_SEGMENT_OPTION,
     NON_NEGATIVE,
-    OUTPUT_FILE,
     OptionError,
     check_input,
     gis_method,
+    output_option,
 )
 
 __all__ = ["GEO_SUFFIXES", "batch_group", "check_geo_output", "is_geofile", "smooth_geofile"]
@@ -249,15 +249,7 @@ def batch_group() -> None:
 
 @batch_group.command("smooth")
 @click.argument("source", metavar="IN")
-@click.option(
-    "-o",
-    "--output",
-    "dest",
-    required=True,
-    type=OUTPUT_FILE,
-    metavar="OUT",
-    help="Output GIS file.",
-)
+@output_option("Output GIS file.", metavar="OUT")
 @click.option(
     "--method",
     type=click.Choice(list(methods.gis_names())),
