@@ -1426,13 +1426,10 @@ def smooth_packet(
 
 def _rings_to_packet(geoms, facts, method, iterations, alpha):
     """The packet and reductions of a layer of Polygons without holes (``facts.xy``)."""
-    from .._validate import check_layer_growth
     from ._packets import POLYGONS, GeometryPacket
 
     shapely = _shapely()
-    growth = methods.get(method, gis=True).growth
-    what = f"vertices of {len(geoms)} feature(s)"
-    check_layer_growth(len(facts.xy), iterations, growth, what=what)
+    check_layer_size(geoms, method, iterations, rows=len(facts.xy))
     parts: list[dict] = []
     _, reductions, _, _ = _smooth_feature_array(
         geoms, method=method, iterations=iterations, alpha=alpha, facts=facts, ragged_out=parts
