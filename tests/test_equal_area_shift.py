@@ -169,3 +169,11 @@ def test_densify_keeps_what_it_need_not_divide():
     z = shapely.get_coordinates(out[1], include_z=True)
     assert len(z) > 10 and z[0, 2] == 100.0 and z[-1, 2] == 140.0
     assert np.allclose(z[:, 2], 100.0 + z[:, 0])  # Z along the edge, as the line's
+
+
+def test_densify_leaves_m_values_alone():
+    """A line with M stays as it is: divided through shapely's ragged arrays, M became Z."""
+    line_m = shapely.from_wkt("LINESTRING M (0 0 1, 40 0 2)")
+    laea = "+proj=laea +lat_0=10 +lon_0=20 +units=m"
+    (out,) = geo_io.densified(np.array([line_m], dtype=object), "EPSG:4326", laea, 1.0)
+    assert out is line_m and shapely.has_m(out) and not shapely.has_z(out)

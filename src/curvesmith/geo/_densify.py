@@ -36,8 +36,9 @@ def densify_for(geoms: Any, transform: Any, tolerance: float) -> np.ndarray:
     Parameters
     ----------
     geoms : array of shapely geometries
-        Polygons, lines and their multi-part kinds are divided; other geometries, empty and
-        missing entries are returned as they are.
+        Polygons, lines and their multi-part kinds are divided; other geometries, those
+        with M values (shapely's ragged arrays would make M a Z), empty and missing
+        entries are returned as they are.
     transform : callable
         ``transform(x, y) -> (x', y')`` on arrays, the projection (pyproj's
         ``Transformer.transform`` with ``always_xy=True``).
@@ -48,8 +49,8 @@ def densify_for(geoms: Any, transform: Any, tolerance: float) -> np.ndarray:
     Returns
     -------
     numpy.ndarray of object
-        The geometries, the same ones where nothing was divided. Z (and M) of an inserted
-        point are interpolated along its edge.
+        The geometries, the same ones where nothing was divided. The Z of an inserted
+        point is interpolated along its edge.
     """
     import shapely
 
@@ -58,6 +59,7 @@ def densify_for(geoms: Any, transform: Any, tolerance: float) -> np.ndarray:
     types = shapely.get_type_id(geoms)
     T = shapely.GeometryType
     present = ~(shapely.is_missing(geoms) | shapely.is_empty(geoms))
+    present[present] = ~shapely.has_m(geoms[present])
     for single, multi in ((T.POLYGON, T.MULTIPOLYGON), (T.LINESTRING, T.MULTILINESTRING)):
         sel = np.flatnonzero(present & np.isin(types, (single, multi)))
         if sel.size == 0:
