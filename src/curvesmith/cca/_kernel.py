@@ -10,6 +10,17 @@ passes, without them). The work per unit is a few loops over its vertices, so a
 curve of 5 vertices costs a few hundred nanoseconds, not the ~1 ms of numpy's
 per-call overhead, and a block of a long curve stays in the cache.
 
+The loops are written for the compiler's vectorizer: the coordinates of a unit are
+two arrays (x and y), the arithmetic of every vertex and edge runs in loops without
+branches (the interior angle, the profile's piece, ``min``/``max`` and the special
+cases are selects), the first restriction pass marks the few edges that might break
+a rule in such a loop before it checks them one by one, and the output rows are
+computed in one before they are written in another. So AVX2 does 4 vertices at a
+time where it is there; the branches of the plain form, unpredictable on a rough
+curve, kept it scalar at about twice the time per vertex. Division by zero gives
+inf/NaN as in numpy (``error_model="numpy"``: no check, no branch); every such value
+is selected away, as in the numpy form.
+
 The arithmetic is the N-d numpy step's (:func:`curvesmith.cca._stepnd.step`
 with :func:`curvesmith.cca._restrict.restrict_passes`) operation by operation,
 in the same order: numba compiles without ``fastmath`` (no reassociation, no
@@ -18,9 +29,10 @@ profile's interior angle is :mod:`curvesmith.cca._angle`'s (fdlibm's ``atan``,
 the same bits in both); the ``atan2``/``tan`` of the inflection bound and of
 Fig. 11 are the C library's, which may differ from numpy's own in the last ulp
 (the tests give the numpy reference the C library's there). The restriction
-passes follow the same schedule: the first pass checks every edge, later passes
-only the edges next to the vertices just decreased, and all decreases of a pass
-are computed from the state before it.
+passes follow the same schedule: the first pass checks every edge (those its
+vector loop clears have no violation: the tests it skips could not fail), later
+passes only the edges next to the vertices just decreased, and all decreases of a
+pass are computed from the state before it.
 
 Compilation happens on the first call (``cache=True``: later processes load the
 machine code from numba's cache, next to this file or, when that folder is not
@@ -44,35 +56,27 @@ _AT0, _AT1, _AT2, _AT3, _AT4, _AT5, _AT6, _AT7, _AT8, _AT9, _AT10 = _A.AT
 MODE_REGULAR, MODE_CONSTANT, MODE_GIVEN = 0, 1, 2
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always", error_model="numpy")
 def _nanmin(a, b):
-    # np.minimum: NaN if either is NaN
-    if a != a or b != b:
-        return math.nan
-    return a if a <= b else b
+    # np.minimum: NaN if either is NaN (selects, no branch)
+    m = a if a <= b else b
+    return math.nan if (a != a) | (b != b) else m
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always", error_model="numpy")
 def _nanmax(a, b):
-    # np.maximum: NaN if either is NaN
-    if a != a or b != b:
-        return math.nan
-    return a if a >= b else b
+    # np.maximum: NaN if either is NaN (selects, no branch)
+    m = a if a >= b else b
+    return math.nan if (a != a) | (b != b) else m
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always", error_model="numpy")
 def _profile(theta, brk, coef):
-    # the pieces of the PCHIP profile: index = inner breakpoints below theta, then Horner;
-    # the breakpoints increase, so an angle above the last inner one (almost every angle
-    # of a smoothed curve) is above them all
-    last = brk.shape[0] - 2
-    if theta > brk[last]:
-        idx = last
-    else:
-        idx = 0
-        for b in range(1, last):
-            if theta > brk[b]:
-                idx += 1
+    # the pieces of the PCHIP profile: index = inner breakpoints below theta (they
+    # increase: a sum of comparisons, no branch), then Horner
+    idx = 0
+    for b in range(1, brk.shape[0] - 1):
+        idx += theta > brk[b]
     dt = theta - brk[idx]
     out = coef[0, idx]
     for k in range(1, 4):
@@ -81,66 +85,71 @@ def _profile(theta, brk, coef):
     return out
 
 
-@njit(cache=True, nogil=True, inline="always")
-def _atan_nonneg(t):
-    # :func:`curvesmith.cca._angle.atan_nonneg`, one value: the same operations
-    if t >= _A.HUGE:
-        return _A.ATAN_HI[3] + _A.ATAN_LO[3]
-    if t < _A.TINY:
-        return t
-    if t < _A.B0:
-        x = t
-    elif t < _A.B1:
-        x = (2.0 * t - 1.0) / (2.0 + t)
-    elif t < _A.B2:
-        x = (t - 1.0) / (t + 1.0)
-    elif t < _A.B3:
-        x = (t - 1.5) / (1.0 + 1.5 * t)
-    else:
-        x = -1.0 / t
+_ATAN_INF = _A.ATAN_HI[3] + _A.ATAN_LO[3]
+
+
+@njit(cache=True, nogil=True, inline="always", error_model="numpy")
+def _interior(scross, dot):
+    """:func:`curvesmith.cca._angle.interior_angle`, one value: the same operations.
+
+    ``atan2(scross, -dot)`` as fdlibm's ``atan`` of ``t = scross / |dot|``, written
+    without a branch: every range's reduction ``x = (na t + nb) / (dc + dd t)`` (``t``,
+    ``(2t - 1) / (2 + t)``, ``(t - 1) / (t + 1)``, ``(t - 1.5) / (1 + 1.5 t)``, ``-1 / t``:
+    the products by 1 and 0 and the sums with 0 are exact, so these are fdlibm's bits)
+    and table angle ``hi + lo`` are selected, and so are the results of the special
+    cases (``t`` below TINY or from HUGE on, ``dot`` 0 or positive). A loop of these
+    compiles to vector instructions (4 angles at a time with AVX2; the branches of the
+    plain form, unpredictable on a rough curve, kept it scalar at 3-4x the time).
+    """
+    t = scross / abs(dot)
+    c0, c1, c2, c3 = t >= _A.B0, t >= _A.B1, t >= _A.B2, t >= _A.B3
+    na = 2.0 if c0 else 1.0
+    nb = -1.0 if c0 else 0.0
+    dc = 2.0 if c0 else 1.0
+    dd = 1.0 if c0 else 0.0
+    hi = _A.ATAN_HI[0] if c0 else 0.0
+    lo = _A.ATAN_LO[0] if c0 else 0.0
+    na = 1.0 if c1 else na
+    dc = 1.0 if c1 else dc
+    hi = _A.ATAN_HI[1] if c1 else hi
+    lo = _A.ATAN_LO[1] if c1 else lo
+    nb = -1.5 if c2 else nb
+    dd = 1.5 if c2 else dd
+    hi = _A.ATAN_HI[2] if c2 else hi
+    lo = _A.ATAN_LO[2] if c2 else lo
+    na = 0.0 if c3 else na
+    nb = -1.0 if c3 else nb
+    dc = 0.0 if c3 else dc
+    dd = 1.0 if c3 else dd
+    hi = _A.ATAN_HI[3] if c3 else hi
+    lo = _A.ATAN_LO[3] if c3 else lo
+    x = (na * t + nb) / (dc + dd * t)
     z = x * x
     w = z * z
     s1 = z * (_AT0 + w * (_AT2 + w * (_AT4 + w * (_AT6 + w * (_AT8 + w * _AT10)))))
     s2 = w * (_AT1 + w * (_AT3 + w * (_AT5 + w * (_AT7 + w * _AT9))))
-    if t < _A.B0:
-        return x - x * (s1 + s2)
-    if t < _A.B1:
-        hi, lo = _A.ATAN_HI[0], _A.ATAN_LO[0]
-    elif t < _A.B2:
-        hi, lo = _A.ATAN_HI[1], _A.ATAN_LO[1]
-    elif t < _A.B3:
-        hi, lo = _A.ATAN_HI[2], _A.ATAN_LO[2]
-    else:
-        hi, lo = _A.ATAN_HI[3], _A.ATAN_LO[3]
-    return hi - ((x * (s1 + s2) - lo) - x)
+    xs = x * (s1 + s2)
+    z = hi - ((xs - lo) - x) if c0 else x - xs
+    z = t if t < _A.TINY else z
+    z = _ATAN_INF if t >= _A.HUGE else z
+    angle = _A.PI - (z - _A.PI_LO) if dot > 0.0 else z
+    # dot = 0: pi / 2, or pi when scross is 0 as well (atan2(+0, -0)); NaN stays NaN
+    square = _A.PI if scross == 0.0 else (_A.HALF_PI if scross > 0.0 else scross)
+    return square if dot == 0.0 else angle
 
 
-@njit(cache=True, nogil=True, inline="always")
-def _interior(scross, dot):
-    # :func:`curvesmith.cca._angle.interior_angle`, one value: atan2(scross, -dot)
-    if dot < 0.0:
-        return _atan_nonneg(scross / -dot)
-    if dot > 0.0:
-        return _A.PI - (_atan_nonneg(scross / dot) - _A.PI_LO)
-    if dot == 0.0:
-        if scross == 0.0:
-            return _A.PI
-        return _A.HALF_PI if scross > 0.0 else scross  # NaN stays NaN
-    return _atan_nonneg(scross / abs(dot))  # NaN
-
-
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def interior_angle(scross, dot):
     """:func:`_interior` from Python (the tests compare it with the numpy form)."""
     return _interior(scross, dot)
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def _zero_gap(dx, dy):
     return not (dx * dx > 0.0 or dy * dy > 0.0)
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def _has_zero_edge(P, s, n, closed, ox=0.0, oy=0.0):
     # an edge of length 0 (sqrt(x) == 0 exactly when x == 0), in the frame of origin (ox, oy)
     last = n if closed else n - 1
@@ -153,7 +162,7 @@ def _has_zero_edge(P, s, n, closed, ox=0.0, oy=0.0):
     return False
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def _dedupe(P, fixed, s, n, closed, Q, qf):
     """Copy curve ``s .. s + n - 1`` of ``P`` into ``Q, qf`` without duplicates; return the count.
 
@@ -181,7 +190,7 @@ def _dedupe(P, fixed, s, n, closed, Q, qf):
     return m
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def _compact_curve(P, fixed, s, n, closed, Q, qf):
     """The curve without zero-length edges in ``Q, qf`` (repeated until none is left)."""
     m = _dedupe(P, fixed, s, n, closed, Q, qf)
@@ -190,7 +199,7 @@ def _compact_curve(P, fixed, s, n, closed, Q, qf):
     return m
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def compact_ragged(P, fixed, offsets, closed):
     """Remove zero-length edges of every curve (as the step does before cutting)."""
     ncurves = offsets.shape[0] - 1
@@ -220,7 +229,7 @@ def compact_ragged(P, fixed, offsets, closed):
     return OUT[:pos].copy(), of[:pos].copy(), oo
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def any_zero_edge(P, offsets, closed, org):
     """Whether some curve has a zero-length edge, in the frame of its origin ``org[k]``."""
     for k in range(offsets.shape[0] - 1):
@@ -230,7 +239,7 @@ def any_zero_edge(P, offsets, closed, org):
     return False
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def angles_ragged(P, offsets, closed):
     """Interior angle ``atan2(|cross|, -dot)`` at every vertex (for a callable alpha)."""
     theta = np.zeros(P.shape[0])
@@ -247,7 +256,7 @@ def angles_ragged(P, offsets, closed):
     return theta
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def _unit(ex, ey):
     length = math.sqrt(0.0 + ex * ex + ey * ey)
     inv = 1.0 / length if length > 0.0 else 0.0
@@ -262,7 +271,7 @@ U_CLOSED, U_FIRST, U_LAST, U_RING = 1, 2, 4, 8
 DONE, FULL, ZERO_EDGE = 0, -1, -2
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def curve_units(offsets, closed):
     """The unit table of :func:`step_units` whose units are the curves themselves."""
     m = offsets.shape[0] - 1
@@ -275,26 +284,76 @@ def curve_units(offsets, closed):
     return table
 
 
-@njit(cache=True, nogil=True)
-def _edges(V, n, closed, length, ux, uy):
-    """Edge lengths and unit vectors of ``V[:n]`` (edge ``n - 1`` wraps); False at a zero edge.
+@njit(cache=True, nogil=True, inline="always", error_model="numpy")
+def _edges_xy(X, Y, n, closed, length, ux, uy):
+    """Edge lengths and unit vectors of ``X, Y`` ``[:n]`` (edge ``n - 1`` wraps).
 
-    A zero-length edge that exists (every edge of a ring, all but the wrap edge of an
-    open curve) stops the loop: the curve must be compacted first.
+    Returns whether an edge that exists (every edge of a ring, all but the wrap edge
+    of an open curve) has length 0: the curve must be compacted first.
     """
-    for i in range(n):
-        j = i + 1 if i + 1 < n else 0
-        ex = V[j, 0] - V[i, 0]
-        ey = V[j, 1] - V[i, 1]
+    zero = False
+    for i in range(n - 1):
+        ex = X[i + 1] - X[i]
+        ey = Y[i + 1] - Y[i]
         le = math.sqrt(0.0 + ex * ex + ey * ey)
-        if le == 0.0 and (closed or i < n - 1):
-            return False
+        zero |= le == 0.0
         inv = 1.0 / le if le > 0.0 else 0.0
         length[i], ux[i], uy[i] = le, ex * inv, ey * inv
-    return True
+    ex = X[0] - X[n - 1]
+    ey = Y[0] - Y[n - 1]
+    le = math.sqrt(0.0 + ex * ex + ey * ey)
+    zero |= (le == 0.0) & closed
+    inv = 1.0 / le if le > 0.0 else 0.0
+    length[n - 1], ux[n - 1], uy[n - 1] = le, ex * inv, ey * inv
+    return zero
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always", error_model="numpy")
+def _turns(ux, uy, n, cr, dot, scross):
+    """Cross and dot products of the unit edges before and after every vertex."""
+    cr[0] = ux[n - 1] * uy[0] - uy[n - 1] * ux[0]
+    dot[0] = 0.0 + ux[n - 1] * ux[0] + uy[n - 1] * uy[0]
+    scross[0] = abs(cr[0])
+    for i in range(1, n):
+        cri = ux[i - 1] * uy[i] - uy[i - 1] * ux[i]
+        cr[i] = cri
+        dot[i] = 0.0 + ux[i - 1] * ux[i] + uy[i - 1] * uy[i]
+        scross[i] = abs(cri)
+
+
+@njit(cache=True, nogil=True, inline="always", error_model="numpy")
+def _cuts(X, Y, a, K, length, ux, uy, i, h, j, balance_tol, ax, ay, add, cuts, fig):
+    """Vertex ``i``'s cut points and its edge's apex into ``cuts[i]``; ``fig[i]``: Fig. 11.
+
+    With ``add`` the values are in the input's frame (the origin ``ax, ay`` added).
+    """
+    vx, vy = X[i], Y[i]
+    ai, aj = a[i], a[j]
+    rx = vx + ai * ux[i]
+    ry = vy + ai * uy[i]
+    qx = vx - ai * ux[h]
+    qy = vy - ai * uy[h]
+    A = 0.5 * (K[i] + K[j])
+    w = 0.5 * (length[i] - ai - aj)
+    winv = 1.0 / w if w > 0.0 else 0.0
+    lx = X[j] - aj * ux[i]
+    ly = Y[j] - aj * uy[i]
+    mx = 0.5 * (rx + lx)
+    my = 0.5 * (ry + ly)
+    sv = A * winv
+    px = mx + sv * uy[i]
+    py = my - sv * ux[i]
+    k1, k2 = K[i], K[j]
+    fig[i] = (k1 * k2 < 0.0) & (abs(k1 + k2) <= balance_tol * 0.5 * (abs(k1) + abs(k2))) & (w > 0.0)
+    cuts[i, 0] = qx + ax if add else qx
+    cuts[i, 1] = qy + ay if add else qy
+    cuts[i, 2] = rx + ax if add else rx
+    cuts[i, 3] = ry + ay if add else ry
+    cuts[i, 4] = px + ax if add else px
+    cuts[i, 5] = py + ay if add else py
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
 def _put(OUT, of, pos, x, y, f, add, ox, oy):
     # one output row; with ``add`` in the frame of the input (the curve's origin added)
     if add:
@@ -306,7 +365,7 @@ def _put(OUT, of, pos, x, y, f, add, ox, oy):
     of[pos] = f
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def step_units(
     P,
     fixed,
@@ -371,6 +430,9 @@ def step_units(
     # scratch, sized for the largest unit
     m1 = lmax + 1
     G, Q = np.empty((m1, 2)), np.empty((m1, 2))
+    X, Y = np.empty(m1), np.empty(m1)
+    cuts = np.empty((m1, 6))  # per core vertex: its cut points L, R and its edge's apex
+    fig = np.empty(m1, dtype=np.bool_)
     qf, ga = np.empty(m1, dtype=np.bool_), np.empty(m1)
     length, ux, uy = np.empty(m1), np.empty(m1), np.empty(m1)
     cr, dot, scross = np.empty(m1), np.empty(m1), np.empty(m1)
@@ -399,153 +461,123 @@ def step_units(
         if n == 0:
             span[u, 1] = pos
             continue
-        # gather the unit, in the curve's frame, and its edges (edge t - 1 once vertex t
-        # is in; the wrap edge n - 1 last); stop computing edges at a zero-length one
+        # gather the unit, in the curve's frame, coordinates in arrays of their own (so
+        # that the loops below compile to vector instructions): at most two runs of
+        # rows (a block of a ring may wrap around its end)
         ox, oy = org_in[k, 0], org_in[k, 1]
-        ok = True
-        for t in range(n):
+        t = 0
+        while t < n:
             r = lo + t
-            if r < 0:
-                r += nc
-            elif r >= nc:
-                r -= nc
+            r = r + nc if r < 0 else (r - nc if r >= nc else r)
+            run = min(n - t, nc - r)
             row = s0 + r
-            gx = P[row, 0] - ox
-            gy = P[row, 1] - oy
-            G[t, 0] = gx
-            G[t, 1] = gy
-            fx[t] = fixed[row]
+            for q in range(run):
+                X[t + q] = P[row + q, 0] - ox
+                Y[t + q] = P[row + q, 1] - oy
+                fx[t + q] = fixed[row + q]
             if mode == MODE_GIVEN:
-                ga[t] = alpha_in[row]
-            if t > 0 and ok:
-                ex = gx - G[t - 1, 0]
-                ey = gy - G[t - 1, 1]
-                le = math.sqrt(0.0 + ex * ex + ey * ey)
-                if le == 0.0:
-                    ok = False
-                inv = 1.0 / le if le > 0.0 else 0.0
-                length[t - 1], ux[t - 1], uy[t - 1] = le, ex * inv, ey * inv
-        if ok:
-            ex = G[0, 0] - G[n - 1, 0]
-            ey = G[0, 1] - G[n - 1, 1]
-            le = math.sqrt(0.0 + ex * ex + ey * ey)
-            if le == 0.0 and cl:
-                ok = False
-            inv = 1.0 / le if le > 0.0 else 0.0
-            length[n - 1], ux[n - 1], uy[n - 1] = le, ex * inv, ey * inv
-        V = G
-        if not ok:
-            if n != nc:  # a block: compacting would shift its core
+                for q in range(run):
+                    ga[t + q] = alpha_in[row + q]
+            t += run
+        if _edges_xy(X, Y, n, cl, length, ux, uy):
+            # an edge of length 0: the curve without them (a block gives up: compacting
+            # would shift its core)
+            if n != nc:
                 return OUT, of, pos, span, nred, nfig, nunsat, ZERO_EDGE
+            for t in range(n):
+                G[t, 0], G[t, 1] = X[t], Y[t]
             n = _compact_curve(G, fx, 0, n, cl, Q, qf)
             chi = n
-            V = Q
             for t in range(n):
-                fx[t] = qf[t]
-            _edges(Q, n, cl, length, ux, uy)
+                X[t], Y[t], fx[t] = Q[t, 0], Q[t, 1], qf[t]
+            _edges_xy(X, Y, n, cl, length, ux, uy)
         if not cl:
             fx[0] = True
             fx[n - 1] = True
+        # the turn at every vertex, from the edge before it; its interior angle into
+        # alpha, then the profile
+        _turns(ux, uy, n, cr, dot, scross)
         anyfix = False
-        # the turn at every vertex, from the edge before it (the interior angle into
-        # alpha, a loop of its own: its long chain of operations overlaps across vertices)
-        regular = mode == MODE_REGULAR
         for i in range(n):
-            h = i - 1 if i > 0 else n - 1
-            cri = ux[h] * uy[i] - uy[h] * ux[i]
-            doti = 0.0 + ux[h] * ux[i] + uy[h] * uy[i]
-            cr[i] = cri
-            dot[i] = doti
-            scross[i] = abs(cri)
-            if regular:
-                alpha[i] = _interior(abs(cri), doti)
-        # the profile's last piece (150-180 degrees: almost every angle of a smoothed
-        # curve) with its coefficients held in registers; _profile's Horner steps
-        blast = brk[brk.shape[0] - 2]
-        lc0, lc1, lc2, lc3 = coef[0, -1], coef[1, -1], coef[2, -1], coef[3, -1]
+            anyfix |= fx[i]
+        if mode == MODE_REGULAR:
+            for i in range(n):
+                alpha[i] = _interior(scross[i], dot[i])
+            for i in range(n):
+                alpha[i] = 0.0 if fx[i] else _profile(alpha[i], brk, coef)
+        elif mode == MODE_CONSTANT:
+            for i in range(n):
+                alpha[i] = 0.0 if fx[i] else const
+        else:
+            for i in range(n):
+                alpha[i] = 0.0 if fx[i] else ga[i]
+        # cut length and signed cut area (kept current by the restriction passes)
+        short[0] = min(length[0], length[n - 1])
+        for i in range(1, n):
+            short[i] = min(length[i], length[i - 1])
         for i in range(n):
-            h = i - 1 if i > 0 else n - 1
-            cri = cr[i]
-            sh = min(length[i], length[h])
-            short[i] = sh
-            half[i] = 0.5 * sh * sh
-            if fx[i]:
-                al = 0.0
-                anyfix = True
-            elif regular:
-                th = alpha[i]
-                if th > blast:
-                    dt = th - blast
-                    al = ((lc0 * dt + lc1) * dt + lc2) * dt + lc3
-                else:
-                    al = _profile(th, brk, coef)
-            elif mode == MODE_CONSTANT:
-                al = const
-            else:
-                al = ga[i]
-            alpha[i] = al
-            # cut length and signed cut area (kept current by the restriction passes)
-            a[i] = al * sh
-            K[i] = al * al * half[i] * cri
-            if restrict:
-                doti = dot[i]
-                alpha0[i] = al
-                turning[i] = (not fx[i]) and abs(cri) > 0.0
-                tanb[i] = (1.0 + doti) / abs(cri) if turning[i] else 0.0
+            half[i] = 0.5 * short[i] * short[i]
+            a[i] = alpha[i] * short[i]
+            K[i] = alpha[i] * alpha[i] * half[i] * cr[i]
+        if restrict:
+            for i in range(n):
+                alpha0[i] = alpha[i]
+                tr = (not fx[i]) & (scross[i] > 0.0)
+                turning[i] = tr
+                tanb[i] = (1.0 + dot[i]) / scross[i] if tr else 0.0
                 pending[i] = False
                 endish[i] = False
                 tq[i] = -1.0
-        if restrict:
             r = _restrict(
                 n, cl, anyfix, alpha, alpha0, half, cr, scross, dot, short, length, fx, c, C,
                 max_passes, min_factor, a, K, tanb, fv, turning, endish, pending, check,
                 cand, edges, edges2, clo, chi, tq,
             )  # fmt: skip
             nred[u], nunsat[u] = r
-        # emit the core: vertex i -> [L_i, R_i] or [V_i]; edge i -> [G_i] or the Fig. 11 pair
+        # the cut points and apexes of the core, all at once (vector instructions); then
+        # emitted: vertex i -> [L_i, R_i] or [V_i]; edge i -> [apex_i] or the Fig. 11 pair
         ax, ay = org_out[k, 0], org_out[k, 1]
+        mid_lo, mid_hi = max(clo, 1), min(chi, n - 1)
+        bt = balance_tol
+        if clo == 0:
+            _cuts(X, Y, a, K, length, ux, uy, 0, n - 1, 1 % n, bt, ax, ay, add_out, cuts, fig)
+        for i in range(mid_lo, mid_hi):
+            _cuts(X, Y, a, K, length, ux, uy, i, i - 1, i + 1, bt, ax, ay, add_out, cuts, fig)
+        if chi == n and n > 1:
+            _cuts(X, Y, a, K, length, ux, uy, n - 1, n - 2, 0, bt, ax, ay, add_out, cuts, fig)
         nf = 0
         for i in range(clo, chi):
-            h = i - 1 if i > 0 else n - 1
-            j = i + 1 if i + 1 < n else 0
-            vx, vy = V[i, 0], V[i, 1]
-            ai = a[i]
-            rx = vx + ai * ux[i]
-            ry = vy + ai * uy[i]
-            kept = fx[i] or ai == 0.0
+            kept = fx[i] or a[i] == 0.0
             if pos + (1 if kept else 2) > cap:
                 return OUT, of, u, span, nred, nfig, nunsat, FULL
             if kept:
-                _put(OUT, of, pos, vx, vy, fx[i], add_out, ax, ay)
+                _put(OUT, of, pos, X[i], Y[i], fx[i], add_out, ax, ay)
                 pos += 1
             else:
-                _put(OUT, of, pos, vx - ai * ux[h], vy - ai * uy[h], False, add_out, ax, ay)
-                _put(OUT, of, pos + 1, rx, ry, False, add_out, ax, ay)
+                OUT[pos, 0], OUT[pos, 1], of[pos] = cuts[i, 0], cuts[i, 1], False
+                OUT[pos + 1, 0], OUT[pos + 1, 1], of[pos + 1] = cuts[i, 2], cuts[i, 3], False
                 pos += 2
             if not cl and i == n - 1:
                 continue  # no wrap edge on an open curve
-            A = 0.5 * (K[i] + K[j])
-            w = 0.5 * (length[i] - ai - a[j])
-            winv = 1.0 / w if w > 0.0 else 0.0
-            lx = V[j, 0] - a[j] * ux[i]
-            ly = V[j, 1] - a[j] * uy[i]
-            mx = 0.5 * (rx + lx)
-            my = 0.5 * (ry + ly)
-            k1, k2 = K[i], K[j]
-            fig = (
-                k1 * k2 < 0.0
-                and abs(k1 + k2) <= balance_tol * 0.5 * (abs(k1) + abs(k2))
-                and w > 0.0
-            )
-            if pos + (2 if fig else 1) > cap:
+            if pos + (2 if fig[i] else 1) > cap:
                 return OUT, of, u, span, nred, nfig, nunsat, FULL
-            if not fig:
-                sv = A * winv
-                _put(OUT, of, pos, mx + sv * uy[i], my - sv * ux[i], False, add_out, ax, ay)
+            if not fig[i]:
+                OUT[pos, 0], OUT[pos, 1], of[pos] = cuts[i, 4], cuts[i, 5], False
                 pos += 1
                 continue
             # Fig. 11: two congruent triangles on the halves, on opposite sides
             nf += 1
+            j = i + 1 if i + 1 < n else 0
+            ai = a[i]
+            A = 0.5 * (K[i] + K[j])
+            w = 0.5 * (length[i] - ai - a[j])
+            rx = X[i] + ai * ux[i]
+            ry = Y[i] + ai * uy[i]
+            lx = X[j] - a[j] * ux[i]
+            ly = Y[j] - a[j] * uy[i]
+            mx = 0.5 * (rx + lx)
+            my = 0.5 * (ry + ly)
+            k1 = K[i]
             s1 = 1.0 if k1 > 0.0 else (-1.0 if k1 < 0.0 else 0.0)
             phi = tilt_n
             if restrict:
@@ -575,9 +607,31 @@ def step_units(
     return OUT, of, pos, span, nred, nfig, nunsat, DONE
 
 
+@njit(cache=True, nogil=True, inline="always", error_model="numpy")
+def _suspect(i, j, K, length, a, tanb, endish, scross, dot, half_c, C):
+    """Whether edge ``i`` (to vertex ``j``) might break a rule: :func:`_restrict`'s first pass.
+
+    The corner rule's test as the pass makes it; for the inflection rule, the test of
+    the lower bound of ``tan`` with which the pass skips ``atan2`` and ``tan``.
+    """
+    K1, K2 = K[i], K[j]
+    w = 0.5 * (length[i] - a[i] - a[j])
+    k12 = K1 * K2
+    net = abs(K1 + K2)
+    w2 = w * w
+    need = half_c * _nanmax(tanb[i], tanb[j]) * net
+    corner = (w2 < need * (1.0 - 1e-12)) & ((k12 > 0.0) | endish[i])
+    minor2 = abs(K2) <= abs(K1)
+    sm = scross[j] if minor2 else scross[i]
+    dm = dot[j] if minor2 else dot[i]
+    low = 0.5 * C * (sm / (dm + sm) if dm > 0.0 else 1.5707963267948966)
+    cleared = net <= 2.0 * w2 * low * (1.0 - 1e-9)
+    return corner | ((k12 < 0.0) & (not cleared))
+
+
 # inlined by numba: a call passes its 25 arrays field by field, once per curve, which
 # was about 7 % of a step on a batch of small polygons (one call per ~8 vertices)
-@njit(cache=True, nogil=True, inline="always")
+@njit(cache=True, nogil=True, inline="always", error_model="numpy")
 def _restrict(
     n, cl, anyfix, alpha, alpha0, half, cr, scross, dot, short, length, fx, c, C, max_passes,
     min_factor, a, K, tanb, fv, turning, endish, pending, check, cand, edges, edges2, lo, hi, tq,
@@ -599,10 +653,21 @@ def _restrict(
             j = i + 1 if i + 1 < n else 0
             endish[i] = (fx[i] and turning[j]) or (fx[j] and turning[i])
     nlast = n if cl else n - 1  # edges that exist
-    ne = nlast
-    for i in range(ne):
-        edges[i] = i
     half_c = 0.5 * c
+    # the first pass checks every edge: a loop of vector instructions marks those that
+    # might break a rule (the corner rule's test itself; the inflection rule's with the
+    # lower bound of tan below, which clears an edge whatever tq holds), and only they
+    # go through the checks; no other edge has a violation (pending stays False). The
+    # marks are held in check, all False again before the passes.
+    for i in range(min(nlast, n - 1)):
+        check[i] = _suspect(i, i + 1, K, length, a, tanb, endish, scross, dot, half_c, C)
+    if nlast == n:
+        check[n - 1] = _suspect(n - 1, 0, K, length, a, tanb, endish, scross, dot, half_c, C)
+    ne = 0
+    for i in range(nlast):
+        edges[ne] = i
+        ne += check[i]
+        check[i] = False
     for npass in range(max_passes + 1):
         nc = 0  # candidate vertices with a factor < 1 this pass
         nviol = 0
@@ -699,10 +764,8 @@ def _restrict(
     nred = 0
     nunsat = 0
     for i in range(lo, hi):
-        if alpha[i] < alpha0[i]:
-            nred += 1
-        if pending[i]:
-            nunsat += 1
+        nred += alpha[i] < alpha0[i]
+        nunsat += pending[i]
     return nred, nunsat
 
 
@@ -731,7 +794,7 @@ def restrict_curve(alpha, half, cr, scross, dot, short, length, fixed, closed, c
     return alpha, int(nred), int(nunsat)
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def move_rows(src, src_f, dst, dst_f, span, dest):
     """Rows ``span[u, 0] .. span[u, 1] - 1`` of ``src, src_f`` to ``dest[u] ..`` of ``dst, dst_f``.
 
@@ -746,7 +809,7 @@ def move_rows(src, src_f, dst, dst_f, span, dest):
             d += 1
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def move_rows_back(buf, buf_f, span, dest):
     """:func:`move_rows` within one buffer, to later rows (every ``dest[u] >= span[u, 0]``).
 
@@ -761,7 +824,7 @@ def move_rows_back(buf, buf_f, span, dest):
             buf_f[d] = buf_f[i]
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def close_ragged(P, offsets, closed, OUT, out_offsets):
     """Copy curves ``P`` into ``OUT``, each closed one with its first row repeated after it.
 
@@ -780,7 +843,7 @@ def close_ragged(P, offsets, closed, OUT, out_offsets):
                 OUT[d, c] = P[s, c]
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def to_local(P, offsets, Q):
     """Every curve relative to its first vertex: ``Q = P - origin``; returns the origins."""
     m = offsets.shape[0] - 1
@@ -796,7 +859,7 @@ def to_local(P, offsets, Q):
     return origin
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def abs_max_per_curve(P, offsets):
     """Largest ``|coordinate|`` of every curve (0 for an empty curve)."""
     m = offsets.shape[0] - 1
@@ -809,7 +872,7 @@ def abs_max_per_curve(P, offsets):
     return top
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def scan_curves(P, offsets, closed):
     """:func:`abs_max_per_curve` and :func:`any_zero_edge` (origin 0) in one pass over ``P``.
 
@@ -839,7 +902,7 @@ def scan_curves(P, offsets, closed):
     return top, zero
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def ring_areas(P, offsets):
     """Signed area of every ring (closing vertex repeated or not), in its first vertex's frame.
 
@@ -862,7 +925,7 @@ def ring_areas(P, offsets):
     return out
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def refusal_candidates(P, offsets, closed):
     """Per curve: whether CCA might refuse it (the scan of ``geo``'s ``_cca_refused``).
 
