@@ -481,12 +481,32 @@ def ceiling(polys: np.ndarray, k: int, repeats: int) -> float:
     return len(polys) / best
 
 
+def _timed_on(client, run, repeats: int) -> tuple[float, float, float]:
+    """Best wall time of ``run()`` over `repeats`, the workers' cores used then and the caller's."""
+    wall = mine = used = float("inf")
+    for _ in range(repeats):  # the best of `repeats` runs, and its CPU times
+        cpu0 = client.run(time.process_time)
+        t0, c0 = time.perf_counter(), time.process_time()
+        run()
+        t, c = time.perf_counter() - t0, time.process_time() - c0
+        cpu1 = client.run(time.process_time)
+        if t < wall:
+            wall, mine = t, c
+            used = sum(cpu1[k] - cpu0[k] for k in cpu1) / wall
+    return wall, used, mine / wall
+
+
 def bench_dask(polys: np.ndarray, repeats: int = 3) -> None:
     import distributed
 
     from curvesmith import batch
 
-    print(f"\n== Dask: batch.smooth_partitioned on {len(polys)} polygons, {ITER} iterations ==")
+    try:
+        import dask_geopandas
+        import geopandas
+    except ImportError:
+        dask_geopandas = None
+    print(f"\n== Dask: {len(polys)} polygons, {ITER} iterations ==")
     # what this machine gives k processes doing this work with nothing else running
     top = {k: ceiling(polys, k, repeats) for k in (1, 2)}
     print(
@@ -495,10 +515,10 @@ def bench_dask(polys: np.ndarray, repeats: int = 3) -> None:
         + f" = {top[2] / top[1]:.2f}x for 2"
     )
     print(
-        f"{'workers':>7} {'polygons/s':>11} {'x 1 worker':>10} {'cores used':>10} "
+        f"{'':<44} {'workers':>7} {'polygons/s':>11} {'x 1 worker':>10} {'cores used':>10} "
         f"{'client':>7} {'affinity':>9} {'x ceiling':>10} {'per core':>9} {'x 1 worker':>10}"
     )
-    base = base_core = None
+    base: dict[str, float] = {}
     for w in (1, 2):
         with (
             distributed.LocalCluster(
@@ -507,39 +527,50 @@ def bench_dask(polys: np.ndarray, repeats: int = 3) -> None:
             ) as cluster,
             distributed.Client(cluster) as client,
         ):  # fmt: skip
+            aff = client.run(lambda: sorted(os.sched_getaffinity(0)))
+            cores = ",".join(str(v) for v in sorted({c for a in aff.values() for c in a}))
             size = max(500, len(polys) // (4 * w))
+            runs = {}
 
-            def run(geoms, size=size):
+            def gathered(geoms=polys, size=size):
                 batch.smooth_partitioned(geoms, client=client, partition_size=size, iterations=ITER)
 
+            runs["smooth_partitioned (client in, client out)"] = gathered
+            if dask_geopandas is not None:
+                frame = geopandas.GeoDataFrame(geometry=polys, crs="EPSG:3857")
+                # the layer on the workers, as read there (dask_geopandas.read_parquet)
+                ddf = dask_geopandas.from_geopandas(frame, npartitions=16).persist()
+                distributed.wait(ddf)
+
+                def on_workers(ddf=ddf):
+                    out = batch.smooth_collection(ddf, iterations=ITER).persist()
+                    distributed.wait(out)  # smoothed where the partitions are; stays there
+                    del out
+
+                runs["smooth_collection (on the workers)"] = on_workers
             # a first run warms every worker: numba loads each kernel from its cache on
             # first use (seconds in all), and a new process grows its heap
-            run(polys[: 2 * w * size // 4], size // 4)
-            aff = client.run(lambda: sorted(os.sched_getaffinity(0)))
-            wall = mine = used = float("inf")
-            for _ in range(repeats):  # the best of `repeats` runs, and its CPU times
-                cpu0 = client.run(time.process_time)
-                t0, c0 = time.perf_counter(), time.process_time()
-                run(polys)
-                t, c = time.perf_counter() - t0, time.process_time() - c0
-                cpu1 = client.run(time.process_time)
-                if t < wall:
-                    wall, mine = t, c
-                    used = sum(cpu1[k] - cpu0[k] for k in cpu1) / wall
-            rate = len(polys) / wall
-            base = base or rate
-            per_core = rate / used  # polygons per CPU second the workers got
-            base_core = base_core or per_core
-            cores = ",".join(str(v) for v in sorted({c for a in aff.values() for c in a}))
-            print(
-                f"{w:>7} {rate:>11.0f} {rate / base:>10.2f} {used:>10.2f} {mine / wall:>7.2f} "
-                f"{cores:>9} {rate / top[w]:>10.2f} {per_core:>9.0f} {per_core / base_core:>10.2f}"
-            )
+            gathered(polys[: 2 * w * size // 4], size // 4)
+            for name, run in runs.items():
+                run()
+                wall, used, mine = _timed_on(client, run, repeats)
+                rate = len(polys) / wall
+                per_core = rate / used  # polygons per CPU second the workers got
+                b_rate = base.setdefault(name, rate)
+                b_core = base.setdefault(name + "/core", per_core)
+                print(
+                    f"{name:<44} {w:>7} {rate:>11.0f} {rate / b_rate:>10.2f} {used:>10.2f} "
+                    f"{mine:>7.2f} {cores:>9} {rate / top[w]:>10.2f} {per_core:>9.0f} "
+                    f"{per_core / b_core:>10.2f}"
+                )
+    if dask_geopandas is None:
+        print("(dask-geopandas is not installed: smooth_collection not timed)")
     print(
         "(cores used: the workers' CPU seconds per wall second; client: the caller's, which "
-        "packs the partitions and builds the output geometries as the results arrive; "
-        "x ceiling: the throughput against k processes smoothing alone; per core: polygons "
-        "per CPU second of the workers, which is linear in workers when it stays the same)"
+        "for smooth_partitioned packs the partitions and builds the output geometries as the "
+        "results arrive, and for smooth_collection only submits the graph; x ceiling: the "
+        "throughput against k processes smoothing alone; per core: polygons per CPU second "
+        "of the workers, which is linear in workers when it stays the same)"
     )
 
 

@@ -7,6 +7,11 @@ or an existing scheduler given by its address. The output has exactly the input'
 features in the input's order. A feature whose smoothing fails is written unchanged and
 listed, with the reason, in the errors report — never dropped.
 
+A layer that lives on the workers already (a dask-geopandas collection, read by them
+with ``dask_geopandas.read_parquet`` or ``read_file``) is smoothed where it is by
+:func:`smooth_collection`: lazily, partition by partition, nothing passing through the
+client, so that the throughput grows with the workers.
+
 In coverage mode the arc-node structure is built once (on the client), the arcs are cut
 into chunks smoothed in parallel, and conflicts between arcs are resolved on the client
 (:func:`curvesmith.geo.smooth_coverage` with a parallel ``map_arcs``). Network mode
@@ -30,7 +35,7 @@ from ._validate import as_int
 from .errors import CurveError, OutputSizeError, require
 from .methods import GisMethod
 
-__all__ = ["BatchReport", "FeatureError", "smooth_file", "smooth_partitioned"]
+__all__ = ["BatchReport", "FeatureError", "smooth_collection", "smooth_file", "smooth_partitioned"]
 
 
 @dataclass(frozen=True)
@@ -142,7 +147,7 @@ def _smooth_partition(
             out[k] = res.geometry[0]
             n_red += len(res.reductions)
         except Exception as exc:  # the feature is written unchanged and reported
-            feature = start + k if labels is None else int(labels[k])  # the file's index
+            feature = start + k if labels is None else labels[k]  # the file's index, a label
             reason = str(exc).replace("geometry[0]", f"feature {feature}", 1)
             errors.append((start + k, f"{type(exc).__name__}: {reason}"))
     return ship(pack(out), handover, f"out-{start}"), errors, n_red
@@ -648,6 +653,137 @@ def smooth_partitioned(
             )  # fmt: skip
     errors.sort(key=lambda e: e.index)
     return wrap(out), tuple(errors), len(starts), n_red
+
+
+def smooth_collection(
+    frame: Any,
+    *,
+    method: GisMethod = "cca",
+    iterations: int = 1,
+    alpha: Any = "regular",
+    make_valid: bool = False,
+    fixed: Any = None,
+    keep_angle: float | None = None,
+    max_shift: float | None = None,
+    min_segment: float | None = None,
+    errors: str | None = "smooth_error",
+) -> Any:
+    """Smooth a dask-geopandas GeoDataFrame or GeoSeries: lazily, each partition where it is.
+
+    The Dask way of :func:`smooth_partitioned`, for layers that live on the workers (read
+    by them with ``dask_geopandas.read_parquet`` or ``read_file``, written by them with
+    ``to_parquet``): every partition is smoothed by the worker that holds it, as
+    :func:`smooth_partitioned` smooths one, and nothing passes through the client, so
+    the throughput grows with the workers. The result is lazy, like every Dask
+    collection: ``.persist()``, ``.compute()`` or ``.to_parquet(...)`` runs it.
+
+    Parameters
+    ----------
+    frame : dask_geopandas.GeoDataFrame or dask_geopandas.GeoSeries
+        The features (``dask_geopandas.from_geopandas(df, npartitions=...)`` makes one
+        of a GeoDataFrame in memory).
+    method, iterations, alpha, make_valid, fixed, keep_angle, max_shift, min_segment
+        As in :func:`smooth_partitioned` (``fixed``: None or a callable, sent to every
+        partition). They are checked here, before anything runs. In a geographic CRS
+        (longitude/latitude) ``fixed`` defaults to :func:`curvesmith.geo.domain_fixed`
+        (the antimeridian and the poles stay put, as ``curvesmith smooth`` keeps them),
+        and a :class:`~curvesmith.geo.GeographicCRSWarning` says that areas are kept in
+        degrees.
+    errors : str or None
+        Name of a column added to the result: the reason a feature was left unchanged
+        (as :class:`FeatureError` says it), None where it was smoothed. With None, no
+        column is added and a feature that fails makes the computation raise its error.
+
+    Returns
+    -------
+    dask_geopandas.GeoDataFrame
+        The input's partitions, index, columns and CRS, the geometries smoothed (a
+        GeoSeries becomes a frame of its one column), and the `errors` column.
+
+    Raises
+    ------
+    CurveError
+        `frame` is not a dask-geopandas collection, an option is invalid, or the
+        `errors` column exists already.
+    """
+    dask_geopandas = require("dask_geopandas", "dask", "smoothing a Dask collection")
+    from . import geo
+    from .geo._smooth import check_method
+
+    iterations = check_method(method, iterations, alpha)
+    if isinstance(frame, dask_geopandas.GeoSeries):
+        frame = frame.to_frame()
+    if not isinstance(frame, dask_geopandas.GeoDataFrame):
+        raise CurveError(
+            f"frame must be a dask_geopandas GeoDataFrame or GeoSeries, got "
+            f"{type(frame).__name__} (in memory: smooth_partitioned, or "
+            f"dask_geopandas.from_geopandas(df, npartitions=...))"
+        )
+    if fixed is not None and not callable(fixed):
+        raise CurveError(
+            f"fixed must be None or a callable here (a mask over the whole layer cannot "
+            f"be cut into the partitions), got {type(fixed).__name__}"
+        )
+    if errors is not None and errors in frame.columns:
+        raise CurveError(f"errors names a column of the frame already: {errors!r}")
+    options: dict[str, Any] = {
+        "method": method, "iterations": iterations, "alpha": alpha, "make_valid": make_valid,
+    }  # fmt: skip
+    for key, value in (
+        ("fixed", fixed),
+        ("keep_angle", keep_angle),
+        ("max_shift", max_shift),
+        ("min_segment", min_segment),
+    ):
+        if value is not None:
+            options[key] = value
+    # every option checked now, not in the first task: geo.smooth of no feature
+    geo.smooth(np.empty(0, dtype=object), **options)
+    crs = frame.crs
+    if crs is not None and crs.is_geographic and iterations > 0:
+        import warnings
+
+        from .geo._io import GeographicCRSWarning, domain_fixed
+
+        if fixed is None:  # as curvesmith smooth and smooth_file do for such layers
+            options["fixed"] = domain_fixed(crs)
+        warnings.warn(
+            f"the frame is in a geographic CRS ({crs.name}): smoothing keeps planar areas "
+            f"in degrees, not ground areas (smooth frame.to_crs(an equal-area CRS) for "
+            f"those){'; vertices on the antimeridian and the poles stay put' * (fixed is None)}",
+            GeographicCRSWarning,
+            stacklevel=2,
+        )
+    meta = frame._meta.copy()
+    if errors is not None:
+        meta[errors] = _reasons([], 0)
+    return frame.map_partitions(_smooth_frame, options, errors, meta=meta)
+
+
+def _smooth_frame(part: Any, options: dict[str, Any], errors: str | None) -> Any:
+    """One partition of :func:`smooth_collection`, smoothed as :func:`smooth_partitioned`'s."""
+    from .geo._packets import pack, unpack
+
+    geoms = np.asarray(part.geometry.values, dtype=object)
+    packet, failed, _ = _smooth_partition(pack(geoms), 0, options, part.index.to_numpy())
+    if errors is None and failed:
+        reason = failed[0][1]
+        raise CurveError(reason.removeprefix(f"{CurveError.__name__}: "))
+    out = part.copy()
+    out[part.geometry.name] = unpack(packet)
+    if errors is not None:
+        out[errors] = _reasons(failed, len(part), part.index)
+    return out
+
+
+def _reasons(failed: list[tuple[int, str]], n: int, index: Any = None) -> Any:
+    """The errors column of :func:`smooth_collection`: strings, missing where none failed."""
+    import pandas as pd
+
+    reasons = np.full(n, None, dtype=object)
+    for k, reason in failed:
+        reasons[k] = reason
+    return pd.Series(reasons, index=index, dtype="string")
 
 
 def smooth_file(
