@@ -515,10 +515,14 @@ def bench_dask(polys: np.ndarray, repeats: int = 3) -> None:
         + f" = {top[2] / top[1]:.2f}x for 2"
     )
     print(
-        f"{'':<44} {'workers':>7} {'polygons/s':>11} {'x 1 worker':>10} {'cores used':>10} "
+        f"{'':<46} {'workers':>7} {'polygons/s':>11} {'x 1 worker':>10} {'cores used':>10} "
         f"{'client':>7} {'affinity':>9} {'x ceiling':>10} {'per core':>9} {'x 1 worker':>10}"
     )
     base: dict[str, float] = {}
+    parquet = Path(tempfile.mkdtemp(prefix="bench_many_"))
+    if dask_geopandas is not None:  # 16 GeoParquet files, as a Dask user's layer
+        frame = geopandas.GeoDataFrame(geometry=polys, crs="EPSG:3857")
+        dask_geopandas.from_geopandas(frame, npartitions=16).to_parquet(parquet / "in")
     for w in (1, 2):
         with (
             distributed.LocalCluster(
@@ -537,9 +541,9 @@ def bench_dask(polys: np.ndarray, repeats: int = 3) -> None:
 
             runs["smooth_partitioned (client in, client out)"] = gathered
             if dask_geopandas is not None:
-                frame = geopandas.GeoDataFrame(geometry=polys, crs="EPSG:3857")
-                # the layer on the workers, as read there (dask_geopandas.read_parquet)
-                ddf = dask_geopandas.from_geopandas(frame, npartitions=16).persist()
+                # the layer on the workers, as read there: its partitions where the
+                # scheduler put the reading tasks
+                ddf = dask_geopandas.read_parquet(parquet / "in").persist()
                 distributed.wait(ddf)
 
                 def on_workers(ddf=ddf):
@@ -547,7 +551,15 @@ def bench_dask(polys: np.ndarray, repeats: int = 3) -> None:
                     distributed.wait(out)  # smoothed where the partitions are; stays there
                     del out
 
+                def pipeline():
+                    # a Dask user's whole run: the workers read, smooth and write their parts
+                    shutil.rmtree(parquet / "out", ignore_errors=True)
+                    batch.smooth_collection(
+                        dask_geopandas.read_parquet(parquet / "in"), iterations=ITER
+                    ).to_parquet(parquet / "out")
+
                 runs["smooth_collection (on the workers)"] = on_workers
+                runs["read_parquet > smooth_collection > to_parquet"] = pipeline
             # a first run warms every worker: numba loads each kernel from its cache on
             # first use (seconds in all), and a new process grows its heap
             gathered(polys[: 2 * w * size // 4], size // 4)
@@ -559,18 +571,20 @@ def bench_dask(polys: np.ndarray, repeats: int = 3) -> None:
                 b_rate = base.setdefault(name, rate)
                 b_core = base.setdefault(name + "/core", per_core)
                 print(
-                    f"{name:<44} {w:>7} {rate:>11.0f} {rate / b_rate:>10.2f} {used:>10.2f} "
+                    f"{name:<46} {w:>7} {rate:>11.0f} {rate / b_rate:>10.2f} {used:>10.2f} "
                     f"{mine:>7.2f} {cores:>9} {rate / top[w]:>10.2f} {per_core:>9.0f} "
                     f"{per_core / b_core:>10.2f}"
                 )
+    shutil.rmtree(parquet, ignore_errors=True)
     if dask_geopandas is None:
         print("(dask-geopandas is not installed: smooth_collection not timed)")
     print(
         "(cores used: the workers' CPU seconds per wall second; client: the caller's, which "
         "for smooth_partitioned packs the partitions and builds the output geometries as the "
         "results arrive, and for smooth_collection only submits the graph; x ceiling: the "
-        "throughput against k processes smoothing alone; per core: polygons per CPU second "
-        "of the workers, which is linear in workers when it stays the same)"
+        "throughput against k processes smoothing alone (the pipeline reads and writes too); "
+        "per core: polygons per CPU second of the workers, which is linear in workers when "
+        "it stays the same)"
     )
 
 
