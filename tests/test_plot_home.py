@@ -87,6 +87,18 @@ def test_hillshade_is_north_up_whatever_the_row_order(ax):
         (lambda ax, p: p.window_box(ax, (1, 0, 0, 1)), "window must be"),
         (lambda ax, p: p.keyline_sides({}, side="top", ax=ax), "side"),
         (lambda ax, p: p.z_profile(np.zeros((4, 2)), np.zeros((4, 3)), ax=ax), "before[0]"),
+        (
+            lambda ax, p: p.scaling({"cca": ([10, 100], [1e-6])}, ax=ax),
+            "series['cca'] must have as many costs as sizes, got 2 sizes and 1 costs",
+        ),
+        (
+            lambda ax, p: p.scaling({"cca": ([10, 100], [1e-6, 0.0])}, ax=ax),
+            "series['cca'] must hold positive finite sizes and costs, got size 100.0 with cost 0.0",
+        ),
+        (
+            lambda ax, p: p.scaling({"x": ([np.nan], [1.0])}, ax=ax),
+            "series['x'] must hold positive finite sizes and costs, got size nan",
+        ),
     ],
 )
 def test_bad_arguments_name_themselves(ax, call, message):
@@ -122,3 +134,21 @@ def test_affine_curvature_of_a_closed_curve_wraps_at_the_seam(ax):
     assert u[0] == pytest.approx(((t[0] + t[1] + t[2] + t[3]) / 4 % 1200) / 1200)
     with pytest.raises(CurveError, match="samples is required"):
         plot.affine_curvature(res, ax=ax)
+
+
+def test_scaling_draws_the_costs_as_given_on_log_axes(ax):
+    from curvesmith import plot
+
+    plot.scaling(
+        {"one call": ([200, 20_000], [4.0, 2.5]), "a call each": ([200], [50.0])},
+        ax=ax,
+        xlabel="polygons",
+        ylabel="µs per polygon",
+        title="t",
+    )
+    (x0, y0), (x1, y1) = (line.get_data() for line in ax.lines)
+    assert x0.tolist() == [200, 20_000] and y0.tolist() == [4.0, 2.5]
+    assert x1.tolist() == [200] and y1.tolist() == [50.0]
+    assert (ax.get_xscale(), ax.get_yscale()) == ("log", "log")
+    assert [t.get_text() for t in ax.get_legend().get_texts()] == ["one call", "a call each"]
+    assert (ax.get_xlabel(), ax.get_ylabel(), ax.get_title()) == ("polygons", "µs per polygon", "t")

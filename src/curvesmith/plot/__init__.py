@@ -10,8 +10,9 @@ Functions
 ---------
 before_after, draw_curve, curvature_comb, bezier_comb, comb_before_after
     Curves before and after an operation, and their curvature combs.
-convergence, length_bracket, alpha_profile
-    Sequences against the level or iteration; de Rham's certified length; CCA's profile.
+convergence, length_bracket, alpha_profile, scaling
+    Sequences against the level or iteration; de Rham's certified length; CCA's profile;
+    cost per item against the number of items.
 affine_approximation, affine_curvature, spline_curvature
     Affine arc length polylines, their discrete affine curvature, G2 against C1 splines.
 elastica_fit, elastica_invariant, elastica_segments, segments_deviation
@@ -43,6 +44,7 @@ from ._core import (
     draw_curve,
     mark_points,
     new_axes,
+    scaling,
     window_box,
 )
 from ._derham import length_bracket
@@ -91,6 +93,7 @@ __all__ = [
     "new_axes",
     "result_figure",
     "result_svg",
+    "scaling",
     "segments_deviation",
     "spline_curvature",
     "window_box",

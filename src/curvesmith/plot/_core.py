@@ -341,6 +341,78 @@ def convergence(
     return ax
 
 
+def scaling(
+    series: Mapping[str, tuple[ArrayLike, ArrayLike]],
+    *,
+    ax: Axes | None = None,
+    title: str | None = None,
+    xlabel: str = "items",
+    ylabel: str = "seconds per item",
+):
+    """Cost per item against the number of items, log-log, one line per method.
+
+    A method whose cost is per call, not per item, falls along the x axis as its calls
+    share out; one with a fixed cost per call stays flat and high.
+
+    Parameters
+    ----------
+    series : dict of str to (sizes, costs)
+        Label to the sizes measured (items, vertices, ...) and the cost per item at each.
+    ax : matplotlib Axes, optional
+    title : str, optional
+    xlabel, ylabel : str, optional
+
+    Returns
+    -------
+    matplotlib Axes
+
+    Raises
+    ------
+    CurveError
+        A series whose sizes and costs differ in length, or a size or cost that is not
+        a positive finite number (a log axis cannot show it).
+
+    Examples
+    --------
+    >>> from curvesmith import plot
+    >>> ax = plot.scaling({"one call": ([10, 100, 1000], [5e-5, 8e-6, 2e-6]),
+    ...                    "a call each": ([10, 100], [5e-5, 5e-5])}, xlabel="polygons")
+    >>> [len(line.get_xdata()) for line in ax.lines], ax.get_xscale(), ax.get_yscale()
+    ([3, 2], 'log', 'log')
+    >>> import matplotlib.pyplot as plt
+    >>> plt.close(ax.figure)
+    """
+    from ..errors import CurveError
+
+    if ax is None:
+        _, (ax,) = new_axes()
+    for name, (sizes, costs) in series.items():
+        x = np.asarray(sizes, dtype=float).ravel()
+        y = np.asarray(costs, dtype=float).ravel()
+        if x.shape != y.shape:
+            raise CurveError(
+                f"series[{name!r}] must have as many costs as sizes, got {x.size} sizes and "
+                f"{y.size} costs"
+            )
+        bad = ~(np.isfinite(x) & np.isfinite(y) & (x > 0) & (y > 0))
+        if bad.any():
+            k = int(np.flatnonzero(bad)[0])
+            raise CurveError(
+                f"series[{name!r}] must hold positive finite sizes and costs, got size "
+                f"{float(x[k])!r} with cost {float(y[k])!r}"
+            )
+        ax.plot(x, y, marker="o", ms=4, label=name)
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8)
+    if title:
+        ax.set_title(title)
+    return ax
+
+
 def _bezier_curvature(segments: np.ndarray, per_segment: int):
     """Points, unit left normals and exact curvature along Bézier segments."""
     from math import comb
