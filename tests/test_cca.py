@@ -1179,3 +1179,103 @@ def test_import_does_not_load_numba():
         "assert 'numba' not in sys.modules, 'numba imported'\n"
     )
     subprocess.run([sys.executable, "-c", code], check=True, timeout=120)
+
+
+@pytest.mark.parametrize("alpha", ["regular", 0.2])
+@pytest.mark.parametrize("restrict", [True, False])
+def test_kernel_step_is_the_numpy_step_on_curves_of_one_to_five_vertices(alpha, restrict):
+    # In a tiny curve every vertex is the first or the last one (or both), whose cuts the
+    # kernel computes apart from the middle ones' (their neighbours wrap around): each
+    # unit of 1-5 vertices, open and closed, with anchors, repeated points, sharp turns
+    # and inflections, gives the numpy step's bits and counts.
+    rng = np.random.default_rng(17)
+    alpha_fn = cca_api.alpha_function(alpha)
+    brk, coef = cca_api.profile_tables()
+    if alpha == "regular":
+        mode, const = cca_kernel.MODE_REGULAR, 0.0
+    else:
+        mode, const = cca_kernel.MODE_CONSTANT, float(alpha)
+    saved = cca_stepnd.np, cca_restrict.np
+    cca_stepnd.np = cca_restrict.np = _LibmTrig()  # the C library's atan2 and tan
+    emitted = 0
+    try:
+        for trial in range(400):
+            n = 1 + trial % 5
+            closed = bool(trial // 5 % 2)
+            P = rng.normal(size=(n, 2)) * 10.0 ** float(rng.integers(-3, 4))
+            if trial % 3 == 0 and n > 2:
+                P[rng.integers(1, n)] = P[0]  # a repeated point: the curve is compacted
+            fixed = rng.random(n) < 0.15
+            table = cca_kernel.curve_units(np.array([0, n]), np.array([closed]))
+            out, out_fixed = cca_api.output_buffers(4 * n + 2)
+            zero = np.zeros((1, 2))
+            res = cca_kernel.step_units(
+                P, fixed, np.zeros(0), zero, zero, table, mode, const, brk, coef, restrict,
+                2.0, 0.5, np.pi / 16, 1e-9, 16, 0.0, out, out_fixed, False, False,
+            )  # fmt: skip
+            assert res[7] == cca_kernel.DONE
+            with np.errstate(all="ignore"):
+                cols, f, nred, nfig, nunsat = cca_stepnd.step(
+                    [P[:, 0].copy(), P[:, 1].copy()], fixed, closed, alpha_fn, restrict,
+                    2.0, 0.5, np.pi / 16, 1e-9, (16, 0.0),
+                )  # fmt: skip
+            np.testing.assert_array_equal(res[0][: res[2]], np.column_stack(cols), str(trial))
+            np.testing.assert_array_equal(res[1][: res[2]], f)
+            assert (res[4][0], res[5][0], res[6][0]) == (nred, nfig, nunsat)
+            emitted += res[2] > n  # some vertex was cut
+    finally:
+        cca_stepnd.np, cca_restrict.np = saved
+    assert emitted > 200  # the cuts ran, not only kept vertices
+
+
+def test_first_pass_filter_keeps_every_edge_near_the_inflection_bounds():
+    # The first restriction pass checks only the edges that a vector loop marks: those
+    # whose |K1 + K2| a lower bound of tan(C/2 tau) does not clear. Inflection edges placed
+    # within a few ulps of that bound, and of the rule's own bound 2 w^2 tan(C/2 tau), are
+    # decided as numpy's restriction decides them (small turns: the two bounds are close).
+    rng = np.random.default_rng(23)
+    saved = cca_stepnd.np, cca_restrict.np
+    cca_stepnd.np = cca_restrict.np = _LibmTrig()
+    decided = 0
+    try:
+        for trial in range(1200):
+            n = int(rng.choice([3, 4, 7, 12]))
+            cr = 10.0 ** rng.uniform(-9, -0.3, n) * np.where(np.arange(n) % 2, -1.0, 1.0)
+            dot = np.sqrt(1 - cr * cr) * np.where(rng.random(n) < 0.9, 1.0, -1.0)
+            scross = np.abs(cr)
+            alpha = rng.uniform(0.05, 0.3, n)
+            short = rng.uniform(0.5, 2.0, n)
+            half = 0.5 * short * short
+            a, K = alpha * short, alpha * alpha * half * cr
+            length = 2.0 * short + rng.uniform(0, 1, n)
+            C = float(rng.choice([0.5, 1.0, rng.uniform(0.05, 1.0)]))
+            for i in range(n):
+                j = (i + 1) % n
+                if not K[i] * K[j] < 0:
+                    continue
+                m = j if abs(K[j]) <= abs(K[i]) else i
+                sm, dm = scross[m], dot[m]
+                low = 0.5 * C * (sm / (dm + sm) if dm > 0.0 else np.pi / 2)
+                th = math.tan(0.5 * C * math.atan2(sm, dm))
+                bound = [low * (1.0 - 1e-9), th * (1.0 + 1e-12), th][trial % 3]
+                w = math.sqrt(abs(K[i] + K[j]) / (2.0 * bound))
+                edge = 2.0 * w + a[i] + a[j]
+                for _ in range(int(rng.integers(0, 5))):
+                    edge = np.nextafter(edge, np.inf if rng.random() < 0.5 else -np.inf)
+                length[i] = edge
+                decided += 1
+            fixed = np.zeros(n, dtype=bool)
+            limits = (16, 0.0)
+            lean = cca_kernel.restrict_curve(
+                alpha, half, cr, scross, dot, short, length, fixed, True, 2.0, C, limits
+            )
+            with np.errstate(all="ignore"):
+                ref, nred, nunsat, _, _ = cca_restrict.restrict_passes(
+                    alpha.copy(), half, [cr], scross, dot, short, length, fixed,
+                    np.ones(n, dtype=bool), 2.0, C, limits,
+                )  # fmt: skip
+            np.testing.assert_array_equal(lean[0], ref, str(trial))
+            assert lean[1:] == (nred, nunsat), trial
+    finally:
+        cca_stepnd.np, cca_restrict.np = saved
+    assert decided > 3000

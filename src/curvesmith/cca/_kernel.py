@@ -15,11 +15,15 @@ two arrays (x and y), the arithmetic of every vertex and edge runs in loops with
 branches (the interior angle, the profile's piece, ``min``/``max`` and the special
 cases are selects), the first restriction pass marks the few edges that might break
 a rule in such a loop before it checks them one by one, and the output rows are
-computed in one before they are written in another. So AVX2 does 4 vertices at a
-time where it is there; the branches of the plain form, unpredictable on a rough
-curve, kept it scalar at about twice the time per vertex. Division by zero gives
-inf/NaN as in numpy (``error_model="numpy"``: no check, no branch); every such value
-is selected away, as in the numpy form.
+computed in one before they are written in another. LLVM compiles such loops to
+vector instructions for the machine's CPU (AVX-512: 8 vertices at a time, AVX2: 4;
+the compiled step holds packed divisions and square roots); the branches of the
+plain form, unpredictable on a rough curve, had kept it scalar at about twice the
+time per vertex. Division by zero gives inf/NaN as in numpy (``error_model="numpy"``:
+no check, no branch); every such value is selected away, as in the numpy form. A
+helper inlined into its caller (``inline="always"``) takes the caller's error model,
+not its own: every function that inlines one is compiled with ``error_model="numpy"``
+too (a caller without it would raise ZeroDivisionError where the helper divides by 0).
 
 The arithmetic is the N-d numpy step's (:func:`curvesmith.cca._stepnd.step`
 with :func:`curvesmith.cca._restrict.restrict_passes`) operation by operation,
@@ -98,8 +102,9 @@ def _interior(scross, dot):
     the products by 1 and 0 and the sums with 0 are exact, so these are fdlibm's bits)
     and table angle ``hi + lo`` are selected, and so are the results of the special
     cases (``t`` below TINY or from HUGE on, ``dot`` 0 or positive). A loop of these
-    compiles to vector instructions (4 angles at a time with AVX2; the branches of the
-    plain form, unpredictable on a rough curve, kept it scalar at 3-4x the time).
+    compiles to vector instructions (8 angles at a time with AVX-512, 4 with AVX2; the
+    branches of the plain form, unpredictable on a rough curve, kept it scalar at 3-4x
+    the time).
     """
     t = scross / abs(dot)
     c0, c1, c2, c3 = t >= _A.B0, t >= _A.B1, t >= _A.B2, t >= _A.B3
@@ -325,28 +330,32 @@ def _turns(ux, uy, n, cr, dot, scross):
 def _cuts(X, Y, a, K, length, ux, uy, i, h, j, balance_tol, ax, ay, add, cuts, fig):
     """Vertex ``i``'s cut points and its edge's apex into ``cuts[i]``; ``fig[i]``: Fig. 11.
 
-    With ``add`` the values are in the input's frame (the origin ``ax, ay`` added).
+    ``cuts[i]`` holds the rows the step emits for vertex ``i`` and its edge, in order:
+    the cut point ``L_i`` on the edge before it (columns 0, 1), ``R_i`` on the edge
+    after it (2, 3) and the augmenting apex of edge ``i`` (4, 5); ``h`` and ``j`` are
+    the vertices before and after ``i``. With ``add`` the values are in the input's
+    frame (the origin ``ax, ay`` added).
     """
     vx, vy = X[i], Y[i]
     ai, aj = a[i], a[j]
-    rx = vx + ai * ux[i]
+    rx = vx + ai * ux[i]  # R_i
     ry = vy + ai * uy[i]
-    qx = vx - ai * ux[h]
-    qy = vy - ai * uy[h]
+    lix = vx - ai * ux[h]  # L_i
+    liy = vy - ai * uy[h]
     A = 0.5 * (K[i] + K[j])
     w = 0.5 * (length[i] - ai - aj)
     winv = 1.0 / w if w > 0.0 else 0.0
-    lx = X[j] - aj * ux[i]
-    ly = Y[j] - aj * uy[i]
-    mx = 0.5 * (rx + lx)
-    my = 0.5 * (ry + ly)
+    ljx = X[j] - aj * ux[i]  # L_j, the other end of the edge's middle piece
+    ljy = Y[j] - aj * uy[i]
+    mx = 0.5 * (rx + ljx)
+    my = 0.5 * (ry + ljy)
     sv = A * winv
-    px = mx + sv * uy[i]
+    px = mx + sv * uy[i]  # the apex
     py = my - sv * ux[i]
     k1, k2 = K[i], K[j]
     fig[i] = (k1 * k2 < 0.0) & (abs(k1 + k2) <= balance_tol * 0.5 * (abs(k1) + abs(k2))) & (w > 0.0)
-    cuts[i, 0] = qx + ax if add else qx
-    cuts[i, 1] = qy + ay if add else qy
+    cuts[i, 0] = lix + ax if add else lix
+    cuts[i, 1] = liy + ay if add else liy
     cuts[i, 2] = rx + ax if add else rx
     cuts[i, 3] = ry + ay if add else ry
     cuts[i, 4] = px + ax if add else px
@@ -565,7 +574,8 @@ def step_units(
                 OUT[pos, 0], OUT[pos, 1], of[pos] = cuts[i, 4], cuts[i, 5], False
                 pos += 1
                 continue
-            # Fig. 11: two congruent triangles on the halves, on opposite sides
+            # Fig. 11: two congruent triangles on the halves, on opposite sides (a rare
+            # edge: its middle piece is computed again here, not kept for every edge)
             nf += 1
             j = i + 1 if i + 1 < n else 0
             ai = a[i]
@@ -642,7 +652,8 @@ def _restrict(
 
     On entry ``alpha0 = alpha``, ``a``, ``K``, ``turning`` and ``tanb`` hold the
     profile's values, ``fv`` is all 1 and ``check``, ``pending`` and ``endish`` all False
-    (the first two are left so), ``tq`` all -1.
+    (``fv`` and ``check`` are left so; ``pending`` ends as the last check of every edge
+    left it), ``tq`` all -1.
     ``alpha``, ``a`` and ``K`` are decreased in place. ``tq`` (scratch) keeps, per vertex,
     ``tan(C / 2 * tau)`` of its turn ``tau`` once computed (a vertex is the minor one
     of up to two edges, in several passes; the value does not change). Returns
