@@ -79,6 +79,12 @@ def test_corner_vertices_equal_a_ring_by_ring_reference():
         assert np.array_equal(got, _reference_corners(geoms, math.radians(deg)))
     with pytest.raises(CurveError, match="keep_angle must be in"):
         geo.corner_vertices(geoms, math.pi)
+    with pytest.raises(CurveError, match="keep_angle must be >= 0, got -0.1"):
+        geo.corner_vertices(geoms, -0.1)
+    # 0, the bound the command line's --keep-angle allows (it was refused: "must be > 0"):
+    # every vertex that turns at all is a corner
+    got = geo.corner_vertices(geoms, 0.0)
+    assert np.array_equal(got, _reference_corners(geoms, 0.0))
 
 
 def test_smooth_keeps_the_corners_and_the_areas():

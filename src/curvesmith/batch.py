@@ -31,7 +31,7 @@ from typing import Any
 
 import numpy as np
 
-from ._validate import as_int
+from ._validate import as_bool, as_int
 from .errors import CurveError, OutputSizeError, require
 from .methods import GisMethod
 
@@ -136,21 +136,48 @@ def _smooth_partition(
         return ship(pack(res.geometry), handover, f"out-{start}"), [], len(res.reductions)
     except OutputSizeError:  # feature by feature, the same output would be held
         raise
-    except Exception:  # retried feature by feature below, to isolate the failing ones
+    except Exception:  # retried in parts below, to isolate the failing ones
         pass
+    out, errors, n_red = _smooth_isolating(geoms, options, start, labels)
+    return ship(pack(out), handover, f"out-{start}"), errors, n_red
+
+
+def _smooth_isolating(
+    geoms: np.ndarray, options: dict[str, Any], start: int, labels: np.ndarray | None
+) -> tuple[np.ndarray, list[tuple[int, str]], int]:
+    """:func:`curvesmith.geo.smooth` of features one call failed on; the failing ones kept.
+
+    The features are halved, and each half smoothed in one call, until the halves that
+    fail are single features (written unchanged and reported at ``start + k``, named by
+    ``labels[k]`` when given): one bad feature among 20,000 costs about two calls' work,
+    where a call per feature cost 12-18 times one call. Every feature is smoothed as in
+    any other call (a feature's result does not depend on the others).
+    """
+    from . import geo
+
     out = np.array(geoms, dtype=object, copy=True)
     errors: list[tuple[int, str]] = []
     n_red = 0
-    for k, g in enumerate(geoms):
+    mid = len(geoms) // 2
+    parts = [(mid, len(geoms)), (0, mid)] if len(geoms) > 1 else [(0, len(geoms))]
+    while parts:
+        a, b = parts.pop()
+        if a == b:
+            continue
         try:
-            res = geo.smooth(np.array([g], dtype=object), full_output=True, **options)
-            out[k] = res.geometry[0]
-            n_red += len(res.reductions)
-        except Exception as exc:  # the feature is written unchanged and reported
-            feature = start + k if labels is None else labels[k]  # the file's index, a label
+            res = geo.smooth(geoms[a:b], full_output=True, **options)
+        except Exception as exc:  # (one feature's too large output, too)
+            if b - a > 1:
+                mid = (a + b) // 2
+                parts += [(mid, b), (a, mid)]
+                continue
+            feature = start + a if labels is None else labels[a]  # the file's index, a label
             reason = str(exc).replace("geometry[0]", f"feature {feature}", 1)
-            errors.append((start + k, f"{type(exc).__name__}: {reason}"))
-    return ship(pack(out), handover, f"out-{start}"), errors, n_red
+            errors.append((start + a, f"{type(exc).__name__}: {reason}"))
+            continue
+        out[a:b] = res.geometry
+        n_red += len(res.reductions)
+    return out, errors, n_red
 
 
 def _smooth_arc_chunk(
@@ -602,6 +629,7 @@ def smooth_partitioned(
     from .geo._smooth import as_geometry_array, check_layer_size, check_method
 
     iterations = check_method(method, iterations, alpha)
+    make_valid = as_bool(make_valid, name="make_valid")
     geoms, wrap = as_geometry_array(geometry)
     # the output is gathered here: the whole layer's, as geo.smooth would hold it
     bounded = max_shift is not None or min_segment is not None
@@ -707,7 +735,6 @@ def smooth_collection(
         `errors` column exists already.
     """
     dask_geopandas = require("dask_geopandas", "dask", "smoothing a Dask collection")
-    from . import geo
     from .geo._smooth import check_method
 
     iterations = check_method(method, iterations, alpha)
@@ -719,15 +746,25 @@ def smooth_collection(
             f"{type(frame).__name__} (in memory: smooth_partitioned, or "
             f"dask_geopandas.from_geopandas(df, npartitions=...))"
         )
+    try:
+        frame._meta.geometry  # noqa: B018 (geopandas raises without an active geometry)
+    except AttributeError:
+        raise CurveError(
+            f"frame has no active geometry column (columns {list(frame.columns)}): choose "
+            f"one with frame.set_geometry(name)"
+        ) from None
     if fixed is not None and not callable(fixed):
         raise CurveError(
             f"fixed must be None or a callable here (a mask over the whole layer cannot "
             f"be cut into the partitions), got {type(fixed).__name__}"
         )
+    if errors is not None and not (isinstance(errors, str) and errors):
+        raise CurveError(f"errors must be a column name (a str) or None, got {errors!r}")
     if errors is not None and errors in frame.columns:
         raise CurveError(f"errors names a column of the frame already: {errors!r}")
     options: dict[str, Any] = {
-        "method": method, "iterations": iterations, "alpha": alpha, "make_valid": make_valid,
+        "method": method, "iterations": iterations, "alpha": alpha,
+        "make_valid": as_bool(make_valid, name="make_valid"),
     }  # fmt: skip
     for key, value in (
         ("fixed", fixed),
@@ -737,40 +774,86 @@ def smooth_collection(
     ):
         if value is not None:
             options[key] = value
-    # every option checked now, not in the first task: geo.smooth of no feature
-    geo.smooth(np.empty(0, dtype=object), **options)
     crs = frame.crs
-    if crs is not None and crs.is_geographic and iterations > 0:
+    geographic = bool(crs is not None and crs.is_geographic and iterations > 0)
+    if geographic:
         import warnings
 
+        from . import methods
         from .geo._io import GeographicCRSWarning, domain_fixed
 
+        cca_like = methods.get(method).keeps_vertices  # (Chaikin's averages stay inside)
         if fixed is None:  # as curvesmith smooth and smooth_file do for such layers
             options["fixed"] = domain_fixed(crs)
+        what = "keeps planar areas in degrees, not ground areas" if cca_like else "works in degrees"
+        kept = "; vertices on the antimeridian and the poles stay put" * (cca_like and not fixed)
         warnings.warn(
-            f"the frame is in a geographic CRS ({crs.name}): smoothing keeps planar areas "
-            f"in degrees, not ground areas (smooth frame.to_crs(an equal-area CRS) for "
-            f"those){'; vertices on the antimeridian and the poles stay put' * (fixed is None)}",
+            f"the frame is in a geographic CRS ({crs.name}): smoothing {what} (smooth "
+            f"frame.to_crs(an equal-area CRS) for ground areas){kept}",
             GeographicCRSWarning,
             stacklevel=2,
         )
+    _try_options(options, geographic)
     meta = frame._meta.copy()
     if errors is not None:
         meta[errors] = _reasons([], 0)
-    return frame.map_partitions(_smooth_frame, options, errors, meta=meta)
+    return frame.map_partitions(_smooth_frame, options, errors, geographic, meta=meta)
 
 
-def _smooth_frame(part: Any, options: dict[str, Any], errors: str | None) -> Any:
-    """One partition of :func:`smooth_collection`, smoothed as :func:`smooth_partitioned`'s."""
+def _try_options(options: dict[str, Any], geographic: bool) -> None:
+    """Smooth one small square with `options`, so that bad options fail before any task.
+
+    Every option is checked by :func:`curvesmith.geo.smooth` as it runs; a callable
+    ``alpha`` or ``fixed`` runs too, and iterations whose output no feature could hold
+    (even a square's) are refused.
+    """
+    import shapely
+
+    from . import geo
+
+    square = shapely.box(10.0, 10.0, 11.0, 11.0) if geographic else shapely.box(0, 0, 1, 1)
+    try:
+        geo.smooth(np.array([square], dtype=object), **options)
+    except OutputSizeError as exc:
+        raise OutputSizeError(f"{exc} (tried on one square before anything runs)") from None
+    except CurveError as exc:
+        raise CurveError(f"{exc} (tried on one square before anything runs)") from None
+    except Exception as exc:  # a callable of the caller's that fails
+        raise CurveError(
+            f"the options fail on one square before anything runs: {type(exc).__name__}: {exc}"
+        ) from exc
+
+
+def _smooth_frame(part: Any, options: dict[str, Any], errors: str | None, geographic: bool) -> Any:
+    """One partition of :func:`smooth_collection`, smoothed as :func:`smooth_partitioned`'s.
+
+    Points and MultiPoints pass through unchanged (nothing to smooth), as ``smooth_file``
+    and ``curvesmith smooth`` pass them; in lon/lat, vertices a rounding error beyond
+    ±180° / ±90° are put back on the edge (:func:`curvesmith.geo.clamp_to_domain`).
+    """
+    import shapely
+
     from .geo._packets import pack, unpack
 
     geoms = np.asarray(part.geometry.values, dtype=object)
-    packet, failed, _ = _smooth_partition(pack(geoms), 0, options, part.index.to_numpy())
+    points = np.isin(shapely.get_type_id(geoms), (0, 4))  # Point, MultiPoint
+    work = geoms
+    if points.any():
+        work = geoms.copy()
+        work[points] = None
+    packet, failed, _ = _smooth_partition(pack(work), 0, options, part.index.to_numpy())
     if errors is None and failed:
         reason = failed[0][1]
         raise CurveError(reason.removeprefix(f"{CurveError.__name__}: "))
+    smoothed = unpack(packet)
+    if points.any():
+        smoothed = np.where(points, geoms, smoothed)
+    if geographic:
+        from .geo._io import clamp_to_domain
+
+        smoothed = clamp_to_domain(smoothed, "the frame", geoms)
     out = part.copy()
-    out[part.geometry.name] = unpack(packet)
+    out[part.geometry.name] = smoothed
     if errors is not None:
         out[errors] = _reasons(failed, len(part), part.index)
     return out
@@ -883,6 +966,7 @@ def smooth_file(
 
     if partition_size is not None:
         partition_size = as_int(partition_size, name="partition_size", minimum=1)
+    make_valid = as_bool(make_valid, name="make_valid")
     from .io._core import check_destination
 
     if errors_path is None:

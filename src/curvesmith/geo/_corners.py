@@ -71,7 +71,7 @@ def corner_vertices(geometry: Any, angle: float) -> np.ndarray:
     from ._smooth import as_geometry_array
 
     shapely = require("shapely", "geo", "finding corners")
-    angle = as_float(angle, name="keep_angle", low=0.0)
+    angle = as_float(angle, name="keep_angle", low=0.0, low_open=False)
     if not angle < math.pi:
         raise CurveError(f"keep_angle must be in [0, pi) radians, got {angle}")
     geoms, _ = as_geometry_array(geometry)

@@ -464,6 +464,9 @@ def smooth_coverage(
     >>> [round(p.area, 12) for p in res.geometry], bool(shapely.coverage_is_valid(res.geometry))
     ([1.0, 1.0, 2.0], True)
     """
+    from .._validate import as_bool
+
+    make_valid = as_bool(make_valid, name="make_valid")
     shapely = _shapely()
     iterations = check_method(method, iterations, alpha)
     geoms, wrap = as_geometry_array(polygons)

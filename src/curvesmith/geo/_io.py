@@ -1636,6 +1636,9 @@ def smooth_file(
     GeographicCRSWarning
         When the data are in a geographic CRS and ``equal_area`` is off.
     """
+    from .._validate import as_bool
+
+    make_valid = as_bool(make_valid, name="make_valid")
     from ._coverage import smooth_coverage
     from ._smooth import smooth
 

@@ -1256,7 +1256,10 @@ def smooth(
     >>> len(out.exterior.coords) - 1, round(out.area, 12)
     (36, 4.0)
     """
+    from .._validate import as_bool
+
     iterations = check_method(method, iterations, alpha)
+    make_valid = as_bool(make_valid, name="make_valid")
     if max_shift is not None or min_segment is not None:
         return _smooth_within_budget(
             geometry,
