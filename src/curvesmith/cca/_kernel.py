@@ -618,18 +618,27 @@ def step_units(
 
 
 @njit(cache=True, nogil=True, inline="always", error_model="numpy")
+def _edge_terms(i, j, K, length, a, tanb, half_c):
+    """What both restriction rules read of edge ``i`` (to vertex ``j``).
+
+    The signed cut areas ``K1, K2`` and their product, ``|K1 + K2|``, the squared half
+    middle piece ``w^2`` and the corner rule's bound on it (one computation for the
+    first pass's filter and the passes, so that both decide from the same bits).
+    """
+    K1, K2 = K[i], K[j]
+    w = 0.5 * (length[i] - a[i] - a[j])
+    net = abs(K1 + K2)
+    return K1, K2, K1 * K2, net, w * w, half_c * _nanmax(tanb[i], tanb[j]) * net
+
+
+@njit(cache=True, nogil=True, inline="always", error_model="numpy")
 def _suspect(i, j, K, length, a, tanb, endish, scross, dot, half_c, C):
     """Whether edge ``i`` (to vertex ``j``) might break a rule: :func:`_restrict`'s first pass.
 
     The corner rule's test as the pass makes it; for the inflection rule, the test of
     the lower bound of ``tan`` with which the pass skips ``atan2`` and ``tan``.
     """
-    K1, K2 = K[i], K[j]
-    w = 0.5 * (length[i] - a[i] - a[j])
-    k12 = K1 * K2
-    net = abs(K1 + K2)
-    w2 = w * w
-    need = half_c * _nanmax(tanb[i], tanb[j]) * net
+    K1, K2, k12, net, w2, need = _edge_terms(i, j, K, length, a, tanb, half_c)
     corner = (w2 < need * (1.0 - 1e-12)) & ((k12 > 0.0) | endish[i])
     minor2 = abs(K2) <= abs(K1)
     sm = scross[j] if minor2 else scross[i]
@@ -685,12 +694,7 @@ def _restrict(
         for t in range(ne):
             i = edges[t]
             j = i + 1 if i + 1 < n else 0
-            K1, K2 = K[i], K[j]
-            w = 0.5 * (length[i] - a[i] - a[j])
-            k12 = K1 * K2
-            net = abs(K1 + K2)
-            w2 = w * w
-            need = half_c * _nanmax(tanb[i], tanb[j]) * net
+            K1, K2, k12, net, w2, need = _edge_terms(i, j, K, length, a, tanb, half_c)
             pending[i] = False
             if w2 < need * (1.0 - 1e-12) and (k12 > 0.0 or endish[i]):
                 pending[i] = True

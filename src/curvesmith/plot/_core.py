@@ -332,6 +332,11 @@ def convergence(
         ax.axhline(baseline, color="k", lw=0.8)
     if logy:
         ax.set_yscale("log")
+    return _labelled(ax, xlabel, ylabel, title)
+
+
+def _labelled(ax, xlabel: str, ylabel: str, title: str | None):
+    """Axis labels, a light grid, the legend and the title of a plot of series."""
     ax.set_xlabel(xlabel)
     ax.set_ylabel(ylabel)
     ax.grid(True, which="both", alpha=0.3)
@@ -404,13 +409,7 @@ def scaling(
         ax.plot(x, y, marker="o", ms=4, label=name)
     ax.set_xscale("log")
     ax.set_yscale("log")
-    ax.set_xlabel(xlabel)
-    ax.set_ylabel(ylabel)
-    ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=8)
-    if title:
-        ax.set_title(title)
-    return ax
+    return _labelled(ax, xlabel, ylabel, title)
 
 
 def _bezier_curvature(segments: np.ndarray, per_segment: int):
