@@ -712,10 +712,13 @@ def smooth_collection(
         of a GeoDataFrame in memory).
     method, iterations, alpha, make_valid, fixed, keep_angle, max_shift, min_segment
         As in :func:`smooth_partitioned` (``fixed``: None or a callable, sent to every
-        partition). They are checked here, before anything runs. In a geographic CRS
-        (longitude/latitude) ``fixed`` defaults to :func:`curvesmith.geo.domain_fixed`
-        (the antimeridian and the poles stay put, as ``curvesmith smooth`` keeps them),
-        and a :class:`~curvesmith.geo.GeographicCRSWarning` says that areas are kept in
+        partition). They are checked here, before anything runs: one square is smoothed
+        with them (a callable runs on it). In a geographic CRS (longitude/latitude)
+        ``fixed`` defaults to :func:`curvesmith.geo.domain_fixed` (with cca the
+        antimeridian and the poles stay put, as ``curvesmith smooth`` keeps them), the
+        output is put back inside ±180° / ±90° where rounding took it a hair beyond
+        (:func:`curvesmith.geo.clamp_to_domain`), and a
+        :class:`~curvesmith.geo.GeographicCRSWarning` says that the smoothing works in
         degrees.
     errors : str or None
         Name of a column added to the result: the reason a feature was left unchanged
@@ -726,13 +729,16 @@ def smooth_collection(
     -------
     dask_geopandas.GeoDataFrame
         The input's partitions, index, columns and CRS, the geometries smoothed (a
-        GeoSeries becomes a frame of its one column), and the `errors` column.
+        GeoSeries becomes a frame of its one column; Points and MultiPoints pass through
+        unchanged, as in ``smooth_file``), and the `errors` column.
 
     Raises
     ------
     CurveError
-        `frame` is not a dask-geopandas collection, an option is invalid, or the
-        `errors` column exists already.
+        `frame` is not a dask-geopandas collection (or has no active geometry), an
+        option is invalid, or `errors` is not a new column's name.
+    OutputSizeError
+        `iterations` would give even one square more vertices than a call may hold.
     """
     dask_geopandas = require("dask_geopandas", "dask", "smoothing a Dask collection")
     from .geo._smooth import check_method
