@@ -314,3 +314,26 @@ def test_network_summary_and_warning_as_in_smooth(tmp_path):
     network = said.split(", ", 1)[1].split("; ")[0]
     assert network.endswith("fixed nodes)") and " lines smoothed as one network (" in network
     assert f"; {network}" in summary
+
+
+def test_snap_area_change_is_reported_as_in_smooth(tmp_path):
+    # `--coverage --snap` said nothing of the areas the snapping changed (smooth neither)
+    import geopandas as gpd
+
+    from curvesmith.cli import main
+
+    left = shapely.Polygon([(0, 0), (100, 0), (120, 50), (100, 100), (0, 100)])
+    right = shapely.Polygon([(100.4, 0), (200, 0), (200, 100), (100.4, 100), (120.4, 50)])
+    src = tmp_path / "pair.gpkg"
+    gpd.GeoDataFrame(geometry=[left, right], crs="EPSG:32633").to_file(src)
+    snap = ["--coverage", "--snap", "1"]
+    res = CliRunner().invoke(main, ["smooth", str(src), "-o", str(tmp_path / "a.gpkg"), *snap])
+    assert res.exit_code == 0, res.output
+    (said,) = [p for p in res.stderr.strip().split("; ") if p.startswith("--snap changed")]
+    res = CliRunner().invoke(
+        main,
+        ["batch", "smooth", str(src), "-o", str(tmp_path / "b.gpkg"), "--workers", "1",
+         "--no-progress", *snap],
+    )  # fmt: skip
+    assert res.exit_code == 0, res.output
+    assert f"; {said}; coverage valid" in res.stderr

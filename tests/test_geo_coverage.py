@@ -249,6 +249,35 @@ def test_snapping_cleans_a_sliver_gap():
     assert snapped.coverage_valid is True
     clean = shapely.coverage_clean(polys, snapping_distance=1e-6)
     np.testing.assert_allclose(shapely.area(snapped.geometry), shapely.area(clean), rtol=1e-12)
+    # the snapping's own area change is reported (the smoothing's is measured after it)
+    moved = np.abs(shapely.area(clean) - shapely.area(polys)) / shapely.area(polys)
+    assert snapped.snap_area_change == pytest.approx(float(moved.max()), rel=1e-9)
+    assert snapped.snap_area_change > 1e-8 and snapped.max_area_change < 1e-12
+    assert res.snap_area_change == 0.0  # no snap, no change
+
+
+def test_the_command_line_reports_what_the_snap_changed(tmp_path):
+    # Before, `--coverage --snap` said nothing of the areas the snapping changed, beside
+    # the smoothing's promise of exact areas
+    import geopandas as gpd
+    from click.testing import CliRunner
+
+    from curvesmith.cli import main
+
+    left = shapely.Polygon([(0, 0), (100, 0), (120, 50), (100, 100), (0, 100)])
+    right = shapely.Polygon([(100.4, 0), (200, 0), (200, 100), (100.4, 100), (120.4, 50)])
+    src, out = tmp_path / "pair.gpkg", tmp_path / "out.gpkg"
+    gpd.GeoDataFrame(geometry=[left, right], crs="EPSG:32633").to_file(src)
+    res = CliRunner().invoke(
+        main, ["smooth", str(src), "-o", str(out), "--coverage", "--snap", "1"]
+    )
+    assert res.exit_code == 0, res.output
+    clean = shapely.coverage_clean(np.array([left, right]), snapping_distance=1.0)
+    moved = np.abs(shapely.area(clean) - shapely.area([left, right])) / shapely.area([left, right])
+    assert f"--snap changed feature areas by up to {100 * moved.max():.3g} % before" in res.output
+    assert "coverage valid" in res.output
+    res = CliRunner().invoke(main, ["smooth", str(src), "-o", str(out), "--coverage"])
+    assert "--snap changed" not in res.output
 
 
 def _wavy_pair(width):

@@ -83,6 +83,9 @@ class BatchReport:
     network : tuple of int or None
         Network mode: ``(n_lines, n_arcs, n_nodes, n_inserted)`` of
         :class:`curvesmith.geo.NetworkResult`.
+    snap_area_change : float
+        Coverage mode with ``snap``: the largest relative area change the snapping made
+        before the smoothing; 0 without.
     """
 
     n_features: int
@@ -95,6 +98,7 @@ class BatchReport:
     geographic: bool = False
     not_equal_area: tuple[int, ...] = ()
     network: tuple[int, int, int, int] | None = None
+    snap_area_change: float = 0.0
 
 
 # ---------------------------------------------------------------------------- tasks
@@ -1014,6 +1018,7 @@ def smooth_file(
     t0 = time.perf_counter()
     not_equal_area: tuple[int, ...] = ()
     network_counts: tuple[int, int, int, int] | None = None
+    snap_change = 0.0
     if regional:
         if snap is not None:
             raise CurveError("snap applies to coverage mode only (coverage=True)")
@@ -1046,7 +1051,7 @@ def smooth_file(
         )
         errors, valid = (), None
     elif coverage:
-        out, errors, n_tasks, n_red, valid = _coverage_on_dask(
+        out, errors, n_tasks, n_red, valid, snap_change = _coverage_on_dask(
             work,
             method=method,
             iterations=iterations,
@@ -1109,6 +1114,7 @@ def smooth_file(
         geographic=bool(crs is not None and crs.is_geographic),
         not_equal_area=not_equal_area,
         network=network_counts,
+        snap_area_change=snap_change,
     )
 
 
@@ -1247,7 +1253,10 @@ def _coverage_on_dask(
             for p in seen["topo"].arc_polygons[arc]:
                 errors.append(FeatureError(int(idx[p]), f"arc {arc} left unchanged: {reason}"))
         errors.sort(key=lambda e: e.index)
-    return res.geometry, tuple(errors), n_tasks, len(res.reductions), res.coverage_valid
+    return (
+        res.geometry, tuple(errors), n_tasks, len(res.reductions), res.coverage_valid,
+        float(res.snap_area_change),
+    )  # fmt: skip
 
 
 def _network_on_dask(

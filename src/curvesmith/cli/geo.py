@@ -206,6 +206,14 @@ def _not_equal_area(features) -> str:
     )
 
 
+def _snap_part(report) -> list[str]:
+    """What ``--snap`` did to the areas, when it changed them (the smoothing keeps them)."""
+    if not report.snap_area_change > 0.0:
+        return []
+    change = 100 * report.snap_area_change
+    return [f"--snap changed feature areas by up to {change:.3g} % before smoothing"]
+
+
 def _summary(report, iterations: int) -> None:
     through = report.n_null + report.n_empty + report.n_points + report.n_unchanged
     parts = [f"{report.n_features - through} of {report.n_features} feature(s) smoothed"]
@@ -225,6 +233,7 @@ def _summary(report, iterations: int) -> None:
         )
     if report.n_reductions:
         parts.append(f"{report.n_reductions} piece(s) smoothed less to stay valid")
+    parts += _snap_part(report)
     if report.not_equal_area:
         parts.append(_not_equal_area(report.not_equal_area))
     if report.invalid_edges:
@@ -400,6 +409,7 @@ def batch_smooth_command(
         parts.append(f"{report.n_reductions} piece(s) smoothed less to stay valid")
     if report.not_equal_area:
         parts.append(_not_equal_area(report.not_equal_area))
+    parts += _snap_part(report)
     if report.coverage_valid is not None:  # as smooth says it
         parts.append("coverage valid" if report.coverage_valid else "coverage NOT valid")
     click.echo("; ".join(parts), err=True)

@@ -143,6 +143,10 @@ class CoverageResult(RichRepr):
         :func:`shapely.coverage_is_valid` on the result (None when ``validate=False``).
     input_coverage_valid : bool
         The same test on the input (after snapping).
+    snap_area_change : float
+        With ``snap``: the largest relative area change ``|A_s - A| / A`` that the
+        snapping itself made (before any smoothing; ``max_area_change`` is measured
+        after it); 0 without.
     """
 
     geometry: Any
@@ -153,6 +157,7 @@ class CoverageResult(RichRepr):
     max_area_change: float
     coverage_valid: bool | None
     input_coverage_valid: bool
+    snap_area_change: float = 0.0
 
 
 def coverage_topology(polygons: Any, *, frozen_edges: Any = None) -> Topology:
@@ -497,6 +502,7 @@ def smooth_coverage(
     plain = snap is None and gap_width == 0.0
     geoms_in = geoms
     geoms, idx, g = _coverage_input(geoms_in, make_valid, plain)
+    snap_change = 0.0
     if snap is not None:
         cleaned = shapely.remove_repeated_points(
             shapely.coverage_clean(g, snapping_distance=snap), 0.0
@@ -511,6 +517,10 @@ def smooth_coverage(
                 f"area {float(shapely.area(g[k])):.6g}); use a snap distance well below the "
                 "features' widths"
             )
+        before = shapely.area(g)
+        if len(g):
+            moved = np.abs(shapely.area(cleaned) - before) / np.where(before > 0, before, 1.0)
+            snap_change = float(np.max(moved))
         g = cleaned
     # the compiled proof (certainly_valid) for the plain case; GEOS decides the rest
     topo, uses, input_valid = None, None, False
@@ -593,8 +603,9 @@ def smooth_coverage(
         for r in reductions
     )
     return CoverageResult(
-        res, len(topo.arcs), topo.n_nodes, red, invalid_report, change, valid, input_valid
-    )
+        res, len(topo.arcs), topo.n_nodes, red, invalid_report, change, valid, input_valid,
+        snap_change,
+    )  # fmt: skip
 
 
 def _coverage_input(geoms, make_valid: bool, defer_validity: bool):

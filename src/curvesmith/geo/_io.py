@@ -97,6 +97,9 @@ class FileSmoothReport:
     n_unchanged : int
         Feature by feature with ``max_shift`` / ``min_segment`` (not ``equal_area``):
         features that no strength tried kept within the bounds, written as they were.
+    snap_area_change : float
+        Coverage mode with ``snap``: the largest relative area change the snapping made
+        before the smoothing (``max_area_change`` is measured after it); 0 without.
     """
 
     n_features: int
@@ -113,6 +116,7 @@ class FileSmoothReport:
     not_equal_area: tuple[int, ...] = ()
     n_points: int = 0
     n_unchanged: int = 0
+    snap_area_change: float = 0.0
 
 
 def _driver_for(path: Path) -> str:
@@ -1664,6 +1668,7 @@ def smooth_file(
     df, kept, points = set_points_aside(df)
     planar: list[int] = []
     n_unchanged = 0
+    snap_change = 0.0
     # lon/lat data: vertices on the antimeridian and the poles stay put (Fiji, Chukotka and
     # Antarctica keep meeting there) and the output stays inside the domain
     edges = {"fixed": domain_fixed(crs)} if geographic and not equal_area else {}
@@ -1690,6 +1695,7 @@ def smooth_file(
         )
         n_red, invalid, valid = len(res.reductions), res.invalid_edges, res.coverage_valid
         out, change = res.geometry, float(res.max_area_change)
+        snap_change = float(res.snap_area_change)
         if equal_area:
             out = out.to_crs(crs)
     else:
@@ -1731,6 +1737,7 @@ def smooth_file(
         not_equal_area=tuple(planar),
         n_points=int(points.sum()),
         n_unchanged=n_unchanged,
+        snap_area_change=snap_change,
     )
 
 
